@@ -1,0 +1,120 @@
+#include "tiltfield/io.hpp"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "tiltfield/error.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temporary_for(const fs::path& file) {
+  fs::path tmp = file;
+  tmp += ".tmp-" + std::to_string(::getpid());
+  return tmp;
+}
+
+std::string trim(std::string_view s) {
+  size_t a = 0, b = s.size();
+  while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '\r' || s[a] == '\n')) ++a;
+  while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r' || s[b - 1] == '\n')) --b;
+  return std::string(s.substr(a, b - a));
+}
+}  // namespace
+
+void write_path_atomic(const fs::path& file, const std::function<void(const fs::path&)>& write) {
+  const fs::path tmp = temporary_for(file);
+  try {
+    write(tmp);
+    fs::rename(tmp, file);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+void write_file_atomic(const fs::path& file, const std::function<void(std::ostream&)>& fill) {
+  write_path_atomic(file, [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw std::runtime_error(file.string() + ": cannot write (folder missing or not writable)");
+    fill(out);
+    out.flush();
+    if (!out) throw std::runtime_error(file.string() + ": write failed");
+  });
+}
+
+std::string fixed(double v, int decimals) {
+  if (!std::isfinite(v)) throw std::runtime_error("fixed(): non-finite number");
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+int CsvTable::column(std::string_view name) const {
+  for (size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+CsvTable read_csv(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), 0, "", "cannot open file");
+  CsvTable t;
+  std::string line;
+  int n = 0;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream ss(l);
+    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+    if (!l.empty() && l.back() == ',') cells.emplace_back();
+    return cells;
+  };
+  while (std::getline(in, line)) {
+    ++n;
+    const std::string tl = trim(line);
+    if (tl.empty() || tl[0] == '#') continue;
+    if (tl.find('\0') != std::string::npos) throw InputError(file.string(), n, "", "binary data in a CSV file");
+    auto cells = split(tl);
+    if (t.header.empty()) {
+      t.header = cells;
+      continue;
+    }
+    if (cells.size() != t.header.size())
+      throw InputError(file.string(), n, "",
+                       "expected " + std::to_string(t.header.size()) + " cells as in the header, found " +
+                           std::to_string(cells.size()));
+    t.rows.push_back(std::move(cells));
+    t.lines.push_back(n);
+  }
+  if (t.header.empty()) throw InputError(file.string(), 0, "", "empty file: no header row");
+  return t;
+}
+
+double parse_number(std::string_view text, const std::string& file, int line, const std::string& field) {
+  std::string s = trim(text);
+  if (!s.empty() && s[0] == '+') s.erase(0, 1);
+  double v = 0.0;
+  const char* b = s.data();
+  const char* e = s.data() + s.size();
+  auto [ptr, ec] = std::from_chars(b, e, v);
+  if (s.empty() || ec != std::errc() || ptr != e)
+    throw InputError(file, line, field, "'" + std::string(text) + "' is not a number");
+  if (!std::isfinite(v)) throw InputError(file, line, field, "'" + std::string(text) + "' is not finite");
+  return v;
+}
+
+}  // namespace tf

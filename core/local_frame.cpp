@@ -1,0 +1,47 @@
+#include "tiltfield/local_frame.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace tf {
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+}
+
+std::vector<LocalFrame> local_frames(const ToolPath& path) {
+  const size_t n = path.rows.size();
+  std::vector<LocalFrame> frames(n);
+  Eigen::Vector3d prev_f = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& nrm = path.rows[i].n;
+    const size_t a = i == 0 ? 0 : i - 1;
+    const size_t b = i + 1 < n ? i + 1 : i;
+    Eigen::Vector3d d = path.rows[b].p - path.rows[a].p;
+    d -= d.dot(nrm) * nrm;
+    Eigen::Vector3d f;
+    if (d.norm() > 1e-9) {
+      f = d.normalized();
+    } else if (prev_f.squaredNorm() > 0.5) {
+      f = prev_f - prev_f.dot(nrm) * nrm;
+      f = f.norm() > 1e-9 ? f.normalized() : nrm.unitOrthogonal();
+    } else {
+      f = nrm.unitOrthogonal();
+    }
+    frames[i] = {f, nrm, f.cross(nrm)};
+    prev_f = f;
+  }
+  return frames;
+}
+
+Eigen::Vector3d axis_from_lead_tilt(const LocalFrame& fr, double lead_deg, double tilt_deg) {
+  const double l = lead_deg * kDeg, t = tilt_deg * kDeg;
+  return (std::cos(l) * (std::cos(t) * fr.n + std::sin(t) * fr.t) + std::sin(l) * fr.f).normalized();
+}
+
+Eigen::Vector2d lead_tilt_from_axis(const LocalFrame& fr, const Eigen::Vector3d& axis) {
+  const double s = std::clamp(axis.dot(fr.f), -1.0, 1.0);
+  return {std::asin(s) / kDeg, std::atan2(axis.dot(fr.t), axis.dot(fr.n)) / kDeg};
+}
+
+}  // namespace tf

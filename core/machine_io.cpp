@@ -1,0 +1,100 @@
+#include <fstream>
+
+#include "json_fields.hpp"
+#include "tiltfield/machine.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+using namespace json_fields;
+
+std::string_view to_string(KinematicsType k) {
+  switch (k) {
+    case KinematicsType::XYZ: return "xyz";
+    case KinematicsType::TableTableAC: return "table-table-ac";
+    case KinematicsType::TableTableBC: return "table-table-bc";
+    case KinematicsType::HeadTableBC: return "head-table-bc";
+    case KinematicsType::HeadHeadAC: return "head-head-ac";
+  }
+  return "?";
+}
+
+std::string MachineSpec::rotary_axes() const {
+  switch (kinematics) {
+    case KinematicsType::XYZ: return "";
+    case KinematicsType::TableTableAC:
+    case KinematicsType::HeadHeadAC: return "AC";
+    case KinematicsType::TableTableBC:
+    case KinematicsType::HeadTableBC: return "BC";
+  }
+  return "";
+}
+
+bool MachineSpec::has_axis(char letter) const {
+  if (letter == 'X' || letter == 'Y' || letter == 'Z') return true;
+  return rotary_axes().find(letter) != std::string::npos;
+}
+
+MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file, const std::string& prefix) {
+  require_object(j, file, prefix.empty() ? "(top level)" : prefix);
+  only_keys(j,
+            {"name", "kinematics", "pivot", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
+             "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "safe_z", "comment"},
+            file, prefix);
+  MachineSpec m;
+  if (j.contains("name")) m.name = string(j["name"], file, join(prefix, "name"));
+  if (!j.contains("kinematics")) throw InputError(file, 0, join(prefix, "kinematics"), "missing");
+  const std::string k = string(j["kinematics"], file, join(prefix, "kinematics"));
+  bool known = false;
+  for (auto t : {KinematicsType::XYZ, KinematicsType::TableTableAC, KinematicsType::TableTableBC,
+                 KinematicsType::HeadTableBC, KinematicsType::HeadHeadAC}) {
+    if (k == to_string(t)) {
+      m.kinematics = t;
+      known = true;
+    }
+  }
+  if (!known)
+    throw InputError(file, 0, join(prefix, "kinematics"),
+                     "unknown kinematics '" + k +
+                         "' (use xyz, table-table-ac, table-table-bc, head-table-bc or head-head-ac)");
+  if (j.contains("pivot")) m.pivot = vec3(j["pivot"], file, join(prefix, "pivot"));
+  if (j.contains("table_center")) m.table_center = vec3(j["table_center"], file, join(prefix, "table_center"));
+  m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
+  if (j.contains("limits")) {
+    const auto& lim = j["limits"];
+    const std::string lp = join(prefix, "limits");
+    require_object(lim, file, lp);
+    for (auto it = lim.begin(); it != lim.end(); ++it) {
+      const std::string f = lp + "." + it.key();
+      if (it.key().size() != 1 || !m.has_axis(it.key()[0]))
+        throw InputError(file, 0, f, "this machine has no axis '" + it.key() + "' (axes: XYZ" + m.rotary_axes() + ")");
+      if (!it->is_array() || it->size() != 2) throw InputError(file, 0, f, "must be [min, max]");
+      AxisLimit a{number((*it)[0], file, f + "[0]"), number((*it)[1], file, f + "[1]")};
+      if (a.min > a.max) throw InputError(file, 0, f, "min is greater than max");
+      m.limits[it.key()[0]] = a;
+    }
+  }
+  if (j.contains("output")) {
+    const std::string o = string(j["output"], file, join(prefix, "output"));
+    if (o == "joint") m.output = OutputMode::Joint;
+    else if (o == "tcp") m.output = OutputMode::Tcp;
+    else throw InputError(file, 0, join(prefix, "output"), "must be 'joint' or 'tcp'");
+  }
+  if (j.contains("tcp_style")) {
+    const std::string s = string(j["tcp_style"], file, join(prefix, "tcp_style"));
+    if (s == "G43.4") m.tcp_style = TcpStyle::G43_4;
+    else if (s == "M128") m.tcp_style = TcpStyle::M128;
+    else throw InputError(file, 0, join(prefix, "tcp_style"), "must be 'G43.4' or 'M128'");
+  }
+  if (j.contains("tcp_on_code")) m.tcp_on_code = string(j["tcp_on_code"], file, join(prefix, "tcp_on_code"));
+  if (j.contains("tcp_off_code")) m.tcp_off_code = string(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
+  m.max_feed = positive(number_or(j, "max_feed", m.max_feed, file, prefix), file, join(prefix, "max_feed"));
+  m.rapid_feed = positive(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), file, join(prefix, "rapid_feed"));
+  m.safe_z = positive(number_or(j, "safe_z", m.safe_z, file, prefix), file, join(prefix, "safe_z"));
+  return m;
+}
+
+MachineSpec read_machine_json(const fs::path& file) {
+  return parse_machine_json(parse_file(file.string(), "machine file"), file.string(), "");
+}
+
+}  // namespace tf

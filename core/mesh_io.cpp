@@ -1,0 +1,139 @@
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+
+#include "tiltfield/error.hpp"
+#include "tiltfield/io.hpp"
+#include "tiltfield/mesh.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+
+namespace {
+std::string lower_extension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+bool known_extension(const std::string& ext) {
+  return ext == ".stl" || ext == ".obj" || ext == ".off" || ext == ".ply";
+}
+}  // namespace
+
+Mesh load_mesh(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (!known_extension(ext))
+    throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), 0, "", "mesh file not found");
+  Mesh mesh;
+  OpenMesh::IO::Options opt;
+  // OpenMesh reports malformed input on its own error stream; our caller gets one clear line instead.
+  omerr().disable();
+  const bool ok = OpenMesh::IO::read_mesh(mesh, file.string(), opt);
+  omerr().enable();
+  if (!ok) throw InputError(file.string(), 0, "", "cannot read mesh (malformed " + ext.substr(1) + " file)");
+  if (mesh.n_faces() == 0) throw InputError(file.string(), 0, "", "mesh has no triangles");
+  if (!mesh.is_trimesh()) mesh.triangulate();
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InputError(file.string(), 0, "", "mesh has a non-finite vertex coordinate");
+  }
+  mesh.update_face_normals();
+  return mesh;
+}
+
+void write_mesh(const Mesh& mesh, const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (!known_extension(ext))
+    throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
+  OpenMesh::IO::Options opt;
+  if (ext == ".stl" || ext == ".ply") opt += OpenMesh::IO::Options::Binary;
+  if (mesh.has_vertex_colors() && (ext == ".ply" || ext == ".off" || ext == ".obj"))
+    opt += OpenMesh::IO::Options::VertexColor;
+  write_path_atomic(file, [&](const fs::path& tmp) {
+    // OpenMesh picks the writer by extension; keep it on the temporary name.
+    fs::path named = tmp;
+    named += ext;
+    omerr().disable();
+    const bool ok = OpenMesh::IO::write_mesh(mesh, named.string(), opt);
+    omerr().enable();
+    if (!ok) {
+      std::error_code ec;
+      fs::remove(named, ec);
+      throw std::runtime_error(file.string() + ": cannot write mesh");
+    }
+    fs::rename(named, tmp);
+  });
+}
+
+Mesh mesh_from_arrays(const Eigen::Ref<const Eigen::MatrixX3d>& V, const Eigen::Ref<const Eigen::MatrixX3i>& F) {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> vh(V.rows());
+  for (Eigen::Index i = 0; i < V.rows(); ++i) vh[i] = mesh.add_vertex(Mesh::Point(V(i, 0), V(i, 1), V(i, 2)));
+  omerr().disable();
+  for (Eigen::Index i = 0; i < F.rows(); ++i) mesh.add_face(vh[F(i, 0)], vh[F(i, 1)], vh[F(i, 2)]);
+  omerr().enable();
+  mesh.update_face_normals();
+  return mesh;
+}
+
+TriangleArrays to_arrays(const Mesh& mesh) {
+  TriangleArrays a;
+  a.V.resize(static_cast<Eigen::Index>(mesh.n_vertices()), 3);
+  a.F.resize(static_cast<Eigen::Index>(mesh.n_faces()), 3);
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    a.V.row(v.idx()) << p[0], p[1], p[2];
+  }
+  Eigen::Index r = 0;
+  for (auto f : mesh.faces()) {
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) a.F(r, c++) = v.idx();
+    ++r;
+  }
+  a.F.conservativeResize(r, 3);
+  return a;
+}
+
+Eigen::AlignedBox3d bounding_box(const Mesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (auto v : mesh.vertices()) box.extend(to_eigen(mesh.point(v)));
+  return box;
+}
+
+bool is_closed(const Mesh& mesh) {
+  if (mesh.n_faces() == 0) return false;
+  for (auto e : mesh.edges())
+    if (mesh.is_boundary(e)) return false;
+  return true;
+}
+
+double signed_volume(const Mesh& mesh) {
+  double v6 = 0.0;
+  for (auto f : mesh.faces()) {
+    Eigen::Vector3d p[3];
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) p[c++] = to_eigen(mesh.point(v));
+    v6 += p[0].dot(p[1].cross(p[2]));
+  }
+  return v6 / 6.0;
+}
+
+void append_mesh(Mesh& a, const Mesh& b) {
+  std::vector<Mesh::VertexHandle> map(b.n_vertices());
+  for (auto v : b.vertices()) map[v.idx()] = a.add_vertex(b.point(v));
+  omerr().disable();
+  for (auto f : b.faces()) {
+    std::vector<Mesh::VertexHandle> fv;
+    for (auto v : b.fv_range(f)) fv.push_back(map[v.idx()]);
+    a.add_face(fv);
+  }
+  omerr().enable();
+  a.update_face_normals();
+}
+
+}  // namespace tf

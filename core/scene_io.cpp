@@ -1,0 +1,179 @@
+#include <cmath>
+
+#include "json_fields.hpp"
+#include "tiltfield/scene.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+using namespace json_fields;
+
+Tool parse_tool_json(const json& j, const std::string& file, const std::string& prefix) {
+  require_object(j, file, prefix);
+  only_keys(j, {"type", "radius", "corner_radius", "flute_length", "shank_radius", "length", "holder", "comment"}, file,
+            prefix);
+  Tool t;
+  const std::string type = j.contains("type") ? string(j["type"], file, join(prefix, "type")) : "ball";
+  const double r = required_number(j, "radius", file, prefix);
+  if (type == "ball") {
+    t.cutter = BallCutter{r};
+  } else if (type == "flat") {
+    t.cutter = FlatCutter{r};
+  } else if (type == "bull") {
+    t.cutter = BullCutter{r, required_number(j, "corner_radius", file, prefix)};
+  } else {
+    throw InputError(file, 0, join(prefix, "type"), "unknown tool type '" + type + "' (use ball, flat or bull)");
+  }
+  if (type != "bull" && j.contains("corner_radius"))
+    throw InputError(file, 0, join(prefix, "corner_radius"), "only a bull tool has a corner radius");
+  t.flute_length = number_or(j, "flute_length", 4.0 * r, file, prefix);
+  t.shank_radius = number_or(j, "shank_radius", r, file, prefix);
+  t.length = number_or(j, "length", std::max(t.flute_length, 10.0 * r), file, prefix);
+  if (j.contains("holder")) {
+    const auto& h = j["holder"];
+    const std::string hp = join(prefix, "holder");
+    if (!h.is_array()) throw InputError(file, 0, hp, "must be an array of {radius, length}");
+    for (size_t i = 0; i < h.size(); ++i) {
+      const std::string sp = hp + "[" + std::to_string(i) + "]";
+      require_object(h[i], file, sp);
+      only_keys(h[i], {"radius", "length"}, file, sp);
+      t.holder.push_back({required_number(h[i], "radius", file, sp), required_number(h[i], "length", file, sp)});
+    }
+  }
+  validate_tool(t, file, prefix);
+  return t;
+}
+
+namespace {
+fs::path resolve(const Scene& s, const json& j, const std::string& field) {
+  const std::string name = string(j, s.file.string(), field);
+  if (name.empty()) throw InputError(s.file.string(), 0, field, "empty file name");
+  fs::path p(name);
+  return p.is_absolute() ? p : s.dir / p;
+}
+
+Stock parse_stock(const Scene& s, const json& j) {
+  const std::string file = s.file.string();
+  require_object(j, file, "stock");
+  if (j.size() != 1) throw InputError(file, 0, "stock", "must have exactly one of 'mesh', 'box' or 'cylinder'");
+  Stock st;
+  if (j.contains("mesh")) {
+    st.kind = Stock::Kind::Mesh;
+    const fs::path mp = resolve(s, j["mesh"], "stock.mesh");
+    st.mesh = load_mesh(mp);
+    if (!is_closed(st.mesh)) throw InputError(mp.string(), 0, "", "stock mesh is not closed (it must bound a solid)");
+    if (signed_volume(st.mesh) <= 0.0)
+      throw InputError(mp.string(), 0, "", "stock mesh is inside out (faces must be oriented outward)");
+  } else if (j.contains("box")) {
+    st.kind = Stock::Kind::Box;
+    const auto& b = j["box"];
+    require_object(b, file, "stock.box");
+    only_keys(b, {"min", "max"}, file, "stock.box");
+    if (!b.contains("min")) throw InputError(file, 0, "stock.box.min", "missing");
+    if (!b.contains("max")) throw InputError(file, 0, "stock.box.max", "missing");
+    st.box.min = vec3(b["min"], file, "stock.box.min");
+    st.box.max = vec3(b["max"], file, "stock.box.max");
+    if ((st.box.max - st.box.min).minCoeff() <= 0.0)
+      throw InputError(file, 0, "stock.box", "max must be greater than min on every axis");
+  } else if (j.contains("cylinder")) {
+    st.kind = Stock::Kind::Cylinder;
+    const auto& c = j["cylinder"];
+    const std::string cp = "stock.cylinder";
+    require_object(c, file, cp);
+    only_keys(c, {"base", "axis", "radius", "height"}, file, cp);
+    if (!c.contains("base")) throw InputError(file, 0, cp + ".base", "missing");
+    st.cylinder.base = vec3(c["base"], file, cp + ".base");
+    const Eigen::Vector3d a = c.contains("axis") ? vec3(c["axis"], file, cp + ".axis") : Eigen::Vector3d::UnitZ();
+    if (a.norm() < 1e-12) throw InputError(file, 0, cp + ".axis", "zero-length axis");
+    st.cylinder.axis = a.normalized();
+    st.cylinder.radius = positive(required_number(c, "radius", file, cp), file, cp + ".radius");
+    st.cylinder.height = positive(required_number(c, "height", file, cp), file, cp + ".height");
+  } else {
+    throw InputError(file, 0, "stock", "must have exactly one of 'mesh', 'box' or 'cylinder'");
+  }
+  return st;
+}
+
+PlannerBasics parse_planner_basics(const json& j, const std::string& file) {
+  require_object(j, file, "planner");
+  PlannerBasics p;
+  p.lead_deg = number_or(j, "lead_deg", p.lead_deg, file, "planner");
+  p.tilt_deg = number_or(j, "tilt_deg", p.tilt_deg, file, "planner");
+  p.safety_distance = number_or(j, "safety_distance", p.safety_distance, file, "planner");
+  if (p.safety_distance < 0) throw InputError(file, 0, "planner.safety_distance", "must not be negative");
+  p.shank_clearance = optional_number(j, "shank_clearance", file, "planner");
+  p.holder_clearance = optional_number(j, "holder_clearance", file, "planner");
+  if (p.shank_clearance && *p.shank_clearance < 0)
+    throw InputError(file, 0, "planner.shank_clearance", "must not be negative");
+  if (p.holder_clearance && *p.holder_clearance < 0)
+    throw InputError(file, 0, "planner.holder_clearance", "must not be negative");
+  p.max_tilt_deg = number_or(j, "max_tilt_deg", p.max_tilt_deg, file, "planner");
+  if (!(p.max_tilt_deg > 0 && p.max_tilt_deg <= 90))
+    throw InputError(file, 0, "planner.max_tilt_deg", "must be in (0, 90] degrees");
+  if (std::abs(p.lead_deg) >= 90) throw InputError(file, 0, "planner.lead_deg", "must be within (-90, 90) degrees");
+  if (std::abs(p.tilt_deg) >= 90) throw InputError(file, 0, "planner.tilt_deg", "must be within (-90, 90) degrees");
+  return p;
+}
+}  // namespace
+
+Scene load_scene(const fs::path& file) {
+  Scene s;
+  s.file = file;
+  s.dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const std::string name = file.string();
+  const json j = parse_file(name, "scene file");
+  require_object(j, name, "(top level)");
+  only_keys(j,
+            {"units", "design", "check_surfaces", "stock", "fixtures", "tool", "path", "planner", "machine", "name",
+             "comment", "generator"},
+            name, "");
+  if (j.contains("units")) {
+    s.units = string(j["units"], name, "units");
+    if (s.units != "mm") throw InputError(name, 0, "units", "only 'mm' is supported");
+  }
+  if (!j.contains("design")) throw InputError(name, 0, "design", "missing (the design surface mesh)");
+  s.design = load_mesh(resolve(s, j["design"], "design"));
+  if (j.contains("check_surfaces")) {
+    const auto& c = j["check_surfaces"];
+    if (!c.is_array()) throw InputError(name, 0, "check_surfaces", "must be an array of mesh files");
+    for (size_t i = 0; i < c.size(); ++i) {
+      const fs::path p = resolve(s, c[i], "check_surfaces[" + std::to_string(i) + "]");
+      s.check_files.push_back(p);
+      s.check_surfaces.push_back(load_mesh(p));
+    }
+  }
+  if (!j.contains("stock")) throw InputError(name, 0, "stock", "missing");
+  s.stock = parse_stock(s, j["stock"]);
+  if (j.contains("fixtures")) {
+    const auto& f = j["fixtures"];
+    if (!f.is_array()) throw InputError(name, 0, "fixtures", "must be an array of mesh files");
+    for (size_t i = 0; i < f.size(); ++i) s.fixtures.push_back(load_mesh(resolve(s, f[i], "fixtures[" + std::to_string(i) + "]")));
+  }
+  if (!j.contains("tool")) throw InputError(name, 0, "tool", "missing");
+  s.tool = parse_tool_json(j["tool"], name, "tool");
+  if (!j.contains("path")) throw InputError(name, 0, "path", "missing");
+  {
+    const auto& p = j["path"];
+    require_object(p, name, "path");
+    only_keys(p, {"file", "feed"}, name, "path");
+    if (!p.contains("file")) throw InputError(name, 0, "path.file", "missing");
+    s.path_file = resolve(s, p["file"], "path.file");
+    s.feed = positive(number_or(p, "feed", s.feed, name, "path"), name, "path.feed");
+    s.path = read_toolpath(s.path_file, s.tool);
+  }
+  if (j.contains("planner")) {
+    s.planner_json = j["planner"];
+    s.planner = parse_planner_basics(s.planner_json, name);
+  }
+  if (j.contains("machine")) {
+    const auto& m = j["machine"];
+    if (m.is_string()) {
+      s.machine_file = resolve(s, m, "machine");
+      s.machine = read_machine_json(s.machine_file);
+    } else {
+      s.machine = parse_machine_json(m, name, "machine");
+    }
+  }
+  return s;
+}
+
+}  // namespace tf

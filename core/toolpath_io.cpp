@@ -1,0 +1,159 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "tiltfield/error.hpp"
+#include "tiltfield/io.hpp"
+#include "tiltfield/toolpath.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+
+std::vector<double> ToolPath::arc_length() const {
+  std::vector<double> s(rows.size(), 0.0);
+  for (size_t i = 1; i < rows.size(); ++i) s[i] = s[i - 1] + (rows[i].p - rows[i - 1].p).norm();
+  return s;
+}
+
+namespace {
+constexpr double kUnitTolerance = 1e-3;
+
+Eigen::Vector3d unit_vector(const Eigen::Vector3d& v, const std::string& file, int line, const std::string& field) {
+  const double n = v.norm();
+  if (n < 1e-12) throw InputError(file, line, field, "zero-length vector");
+  if (std::abs(n - 1.0) > kUnitTolerance)
+    throw InputError(file, line, field, "not a unit vector (length " + fixed(n, 6) + ")");
+  return v / n;
+}
+
+std::string upper(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
+  return s;
+}
+}  // namespace
+
+ToolPath read_toolpath_csv(const fs::path& file) {
+  const std::string name = file.string();
+  const CsvTable t = read_csv(file);
+  const char* required[] = {"x", "y", "z", "nx", "ny", "nz"};
+  int col[6];
+  for (int i = 0; i < 6; ++i) {
+    col[i] = t.column(required[i]);
+    if (col[i] < 0) throw InputError(name, 1, required[i], "missing column (header must be x,y,z,nx,ny,nz[,feed])");
+  }
+  const int feed_col = t.column("feed");
+  for (const auto& h : t.header) {
+    if (std::find(std::begin(required), std::end(required), h) == std::end(required) && h != "feed")
+      throw InputError(name, 1, h, "unknown column (header must be x,y,z,nx,ny,nz[,feed])");
+  }
+  ToolPath path;
+  path.rows.reserve(t.rows.size());
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const int line = t.lines[r];
+    double v[6];
+    for (int i = 0; i < 6; ++i) v[i] = parse_number(t.rows[r][col[i]], name, line, required[i]);
+    CLPoint pt;
+    pt.p = {v[0], v[1], v[2]};
+    pt.n = unit_vector({v[3], v[4], v[5]}, name, line, "nx,ny,nz");
+    if (feed_col >= 0 && !t.rows[r][feed_col].empty()) {
+      pt.feed = parse_number(t.rows[r][feed_col], name, line, "feed");
+      if (pt.feed <= 0) throw InputError(name, line, "feed", "must be positive (mm/min)");
+    }
+    path.rows.push_back(pt);
+  }
+  if (path.rows.empty()) throw InputError(name, 0, "", "tool path has no rows");
+  return path;
+}
+
+ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
+  const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(name, 0, "", "cannot open file");
+  ToolPath path;
+  std::string raw, record;
+  int line = 0, record_line = 0;
+  double feed = std::numeric_limits<double>::quiet_NaN();
+  bool skip_next_goto = false;
+  auto handle = [&](const std::string& rec, int at) {
+    std::string r = upper(rec);
+    r.erase(std::remove_if(r.begin(), r.end(), [](unsigned char c) { return std::isspace(c); }), r.end());
+    if (r.empty() || r.rfind("$$", 0) == 0 || r.rfind("PPRINT", 0) == 0 || r.rfind("REMARK", 0) == 0) return;
+    const auto slash = r.find('/');
+    const std::string word = r.substr(0, slash);
+    const std::string args = slash == std::string::npos ? "" : r.substr(slash + 1);
+    std::vector<std::string> a;
+    {
+      std::stringstream ss(args);
+      std::string item;
+      while (std::getline(ss, item, ',')) a.push_back(item);
+    }
+    if (word == "RAPID") {
+      skip_next_goto = true;
+    } else if (word == "FEDRAT") {
+      if (a.empty()) throw InputError(name, at, "FEDRAT", "missing feed value");
+      // FEDRAT/MMPM,f or FEDRAT/f[,MMPM]
+      const std::string& v = (a[0] == "MMPM" || a[0] == "IPM") && a.size() > 1 ? a[1] : a[0];
+      feed = parse_number(v, name, at, "FEDRAT");
+      if (feed <= 0) throw InputError(name, at, "FEDRAT", "feed must be positive");
+    } else if (word == "GOTO") {
+      if (a.size() != 3 && a.size() != 6)
+        throw InputError(name, at, "GOTO", "expected x,y,z or x,y,z,i,j,k, found " + std::to_string(a.size()) + " values");
+      double v[6] = {0, 0, 0, 0, 0, 1};
+      for (size_t i = 0; i < a.size(); ++i) v[i] = parse_number(a[i], name, at, "GOTO");
+      if (skip_next_goto) {
+        skip_next_goto = false;
+        return;
+      }
+      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GOTO i,j,k");
+      CLPoint pt;
+      pt.p = Eigen::Vector3d(v[0], v[1], v[2]) + tool.cl_height() * axis;
+      pt.n = axis;
+      pt.feed = feed;
+      path.rows.push_back(pt);
+    }
+    // Other records (MULTAX, CUTTER, LOADTL, SPINDL, COOLNT, FINI, ...) do not change the geometry.
+  };
+  while (std::getline(in, raw)) {
+    ++line;
+    if (raw.find('\0') != std::string::npos) throw InputError(name, line, "", "binary data in a CLDATA file");
+    std::string t = raw;
+    while (!t.empty() && (t.back() == '\r' || t.back() == ' ' || t.back() == '\t')) t.pop_back();
+    if (record.empty()) record_line = line;
+    if (!t.empty() && t.back() == '$' && !(t.size() >= 2 && t[t.size() - 2] == '$')) {
+      t.pop_back();
+      record += t;
+      continue;
+    }
+    record += t;
+    handle(record, record_line);
+    record.clear();
+  }
+  if (!record.empty()) handle(record, record_line);
+  if (path.rows.empty()) throw InputError(name, 0, "", "no GOTO records");
+  return path;
+}
+
+ToolPath read_toolpath(const fs::path& file, const Tool& tool) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".cl" || ext == ".apt") return read_toolpath_apt(file, tool);
+  return read_toolpath_csv(file);
+}
+
+void write_toolpath_csv(const ToolPath& path, const fs::path& file) {
+  const bool with_feed =
+      std::any_of(path.rows.begin(), path.rows.end(), [](const CLPoint& p) { return std::isfinite(p.feed); });
+  write_file_atomic(file, [&](std::ostream& out) {
+    out << "x,y,z,nx,ny,nz" << (with_feed ? ",feed" : "") << "\n";
+    for (const auto& r : path.rows) {
+      out << fixed(r.p.x(), 9) << ',' << fixed(r.p.y(), 9) << ',' << fixed(r.p.z(), 9) << ',' << fixed(r.n.x(), 9)
+          << ',' << fixed(r.n.y(), 9) << ',' << fixed(r.n.z(), 9);
+      if (with_feed) out << ',' << (std::isfinite(r.feed) ? fixed(r.feed, 3) : "");
+      out << '\n';
+    }
+  });
+}
+
+}  // namespace tf

@@ -1,0 +1,39 @@
+// tiltfield: small I/O helpers every writer and reader shares.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tf {
+
+// Writes through `fill` to "<file>.tmp-<pid>" in the same folder, then renames onto `file`, so a failed
+// run never leaves a half-written file under the requested name. Throws std::runtime_error when the
+// folder cannot be written or `fill` throws (the temporary is removed).
+void write_file_atomic(const std::filesystem::path& file, const std::function<void(std::ostream&)>& fill);
+
+// The same for writers that want a path (e.g. OpenMesh): `write` receives the temporary path.
+void write_path_atomic(const std::filesystem::path& file,
+                       const std::function<void(const std::filesystem::path& tmp)>& write);
+
+// Formats a number in fixed notation with at most `decimals` decimals, trailing zeros and a trailing
+// point removed, "-0" written as "0". Never scientific notation.
+std::string fixed(double v, int decimals);
+
+// A CSV table with a header row. Cells are trimmed; blank lines and lines starting with '#' skipped.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> lines;  // 1-based source line of each row
+  int column(std::string_view name) const;  // -1 when absent
+};
+// Throws InputError(file, line, "", ...) on a row whose cell count differs from the header's, or an
+// unreadable file.
+CsvTable read_csv(const std::filesystem::path& file);
+
+// Parses a finite double; throws InputError(file, line, field, ...) otherwise.
+double parse_number(std::string_view text, const std::string& file, int line, const std::string& field);
+
+}  // namespace tf

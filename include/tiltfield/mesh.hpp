@@ -1,0 +1,55 @@
+// tiltfield: triangle meshes. One mesh type (OpenMesh TriMesh with double-precision points), free
+// functions over it.
+#pragma once
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace tf {
+
+struct MeshTraits : public OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+};
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
+
+// A flat copy of a mesh for libraries that want arrays (nanoflann, Embree, FCL, Ceres).
+// V: one vertex a row, mm. F: one triangle a row, indices into V, counter-clockwise seen from outside.
+struct TriangleArrays {
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V;
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F;
+};
+
+// Reads STL (ASCII or binary), OBJ, OFF or PLY by extension. Throws InputError naming the file when it
+// cannot be read, has an unknown extension, or has no triangles. Polygons are triangulated.
+Mesh load_mesh(const std::filesystem::path& file);
+
+// Writes by extension (.stl binary, .obj, .off, .ply binary); vertex colours are written when the mesh
+// has them and the format carries them. Written to a temporary name and renamed.
+void write_mesh(const Mesh& mesh, const std::filesystem::path& file);
+
+// Builds a mesh from arrays (V in mm, F counter-clockwise from outside).
+Mesh mesh_from_arrays(const Eigen::Ref<const Eigen::MatrixX3d>& V, const Eigen::Ref<const Eigen::MatrixX3i>& F);
+TriangleArrays to_arrays(const Mesh& mesh);
+
+Eigen::AlignedBox3d bounding_box(const Mesh& mesh);
+
+// True when every edge has exactly two faces (no boundary), i.e. the mesh can bound a solid.
+bool is_closed(const Mesh& mesh);
+
+// Signed volume (mm^3) by the divergence theorem; positive when the faces are oriented outward.
+double signed_volume(const Mesh& mesh);
+
+// Appends b to a (no vertex welding).
+void append_mesh(Mesh& a, const Mesh& b);
+
+inline Eigen::Vector3d to_eigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
+inline OpenMesh::Vec3d to_om(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+}  // namespace tf
