@@ -37,7 +37,7 @@ bool MachineSpec::has_axis(char letter) const {
 MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file, const std::string& prefix) {
   require_object(j, file, prefix.empty() ? "(top level)" : prefix);
   only_keys(j,
-            {"name", "kinematics", "pivot", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
+            {"name", "kinematics", "pivot", "tilt_offset", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
              "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "safe_z", "comment"},
             file, prefix);
   MachineSpec m;
@@ -57,6 +57,7 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
                      "unknown kinematics '" + k +
                          "' (use xyz, table-table-ac, table-table-bc, head-table-bc or head-head-ac)");
   if (j.contains("pivot")) m.pivot = vec3(j["pivot"], file, join(prefix, "pivot"));
+  if (j.contains("tilt_offset")) m.tilt_offset = vec3(j["tilt_offset"], file, join(prefix, "tilt_offset"));
   if (j.contains("table_center")) m.table_center = vec3(j["table_center"], file, join(prefix, "table_center"));
   m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
   if (j.contains("limits")) {
