@@ -38,7 +38,7 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   require_object(j, file, prefix.empty() ? "(top level)" : prefix);
   only_keys(j,
             {"name", "kinematics", "pivot", "tilt_offset", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
-             "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "safe_z", "comment"},
+             "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "max_rotary_feed", "safe_z", "comment"},
             file, prefix);
   MachineSpec m;
   if (j.contains("name")) m.name = string(j["name"], file, join(prefix, "name"));
@@ -90,6 +90,8 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   if (j.contains("tcp_off_code")) m.tcp_off_code = string(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
   m.max_feed = positive(number_or(j, "max_feed", m.max_feed, file, prefix), file, join(prefix, "max_feed"));
   m.rapid_feed = positive(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), file, join(prefix, "rapid_feed"));
+  m.max_rotary_feed = positive(number_or(j, "max_rotary_feed", m.max_rotary_feed, file, prefix), file,
+                               join(prefix, "max_rotary_feed"));
   m.safe_z = positive(number_or(j, "safe_z", m.safe_z, file, prefix), file, join(prefix, "safe_z"));
   return m;
 }

@@ -51,6 +51,7 @@ struct MachineSpec {
   std::string tcp_off_code;
   double max_feed = 10000.0;   // mm/min
   double rapid_feed = 20000.0; // mm/min, for time estimates
+  double max_rotary_feed = 7200.0;  // deg/min, the rotaries' top speed (bounds inverse-time feeds)
   double safe_z = 50.0;        // retract height above the part's highest point along the tool axis, mm
 
   // The rotary axis letters this machine has, in the order they appear in G-code (e.g. "AC").
