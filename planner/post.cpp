@@ -32,6 +32,12 @@ class Builder {
   Builder(const Kinematics& kin, const PostJob& job, const PostOptions& opt, bool tcp, Eigen::AlignedBox3d bounds)
       : kin_(kin), job_(job), opt_(opt), tcp_(tcp), bounds_(bounds) {
     zsafe_ = transit_height();
+    const auto zl = job.machine.limits.find('Z');
+    if (!tcp_ && zl != job.machine.limits.end() && zsafe_ > zl->second.max) {
+      prog_.warnings.push_back("the transit height Z " + fixed(zsafe_, 3) + " that clears every turn of the rotaries is above Z's limit " +
+                               fixed(zl->second.max, 3) + "; using the limit");
+      zsafe_ = zl->second.max;
+    }
   }
 
   Program& program() { return prog_; }
@@ -120,23 +126,27 @@ class Builder {
     return top + L;  // head machines: a vertical tool is the lowest; joint Z = tip Z + L there
   }
 
-  Transit transit(const ToolPose& pose, const Joints& j) const {
-    const double lift = std::max(0.0, max_projection(bounds_, pose.axis) - pose.tip.dot(pose.axis)) + job_.machine.safe_z;
-    const ToolPose back{pose.tip + lift * pose.axis, pose.axis};
+  Transit transit(const ToolPose& pose, const Joints& j) {
+    double lift = std::max(0.0, max_projection(bounds_, pose.axis) - pose.tip.dot(pose.axis)) + job_.machine.safe_z;
     Transit t;
-    Eigen::Vector3d dir;  // how the programmed XYZ move when the tip moves along its axis
+    Eigen::Vector3d dir = pose.axis;  // how the programmed XYZ move when the tip moves along its axis
     if (tcp_) {
-      t.retract = target(back, j);
-      dir = pose.axis;
+      t.retract = target(ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
     } else {
-      auto r = joints_at_rotaries(kin_, back, j);
-      auto r1 = joints_at_rotaries(kin_, ToolPose{back.tip + pose.axis, pose.axis}, j);
-      if (!r || !r1) throw JobError("the retract along the tool axis leaves the machine's limits (lower machine.safe_z?)");
+      // Back off along the axis; where the full lift leaves the limits, as far as they allow.
+      std::optional<Joints> r;
+      for (int tries = 0; tries < 8 && !r; ++tries, lift *= 0.5)
+        r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
+      if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
+      if (tries_warned_ == 0 && lift * 2.0 < job_.machine.safe_z) {
+        prog_.warnings.push_back("a retract is shortened to " + fixed(lift * 2.0, 3) + " mm by the machine's limits");
+        ++tries_warned_;
+      }
       t.retract = *r;
-      dir = Eigen::Vector3d(r1->x - r->x, r1->y - r->y, r1->z - r->z);
+      dir = Eigen::Vector3d(r->x - j.x, r->y - j.y, r->z - j.z).normalized();
     }
     t.high = t.retract;
-    const double z = std::max(zsafe_, t.retract.z);
+    const double z = std::max(zsafe_, t.retract.z);  // zsafe_ is within Z's limits, retract too
     if (dir.z() > 0.05) {
       const double k = (z - t.retract.z) / dir.z();
       t.high.x += k * dir.x();
@@ -173,6 +183,7 @@ class Builder {
   bool tcp_;
   Eigen::AlignedBox3d bounds_;
   double zsafe_ = 0.0;
+  int tries_warned_ = 0;
   Program prog_;
 };
 

@@ -276,6 +276,17 @@ TEST(Post, PoleModeHoldOrInterpolate) {
   }
 }
 
+TEST(Post, ZLimitShortensTransitsInsteadOfFailing) {
+  tf::PostJob job = job_for("table-table-ac");
+  job.machine.limits['Z'] = {-500.0, 160.0};
+  const tf::OrientedPath path = impeller_like_path(40);
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  const Kinematics kin(job.machine, job.tool.length);
+  for (const tf::Block& b : prog.blocks) EXPECT_TRUE(kin.within_limits(b.target));
+  EXPECT_FALSE(prog.warnings.empty());
+  EXPECT_NEAR(prog.start.z, 160.0, 1e-9);
+}
+
 TEST(Post, UnreachableRowIsNamed) {
   tf::PostJob job = job_for("table-table-ac");
   tf::OrientedPath path = impeller_like_path(20);
