@@ -1,5 +1,6 @@
 // tiltfield: a small SVG renderer for scene previews. Orthographic view from an oblique direction,
-// flat-shaded triangles painted back to front, polylines drawn on top. Large meshes are decimated by
+// flat-shaded triangles painted back to front (large ones split first), polylines drawn on top where a
+// depth buffer of the triangles says they are not hidden. Large meshes are decimated by
 // vertex clustering so the picture stays small (a few MB at most).
 #pragma once
 #include <Eigen/Core>

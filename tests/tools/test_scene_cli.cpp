@@ -3,6 +3,8 @@
 // code (own STL reader, FCL distances, the hub formula written out again).
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <nlohmann/json.hpp>
 
 #include "scene_test_util.hpp"
@@ -131,6 +133,7 @@ TEST_F(BundledImpeller, HubIsAClosedOutwardSolidWithinTheChordalTolerance) {
     worst_normal = std::min(worst_normal, (b - a).cross(c - a).normalized().dot(n));
   }
   EXPECT_GT(curved, 10000);
+  std::cout << "hub: " << curved << " curved triangles, worst deviation " << worst << " mm\n";
   EXPECT_LE(worst, tol + 1e-5) << "float rounding of STL allows 1e-5";
   EXPECT_GT(worst_normal, 0.99);
 }
@@ -165,6 +168,8 @@ TEST_F(BundledImpeller, PathRowsLieOnTheAnalyticHubOffsetByTheBallRadius) {
     if (i % 7 == 0) worst_mesh = std::max(worst_mesh, sphere_distance(hub_mesh, c, 1e-4) + 1e-4);
     if (i > 0) worst_step = std::max(worst_step, (row.p - scene_->path.rows[i - 1].p).norm());
   }
+  std::cout << "path: worst off-surface " << worst_surface << " mm, normal error " << worst_normal
+            << ", contact to hub mesh " << worst_mesh << " mm\n";
   EXPECT_LE(worst_surface, 1e-6);
   EXPECT_LE(worst_normal, 1e-6);
   EXPECT_LE(worst_mesh, tol + 1e-5);
@@ -187,12 +192,14 @@ TEST_F(BundledImpeller, BallIsClearButTheNominalAxisMeetsTheBlades) {
     hits += capsule_collides(blades, row.p, top, rc);
     ++tested;
   }
+  std::cout << "nominal axis meets the blades on " << hits << " of " << tested << " tested rows\n";
   EXPECT_EQ(touching, 0);
   EXPECT_GT(hits, tested / 20);
   EXPECT_LT(hits, tested);
   // ... and the clearance is tight somewhere: the outer passes run close to the blades.
   double least = 1e9;
   for (size_t i = 0; i < scene_->path.rows.size(); i += 5) least = std::min(least, sphere_distance(blades, scene_->path.rows[i].p, R));
+  std::cout << "least ball clearance (every 5th row) " << least << " mm\n";
   EXPECT_LT(least, 0.5);
 }
 
