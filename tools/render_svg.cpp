@@ -196,7 +196,17 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
   const double h = std::ceil(bounds.sizes().y() * scale + 2 * margin);
   auto sx = [&](const Eigen::Vector2d& q) { return margin + (q.x() - bounds.min().x()) * scale; };
   auto sy = [&](const Eigen::Vector2d& q) { return margin + (bounds.max().y() - q.y()) * scale; };
-  subdivide(tris, 40.0 / scale);
+  {
+    // Split large faces, but never more than half the budget again.
+    const size_t limit = tris.size() + o.max_triangles / 2;
+    std::vector<Painted> split;
+    for (double edge_px = 40.0;; edge_px *= 1.5) {
+      split = tris;
+      subdivide(split, edge_px / scale);
+      if (split.size() <= limit) break;
+    }
+    tris = std::move(split);
+  }
   std::stable_sort(tris.begin(), tris.end(), [](const Painted& a, const Painted& b) { return a.depth < b.depth; });
   const DepthBuffer depth = rasterize_depth(tris, static_cast<int>(w), static_cast<int>(h),
                                             [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(sx(q), sy(q)); });

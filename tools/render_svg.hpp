@@ -28,7 +28,9 @@ struct SvgOptions {
   double azimuth_deg = -60.0;    // camera direction about +z, from +x, deg
   double elevation_deg = 35.0;   // camera height above the xy plane, deg
   int width_px = 1000;           // picture width; the height follows the scene's aspect
-  size_t max_triangles = 30000;  // budget over all meshes before back faces are dropped
+  // Budget of mesh triangles over all meshes (before back faces are dropped); splitting large faces for
+  // painting adds at most half as many again.
+  size_t max_triangles = 30000;
   std::string title;             // drawn in the top-left corner when not empty
 };
 
