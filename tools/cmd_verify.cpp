@@ -15,7 +15,7 @@ namespace {
 struct VerifyArgs {
   std::string scene, program, out, blocks, stock_mesh;
   double resolution = 0.1;
-  double tolerance = 0.005;
+  double tolerance = 0.01;
   bool stop_at_first = false;
   bool fail_on_collision = false;
 };
@@ -67,7 +67,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--blocks", args.blocks, "per-block CSV");
   cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
   cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
-  cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.005)");
+  cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
   cmd->callback([] { run_verify(args); });

@@ -42,7 +42,7 @@ struct ToolPart {
 };
 
 struct SweepOptions {
-  double tolerance = 0.005;        // mm, bound on the cutting parts' sub-step error (see above)
+  double tolerance = 0.01;         // mm, bound on the cutting parts' sub-step error (see above)
   double torus_tolerance = 0.001;  // mm, depth of the gaps between a bull end's ring spheres
   int max_substeps = 4096;         // per block
 };
