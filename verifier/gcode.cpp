@@ -209,7 +209,6 @@ class Reader {
       slot = w.value;
     }
     auto get = [&](char c) { return val[c - 'A']; };
-    const double unit = st_.inch ? 25.4 : 1.0;
 
     // Modal settings first, in RS274/NGC execution order.
     bool skip_motion = false;
@@ -249,6 +248,7 @@ class Reader {
           }
       }
     }
+    const double unit = st_.inch ? 25.4 : 1.0;  // after this block's G20/G21
     if (get('F')) {
       const double f = *get('F');
       if (f < 0) throw InputError(file_, line, "F", "negative feed");
