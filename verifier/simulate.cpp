@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "obstacles.hpp"
+#include "raycast.hpp"
 #include "tiltfield/error.hpp"
 #include "tiltfield/verify.hpp"
 
@@ -86,7 +87,7 @@ float obstacle_depth(const Crossing* c, const Crossing* e, bool solid, float a, 
 // Deepest over-cut (normal to the design) of the removed pieces on one ray. The part side lies between an
 // entering crossing (cos < 0) and the next exiting one; depth at x is the distance to the nearer crossing
 // times |cos| there (a planar estimate; crossings more grazing than |cos| < 0.3 are left to other grids).
-double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Interval>& removed) {
+double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Interval>& removed, double* where) {
   if (!c || c == e || removed.empty()) return 0.0;
   constexpr double kMinCos = 0.3;
   const double inf = std::numeric_limits<double>::infinity();
@@ -100,13 +101,21 @@ double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Inter
       if (vout) d = std::min(d, (t_out - x) * c_out);
       return d;
     };
+    auto take = [&](double x) {
+      const double v = depth(x);
+      if (v > best) {
+        best = v;
+        *where = x;
+      }
+    };
     for (const Interval& r : removed) {
       const double p0 = std::max<double>(r.lo, t_in), p1 = std::min<double>(r.hi, t_out);
       if (!(p1 > p0)) continue;
-      best = std::max({best, depth(p0), depth(p1)});
+      take(p0);
+      take(p1);
       if (vin && vout) {
         const double x = (t_in * c_in + t_out * c_out) / (c_in + c_out);
-        if (x > p0 && x < p1) best = std::max(best, depth(x));
+        if (x > p0 && x < p1) take(x);
       }
     }
   };
@@ -133,7 +142,10 @@ class Simulator {
         lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
     for (const Mesh& m : scene.fixtures) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture});
     for (const Mesh& m : scene.check_surfaces) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Check});
-    if (options.check_gouges && scene.design.n_faces() > 0) design_ = std::make_unique<RayTable>(scene.design, lattice_);
+    if (options.check_gouges && scene.design.n_faces() > 0) {
+      design_ = std::make_unique<RayTable>(scene.design, lattice_);
+      design_mesh_ = std::make_unique<RayMesh>(scene.design);
+    }
     parts_ = tool_parts(scene.tool, options.sweep);
     for (const ToolPart& p : parts_) {
       const double reach = p.kind == ToolPart::Kind::Sphere ? std::hypot(p.offset, p.h0) + p.radius : std::hypot(p.radius, p.h1);
@@ -379,13 +391,7 @@ class Simulator {
     acc.cut.clear();
     for (const Hit& h : acc.hits)
       if (h.cutting) acc.cut.push_back(h.iv);
-    std::sort(acc.cut.begin(), acc.cut.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
-    size_t m = 0;
-    for (size_t i = 0; i < acc.cut.size(); ++i) {
-      if (m > 0 && acc.cut[i].lo <= acc.cut[m - 1].hi) acc.cut[m - 1].hi = std::max(acc.cut[m - 1].hi, acc.cut[i].hi);
-      else acc.cut[m++] = acc.cut[i];
-    }
-    acc.cut.resize(m);
+    merge_union(acc.cut);
     bool changed = false;
     acc.removed_pieces.clear();
     if (!ray.empty()) {
@@ -401,8 +407,27 @@ class Simulator {
           changed = true;
         }
       }
-      for (const Hit& h : acc.hits)
-        if (!h.cutting) record(acc, d, h.component, HitWith::Stock, rapid, overlap_longest(h.iv, ray));
+      bool crash = false;
+      for (const Hit& h : acc.hits) {
+        if (h.cutting || ray.empty()) continue;
+        const float depth = overlap_longest(h.iv, ray);
+        record(acc, d, h.component, HitWith::Stock, rapid, depth);
+        crash |= depth > 0;
+      }
+      // A crash destroys the material the shank or holder met: take it away too, so the following
+      // blocks report their own collisions, not this one again.
+      if (crash) {
+        acc.cut.clear();
+        for (const Hit& h : acc.hits)
+          if (!h.cutting) acc.cut.push_back(h.iv);
+        merge_union(acc.cut);
+        const double gone = subtract_intervals(ray.begin(), ray.size(), acc.cut.data(), acc.cut.size(), acc.mat, nullptr);
+        if (gone > 0) {
+          ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+          acc.removed[d] += gone;
+          changed = true;
+        }
+      }
     }
     for (const Obstacle& o : obstacles_) {
       const Crossing* b = o.table->begin(d, iu, iv);
@@ -411,9 +436,33 @@ class Simulator {
       for (const Hit& h : acc.hits)
         record(acc, d, h.component, o.with, rapid, obstacle_depth(b, e, o.table->solid(), h.iv.lo, h.iv.hi));
     }
-    if (design_ && !acc.removed_pieces.empty())
-      acc.gouge = std::max(acc.gouge, gouge_depth(design_->begin(d, iu, iv), design_->end(d, iu, iv), acc.removed_pieces));
+    if (design_ && !acc.removed_pieces.empty()) {
+      double at = 0.0;
+      const double est = gouge_depth(design_->begin(d, iu, iv), design_->end(d, iu, iv), acc.removed_pieces, &at);
+      // The along-ray estimate selects the point; a point deep inside the part along a ray parallel to its
+      // surface is much closer to the surface than the ray says, so the depth is its true distance.
+      if (est > 0.25 * opt_.gouge_tolerance) {
+        Eigen::Vector3d p = lattice_.origin;
+        p[Lattice::u_axis(d)] += lattice_.h * iu;
+        p[Lattice::v_axis(d)] += lattice_.h * iv;
+        p[d] += at;
+        Eigen::Vector3d q, n;
+        const double dist = design_mesh_->closest(p, est + 1e-6, q, n) ? (p - q).norm() : est;
+        acc.gouge = std::max(acc.gouge, std::min(est, dist));
+      }
+    }
     return changed;
+  }
+
+  // Sorts and merges intervals in place into a disjoint union.
+  static void merge_union(std::vector<Interval>& v) {
+    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+    size_t m = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
+      else v[m++] = v[i];
+    }
+    v.resize(m);
   }
 
   static float overlap_longest(const Interval& iv, const Dexel& ray) {
@@ -488,6 +537,7 @@ class Simulator {
   TriDexel stock_;
   std::vector<Obstacle> obstacles_;
   std::unique_ptr<RayTable> design_;
+  std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
   std::vector<ToolPart> parts_;
   double reach_cut_ = 0.0, reach_all_ = 0.0;
   std::array<int, 3> tiles_u_{}, tiles_v_{};
