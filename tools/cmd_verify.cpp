@@ -16,6 +16,7 @@ struct VerifyArgs {
   std::string scene, program, out, blocks, stock_mesh;
   double resolution = 0.1;
   double tolerance = 0.01;
+  int mesh_refine = 0;
   bool stop_at_first = false;
   bool fail_on_collision = false;
 };
@@ -41,7 +42,11 @@ void run_verify(const VerifyArgs& a) {
   opt.progress = terminal_progress();
   const VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
   // Every output is written to a temporary name and renamed; the mesh first (slowest), the report last.
-  if (!a.stock_mesh.empty()) write_mesh(reconstruct_stock(result.stock, scene.design.n_faces() ? &scene.design : nullptr), a.stock_mesh);
+  if (!a.stock_mesh.empty()) {
+    StockMeshOptions mo;
+    mo.refine = a.mesh_refine;
+    write_mesh(reconstruct_stock(result.stock, scene.design.n_faces() ? &scene.design : nullptr, mo), a.stock_mesh);
+  }
   if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
   write_verify_json(result.report, a.out);
   const VerifyReport& r = result.report;
@@ -68,6 +73,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
   cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
   cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
+  cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
+      ->check(CLI::Range(0, 4));
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
   cmd->callback([] { run_verify(args); });

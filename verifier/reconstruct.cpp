@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+
+#include <Eigen/Eigenvalues>
 
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -40,6 +43,8 @@ struct Builder {
   int nx, ny, nz;
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> faces;
+  std::vector<Eigen::Vector3d> points;   // the exact crossings of every vertex's cell
+  std::vector<uint32_t> point_start{0};  // vertex v owns points[point_start[v], point_start[v + 1])
   std::vector<uint8_t> occ0, occ1;   // node layers k and k+1
   std::vector<int> cells_prev, cells_cur;  // vertex ids of cell layers k-1 and k (-1: none)
 
@@ -54,7 +59,7 @@ struct Builder {
   }
 
   // Exact crossing points on the edges of cell (i, j, k); corners from the two occupancy layers.
-  bool cell_vertex(int i, int j, int k, Eigen::Vector3d& out) const {
+  bool cell_vertex(int i, int j, int k, Eigen::Vector3d& out) {
     auto o = [&](int di, int dj, int dk) {
       return (dk ? occ1 : occ0)[size_t(j + dj) * nx + (i + di)] != 0;
     };
@@ -67,18 +72,21 @@ struct Builder {
         if (o(0, a, b) != o(1, a, b)) {
           const float x = crossing(td.ray(0, j + a, k + b), i * h, (i + 1) * h);
           sum += Eigen::Vector3d(x, (j + a) * L.h, (k + b) * L.h);
+          points.push_back(L.origin + Eigen::Vector3d(x, (j + a) * L.h, (k + b) * L.h));
           ++n;
         }
         // y edges at (x = i + a, z = k + b): grid 1 has u = z, v = x
         if (o(a, 0, b) != o(a, 1, b)) {
           const float y = crossing(td.ray(1, k + b, i + a), j * h, (j + 1) * h);
           sum += Eigen::Vector3d((i + a) * L.h, y, (k + b) * L.h);
+          points.push_back(L.origin + Eigen::Vector3d((i + a) * L.h, y, (k + b) * L.h));
           ++n;
         }
         // z edges at (i + a, j + b)
         if (o(a, b, 0) != o(a, b, 1)) {
           const float z = crossing(td.ray(2, i + a, j + b), k * h, (k + 1) * h);
           sum += Eigen::Vector3d((i + a) * L.h, (j + b) * L.h, z);
+          points.push_back(L.origin + Eigen::Vector3d((i + a) * L.h, (j + b) * L.h, z));
           ++n;
         }
       }
@@ -108,6 +116,7 @@ struct Builder {
           if (cell_vertex(i, j, k, p)) {
             cells_cur[size_t(j) * nx + i] = static_cast<int>(vertices.size());
             vertices.push_back(p);
+            point_start.push_back(static_cast<uint32_t>(points.size()));
           }
         }
       auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
@@ -144,6 +153,129 @@ struct Builder {
   }
 };
 
+// A local algebraic sphere (a plane when flat) fitted to the exact crossings around a vertex (the
+// vertex's cell and its neighbours): u0 + u.x + u4 |x|^2 = 0 on points centred and scaled for conditioning.
+struct LocalFit {
+  bool valid = false;
+  bool plane = false;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // sphere centre, or plane normal
+  double r = 0.0;                               // sphere radius, or plane offset (n.x = r)
+  Eigen::Vector3d project(const Eigen::Vector3d& p) const {
+    if (plane) return p - (c.dot(p) - r) * c;
+    const Eigen::Vector3d d = p - c;
+    const double n = d.norm();
+    return n > 0 ? Eigen::Vector3d(c + d * (r / n)) : p;
+  }
+  double distance(const Eigen::Vector3d& p) const { return plane ? std::abs(c.dot(p) - r) : std::abs((p - c).norm() - r); }
+};
+
+LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
+  LocalFit f;
+  if (P.size() < 6) return f;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : P) mean += p;
+  mean /= double(P.size());
+  double scale = 0.0;
+  for (const auto& p : P) scale += (p - mean).squaredNorm();
+  scale = std::sqrt(scale / double(P.size()));
+  if (scale <= 0) return f;
+  Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
+  for (const auto& p : P) {
+    const Eigen::Vector3d q = (p - mean) / scale;
+    Eigen::Matrix<double, 5, 1> a;
+    a << 1.0, q.x(), q.y(), q.z(), q.squaredNorm();
+    M += a * a.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(M);
+  const Eigen::Matrix<double, 5, 1> u = es.eigenvectors().col(0);
+  const Eigen::Vector3d g = u.segment<3>(1);
+  if (std::abs(u[4]) < 1e-9 * g.norm() || std::abs(u[4]) < 1e-12) {
+    if (g.norm() < 1e-12) return f;
+    f.plane = true;
+    f.c = g.normalized();
+    // u0 + g.q = 0 with q = (x - mean) / scale  ->  n.x = n.mean - u0 scale / |g|
+    f.r = f.c.dot(mean) - u[0] * scale / g.norm();
+  } else {
+    const Eigen::Vector3d cq = -g / (2.0 * u[4]);
+    const double r2 = cq.squaredNorm() - u[0] / u[4];
+    if (!(r2 > 0)) return f;
+    f.c = mean + scale * cq;
+    f.r = scale * std::sqrt(r2);
+  }
+  for (const auto& p : P)
+    if (f.distance(p) > tolerance) return f;
+  f.valid = true;
+  return f;
+}
+
+// Moves each vertex onto the surface fitted to its neighbourhood's exact crossings where that fit is
+// good (smooth regions); keeps the mass point near edges and corners, where no sphere fits.
+std::vector<LocalFit> smooth_vertices(Builder& b) {
+  const size_t nv = b.vertices.size();
+  std::vector<std::vector<int>> ring(nv);
+  for (const auto& f : b.faces)
+    for (int k = 0; k < 3; ++k) {
+      ring[f[k]].push_back(f[(k + 1) % 3]);
+      ring[f[k]].push_back(f[(k + 2) % 3]);
+    }
+  std::vector<LocalFit> fits(nv);
+  std::vector<Eigen::Vector3d> P;
+  const double tol = 0.05 * b.L.h;
+  for (size_t v = 0; v < nv; ++v) {
+    auto& r = ring[v];
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    P.clear();
+    for (int w : r) P.insert(P.end(), b.points.begin() + b.point_start[w], b.points.begin() + b.point_start[w + 1]);
+    P.insert(P.end(), b.points.begin() + b.point_start[v], b.points.begin() + b.point_start[v + 1]);
+    std::sort(P.begin(), P.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& c) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
+    });
+    P.erase(std::unique(P.begin(), P.end()), P.end());
+    fits[v] = fit_points(P, tol);
+  }
+  for (size_t v = 0; v < nv; ++v) {
+    if (!fits[v].valid) continue;
+    const Eigen::Vector3d q = fits[v].project(b.vertices[v]);
+    if ((q - b.vertices[v]).norm() <= b.L.h) b.vertices[v] = q;
+    else fits[v].valid = false;
+  }
+  return fits;
+}
+
+// Splits every triangle in four; the new edge midpoints go onto the vertices' fitted surfaces.
+void refine(std::vector<Eigen::Vector3d>& V, std::vector<Eigen::Vector3i>& F, std::vector<LocalFit>& fits) {
+  std::map<std::pair<int, int>, int> mid;
+  std::vector<Eigen::Vector3i> G;
+  G.reserve(F.size() * 4);
+  auto midpoint = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    auto it = mid.find(key);
+    if (it != mid.end()) return it->second;
+    const Eigen::Vector3d m = 0.5 * (V[a] + V[b]);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int e : {a, b})
+      if (fits[e].valid) {
+        sum += fits[e].project(m);
+        ++n;
+      }
+    V.push_back(n ? Eigen::Vector3d(sum / n) : m);
+    fits.push_back(fits[a].valid ? fits[a] : fits[b]);
+    const int id = static_cast<int>(V.size()) - 1;
+    mid.emplace(key, id);
+    return id;
+  };
+  for (const auto& f : F) {
+    const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+    G.emplace_back(f[0], a, c);
+    G.emplace_back(f[1], b, a);
+    G.emplace_back(f[2], c, b);
+    G.emplace_back(a, b, c);
+  }
+  F.swap(G);
+}
+
 Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F) {
   Mesh mesh;
   std::vector<Mesh::VertexHandle> vh(V.size());
@@ -168,6 +300,12 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
 Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options) {
   Builder b(stock);
   b.run();
+  if (options.smooth || options.refine > 0) {
+    std::vector<LocalFit> fits = smooth_vertices(b);
+    if (!options.smooth)
+      for (auto& f : fits) f.valid = false;
+    for (int level = 0; level < options.refine; ++level) refine(b.vertices, b.faces, fits);
+  }
   Mesh mesh = to_mesh(b.vertices, b.faces);
   if (design && design->n_faces() > 0 && options.colour_by_deviation && mesh.n_vertices() > 0) {
     const RayMesh rm(*design);

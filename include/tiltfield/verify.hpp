@@ -99,12 +99,17 @@ void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& f
 
 // Options for the stock mesh.
 struct StockMeshOptions {
+  // Vertices move onto a local sphere (or plane) fitted to the exact dexel ends around them where it fits
+  // within 5 % of the spacing (smooth regions); edges and corners keep the mass point of their crossings.
+  bool smooth = true;
+  // Each level splits every triangle in four, new points on the fitted surfaces (0: none).
+  int refine = 0;
   bool colour_by_deviation = true;  // per-vertex colour from the signed distance to the design
   double colour_range_mm = 0.0;     // deviation mapped to full red/blue; 0: the largest |deviation|, >= 0.05
 };
 
 // A closed triangle mesh of the tri-dexel stock (dual contouring on the lattice: one vertex a cell with
-// crossings, placed from the exact dexel ends and their Hermite normals, one quad a crossing lattice edge).
+// crossings, placed from the exact dexel ends on its edges, one quad a crossing lattice edge).
 // With a design mesh and colour_by_deviation, vertices get colours: blue = below the design (gouge),
 // green = on it, red = material left.
 Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options = {});

@@ -53,7 +53,9 @@ TEST(Volume, SphereMeshRebuiltFrom147Rays) {
       }
   EXPECT_EQ(inner, 147u);
   EXPECT_LT(end_error, 0.01);  // the icosphere's own chordal error
-  const Mesh m = reconstruct_stock(td, nullptr);
+  StockMeshOptions mo;
+  mo.refine = 2;
+  const Mesh m = reconstruct_stock(td, nullptr, mo);
   EXPECT_TRUE(is_closed(m));
   double vmax = 0.0, fmax = 0.0;
   for (auto v : m.vertices()) vmax = std::max(vmax, std::abs(to_eigen(m.point(v)).norm() - 10.0));
@@ -178,6 +180,37 @@ TEST(Volume, FiveAxisTiltAboutTheTip) {
   EXPECT_NEAR(r.report.removed_volume_mm3, vol, vol * 0.005) << "independent " << vol;
   EXPECT_TRUE(r.report.collisions.empty());
   std::cout << "5-axis tilt: verifier " << r.report.removed_volume_mm3 << " mm3 (" << r.report.seconds << " s, " << r.report.per_block.back().substeps << " sub-steps), independent " << vol << " mm3\n";
+}
+
+}  // namespace
+}  // namespace tf
+
+namespace tf {
+namespace {
+
+TEST(Volume, StockMeshAfterCutsIsClosedAndMatchesTheDexels) {
+  Scene s = test::box_scene({0, 0, 0}, {30, 20, 10}, test::ball_tool(3, 12, 3, 40, {}));
+  s.design = test::box_mesh({-1, -1, -1}, {31, 21, 8});
+  const Program p = parse_gcode("G0 X5 Y10 Z20\nG1 Z7 F500\nG1 X25\nG1 Y15\nG1 X5\n", "m.ngc", MachineSpec{});
+  VerifyOptions o;
+  o.resolution = 0.25;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  const Mesh m = reconstruct_stock(r.stock, &s.design);
+  EXPECT_TRUE(is_closed(m));
+  EXPECT_TRUE(m.has_vertex_colors());
+  const double vol = signed_volume(m);
+  EXPECT_NEAR(vol, r.report.stock_volume_end_mm3, r.report.stock_volume_end_mm3 * 0.01);
+  // The cut floor (1 mm above the design at z = 7) and the top are green to red, not blue; the stock's
+  // sides and bottom lie inside the (larger) design box and are blue.
+  int blue_top = 0, blue_side = 0;
+  for (auto v : m.vertices()) {
+    const Eigen::Vector3d q = to_eigen(m.point(v));
+    const bool blue = m.color(v)[2] > 128;
+    if (q.z() > 6.5 && q.x() > 1 && q.x() < 29 && q.y() > 1 && q.y() < 19) blue_top += blue;
+    if (q.z() < 0.1) blue_side += blue;
+  }
+  EXPECT_EQ(blue_top, 0);
+  EXPECT_GT(blue_side, 0);
 }
 
 }  // namespace
