@@ -17,8 +17,10 @@ double slope(const GapLaw& law, size_t k) {  // slope of the interval [k, k+1]
   return (law.gap[k + 1] - law.gap[k]) / (law.s[k + 1] - law.s[k]);
 }
 // Half-width of the blend at knot k (0 when blending is off).
+// Interior knots only: the end knots keep their values, so that a law written for a closed profile
+// still has equal gaps at s = 0 and s = L.
 double blend_width(const GapLaw& law, size_t k) {
-  if (law.blend <= 0 || law.s.size() < 2) return 0;
+  if (law.blend <= 0 || law.s.size() < 3 || k == 0 || k + 1 == law.s.size()) return 0;
   double w = law.blend;
   if (k > 0) w = std::min(w, 0.5 * (law.s[k] - law.s[k - 1]));
   if (k + 1 < law.s.size()) w = std::min(w, 0.5 * (law.s[k + 1] - law.s[k]));
@@ -27,22 +29,6 @@ double blend_width(const GapLaw& law, size_t k) {
 double slope_left(const GapLaw& law, size_t k) { return k > 0 ? slope(law, k - 1) : 0.0; }
 double slope_right(const GapLaw& law, size_t k) { return k + 1 < law.s.size() ? slope(law, k) : 0.0; }
 
-// Golden-section minimum of f on [lo, hi]; f unimodal there.
-template <class F>
-double golden_min(F&& f, double lo, double hi, double* arg) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < 60 && hi - lo > 1e-13; ++it) {
-    if (f1 < f2) {
-      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
-    } else {
-      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
-    }
-  }
-  *arg = f1 < f2 ? x1 : x2;
-  return std::min(f1, f2);
-}
 }  // namespace
 
 GapLaw constant_gap(double gap) {
@@ -152,41 +138,10 @@ std::vector<Piece> profile_pieces(const Profile& profile, const GapLaw& law) {
   return out;
 }
 
-// Clearance of q against one piece: min over the piece of |q - p(s)| - gap(s).
-double piece_clearance(const Piece& p, const GapLaw& law, const Vector2d& q, double* s_at) {
-  double t = 0;
-  if (p.constant) {
-    const double d = distance(p.seg, q, &t);
-    if (s_at) *s_at = p.s0 + t * (p.s1 - p.s0);
-    return d - p.g0;
-  }
-  auto f = [&](double u) { return (q - point_at(p.seg, u)).norm() - gap_at(law, p.s0 + u * (p.s1 - p.s0)); };
-  // Lines with a linear gap give a convex f; otherwise bracket the minimum by sampling first.
-  double lo = 0, hi = 1;
-  if (!(p.linear && !p.seg.is_arc())) {
-    const int n = 16;
-    int best = 0;
-    double fb = std::numeric_limits<double>::infinity();
-    for (int k = 0; k <= n; ++k) {
-      const double v = f(static_cast<double>(k) / n);
-      if (v < fb) fb = v, best = k;
-    }
-    lo = std::max(0, best - 1) / static_cast<double>(n);
-    hi = std::min(n, best + 1) / static_cast<double>(n);
-  }
-  double u = 0;
-  double v = golden_min(f, lo, hi, &u);
-  for (double end : {0.0, 1.0})
-    if (f(end) < v) v = f(end), u = end;
-  if (s_at) *s_at = p.s0 + u * (p.s1 - p.s0);
-  return v;
-}
-
 struct ClearanceField {
   GapLaw law;
   std::vector<Piece> pieces;
   detail::BoxTree tree;
-  double max_gap = 0;
 };
 
 void ClearanceFieldDeleter::operator()(ClearanceField* f) const { delete f; }
@@ -196,21 +151,16 @@ ClearanceFieldPtr make_clearance_field(const Profile& profile, const GapLaw& law
   f->law = law;
   f->pieces = profile_pieces(profile, law);
   std::vector<Eigen::AlignedBox2d> boxes;
-  for (const auto& p : f->pieces) {
-    boxes.push_back(bounding_box(p.seg));
-    f->max_gap = std::max({f->max_gap, p.g0, p.g1});
-  }
-  for (double g : law.gap) f->max_gap = std::max(f->max_gap, g);
+  for (const auto& p : f->pieces) boxes.push_back(bounding_box(p.seg));
   f->tree = detail::BoxTree(std::move(boxes));
   return f;
 }
 
 double clearance(const ClearanceField& f, const Vector2d& q, double* s_at) {
-  int best = -1;
-  const double v = f.tree.nearest(q, f.max_gap, [&](int id) { return piece_clearance(f.pieces[id], f.law, q, nullptr); },
-                                  &best);
-  if (s_at && best >= 0) piece_clearance(f.pieces[best], f.law, q, s_at);
-  return v;
+  double s = 0;
+  const double d = profile_distance(f, q, &s);
+  if (s_at) *s_at = s;
+  return d - gap_at(f.law, s);
 }
 
 double profile_distance(const ClearanceField& f, const Vector2d& q, double* s_at) {

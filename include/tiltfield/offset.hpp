@@ -82,15 +82,16 @@ struct OffsetResult {
 // closed profile's gap differs at s = 0 and s = L.
 OffsetResult offset_profile(const Profile& profile, const GapLaw& law, const OffsetOptions& options);
 
-// A query structure over a profile and its gap law: the clearance of a point is
-// min over the profile of (|q - p(s)| - gap(s)); >= 0 where a tool centre may go, 0 on the trajectory.
+// A query structure over a profile and its gap law. The clearance of a point q is its distance to the
+// profile minus the gap at the closest point's arc length s*: 0 on the trajectory (whose points lie at
+// gap(s*) from the profile), < 0 where a point comes closer to the profile than the gap asks there.
 struct ClearanceField;
 struct ClearanceFieldDeleter {
   void operator()(ClearanceField* f) const;
 };
 using ClearanceFieldPtr = std::unique_ptr<ClearanceField, ClearanceFieldDeleter>;
 ClearanceFieldPtr make_clearance_field(const Profile& profile, const GapLaw& law);
-// Clearance of q (mm); writes the arc length s (mm) along the profile where the minimum is reached.
+// Clearance of q (mm); writes the arc length s* (mm) of the closest profile point.
 double clearance(const ClearanceField& field, const Eigen::Vector2d& q, double* s_at = nullptr);
 // Plain distance of q to the profile (mm) and the arc length of the closest point.
 double profile_distance(const ClearanceField& field, const Eigen::Vector2d& q, double* s_at = nullptr);
