@@ -30,4 +30,8 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
 std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field,
                                                double tol, double eps, int* crossings);
 
+// Variable gap: splits the contours' segments where their clearance leaves 0 (within thr, mm) and marks
+// the parts off the law as SegmentKind::Transition.
+void mark_transitions(std::vector<std::vector<Segment>>& contours, const ClearanceField& field, double thr);
+
 }  // namespace tf::offset

@@ -15,6 +15,11 @@ enum class SegmentKind {
   RoundJoin,  // arc of radius gap about a profile vertex (distance == gap)
   SharpJoin,  // extension of a neighbour up to the intersection of the offsets (distance >= gap)
   Fitted,     // arc approximating a variable-gap offset within OffsetOptions::arc_tolerance
+  // Variable gap only: the stretch next to a junction where another profile element is closest. The gap
+  // law jumps across the medial axis (the two closest points have different s), so no continuous path
+  // can keep distance == gap(s*) there; these stretches keep the intersection join and their distance
+  // is >= the law's value at the closest point (never closer).
+  Transition,
 };
 
 // A line (sweep == 0) or a circular arc from a to b. For arcs: centre c, radius r > 0 and the signed

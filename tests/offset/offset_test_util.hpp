@@ -37,7 +37,8 @@ inline std::string lobes_text(double R, double h, double cx) {
 
 struct Exactness {
   double max_error = 0;     // max |distance - gap(s)| over exact samples
-  double min_sharp = 1e9;   // min (distance - gap) over sharp-join samples
+  double min_sharp = 1e9;   // min (distance - gap) over sharp-join and transition samples
+  double transition_length = 0;  // mm of path marked Transition
   double max_fitted = 0;    // max |distance - gap(s)| over fitted-arc samples
   int samples = 0;
 };
@@ -55,8 +56,10 @@ inline Exactness check_exactness(const Profile& profile, const GapLaw& law, cons
         const double d = profile_distance(*field, q, &sc);
         const double dev = d - gap_at(law, sc);
         ++e.samples;
-        if (s.kind == SegmentKind::SharpJoin)
-          e.min_sharp = std::min(e.min_sharp, d - std::max(s.g0, s.g1));
+        if (s.kind == SegmentKind::SharpJoin || s.kind == SegmentKind::Transition) {
+          e.min_sharp = std::min(e.min_sharp, dev);
+          if (s.kind == SegmentKind::Transition) e.transition_length += length(s) / (per_segment + 1);
+        }
         else if (s.kind == SegmentKind::Fitted)
           e.max_fitted = std::max(e.max_fitted, std::abs(dev));
         else

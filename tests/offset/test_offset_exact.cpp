@@ -68,6 +68,11 @@ TEST(OffsetExact, VariableGapFollowsTheLaw) {
         const auto e = check_exactness(c.profile, law, r);
         EXPECT_LE(e.max_error, 1e-6);
         EXPECT_LE(e.max_fitted, 1e-6);
+        EXPECT_GE(e.min_sharp, -1e-6);  // never closer than the law, also across junctions
+        // Transitions are short stretches at junctions, not the bulk of the path.
+        double total = 0;
+        for (const auto& ct : r.contours) total += chain_length(ct);
+        EXPECT_LE(e.transition_length, 0.05 * total);
         expect_clean_contours(r);
       }
   }
