@@ -39,9 +39,31 @@ class BoxTree {
     }
   }
 
-  // Best-first search: calls lower(id) -> a value for items, prunes boxes whose distance to q is not
-  // below the best value found so far minus `slack` (slack >= 0 widens the search for
-  // distance-minus-gap queries). Returns the best value; `best_id` receives the item.
+  // True when pred(id) holds for some item whose box intersects `query`; stops at the first.
+  template <class Pred>
+  bool any(const Eigen::AlignedBox2d& query, Pred&& pred) const {
+    if (nodes_.empty()) return false;
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (!n.box.intersects(query)) continue;
+      if (n.left < 0) {
+        for (int k = n.begin; k < n.end; ++k)
+          if (boxes_[order_[k]].intersects(query) && pred(order_[k])) return true;
+      } else {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+      }
+    }
+    return false;
+  }
+
+  // Nearest-item search: calls eval(id) -> a value (e.g. a distance) for items whose box lies closer to q
+  // than the best value found so far plus `slack` (slack >= 0 widens the search for values that may be
+  // below the box distance). Depth-first, nearer child first, no allocation. Returns the best value;
+  // `best_id` receives its item.
   template <class Eval>
   double nearest(const Eigen::Vector2d& q, double slack, Eval&& eval, int* best_id = nullptr) const {
     double best = std::numeric_limits<double>::infinity();
@@ -50,17 +72,16 @@ class BoxTree {
       double d;
       int node;
     };
-    std::vector<Entry> heap;
-    heap.push_back({0.0, 0});
-    auto cmp = [](const Entry& x, const Entry& y) { return x.d > y.d; };
-    while (!heap.empty()) {
-      std::pop_heap(heap.begin(), heap.end(), cmp);
-      const Entry e = heap.back();
-      heap.pop_back();
-      if (e.d - slack >= best) break;
+    Entry stack[128];
+    int top = 0;
+    stack[top++] = {0.0, 0};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (e.d - slack >= best) continue;
       const Node& n = nodes_[e.node];
       if (n.left < 0) {
         for (int k = n.begin; k < n.end; ++k) {
+          if (std::sqrt(boxes_[order_[k]].squaredExteriorDistance(q)) - slack >= best) continue;
           const double v = eval(order_[k]);
           if (v < best) {
             best = v;
@@ -68,9 +89,15 @@ class BoxTree {
           }
         }
       } else {
-        for (int child : {n.left, n.right}) {
-          heap.push_back({std::sqrt(nodes_[child].box.squaredExteriorDistance(q)), child});
-          std::push_heap(heap.begin(), heap.end(), cmp);
+        const double dl = std::sqrt(nodes_[n.left].box.squaredExteriorDistance(q));
+        const double dr = std::sqrt(nodes_[n.right].box.squaredExteriorDistance(q));
+        // Push the farther child first so the nearer one is searched first.
+        if (dl <= dr) {
+          stack[top++] = {dr, n.right};
+          stack[top++] = {dl, n.left};
+        } else {
+          stack[top++] = {dl, n.left};
+          stack[top++] = {dr, n.right};
         }
       }
     }

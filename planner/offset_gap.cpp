@@ -142,6 +142,7 @@ struct ClearanceField {
   GapLaw law;
   std::vector<Piece> pieces;
   detail::BoxTree tree;
+  bool constant = true;
 };
 
 void ClearanceFieldDeleter::operator()(ClearanceField* f) const { delete f; }
@@ -149,6 +150,7 @@ void ClearanceFieldDeleter::operator()(ClearanceField* f) const { delete f; }
 ClearanceFieldPtr make_clearance_field(const Profile& profile, const GapLaw& law) {
   ClearanceFieldPtr f(new ClearanceField);
   f->law = law;
+  f->constant = is_constant(law);
   f->pieces = profile_pieces(profile, law);
   std::vector<Eigen::AlignedBox2d> boxes;
   for (const auto& p : f->pieces) boxes.push_back(bounding_box(p.seg));
@@ -172,6 +174,15 @@ double profile_distance(const ClearanceField& f, const Vector2d& q, double* s_at
     *s_at = f.pieces[best].s0 + t * (f.pieces[best].s1 - f.pieces[best].s0);
   }
   return v;
+}
+
+bool closer_than_gap(const ClearanceField& f, const Vector2d& q, double eps) {
+  if (!f.constant) return clearance(f, q) < -eps;
+  // Constant gap: any element within gap - eps decides, no need for the nearest one.
+  const double r = f.law.gap.front() - eps;
+  if (r <= 0) return false;
+  const Eigen::AlignedBox2d box(q.array() - r, q.array() + r);
+  return f.tree.any(box, [&](int id) { return distance(f.pieces[id].seg, q) < r; });
 }
 
 const std::vector<Piece>& field_pieces(const ClearanceField& f) { return f.pieces; }

@@ -20,6 +20,8 @@ struct Piece {
 std::vector<Piece> profile_pieces(const Profile& profile, const GapLaw& law);
 bool gap_linear_between(const GapLaw& law, double s0, double s1);
 const std::vector<Piece>& field_pieces(const ClearanceField& field);
+// clearance(field, q) < -eps, answered faster (first element found within the gap) for a constant gap.
+bool closer_than_gap(const ClearanceField& field, const Eigen::Vector2d& q, double eps);
 
 // The raw offset: a closed chain of offset pieces and joins, before loop removal. sigma = +1 offsets to
 // the left of the profile's direction, -1 to the right. tol: length tolerance, mm.
