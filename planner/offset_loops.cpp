@@ -45,6 +45,7 @@ std::vector<int> cluster_nodes(const std::vector<Vector2d>& pts, double tol) {
 struct Slice {
   std::vector<Segment> segs;
   int from = -1, to = -1;  // node ids (cluster roots), -1 for the whole raw curve
+  int first_seg = -1, last_seg = -1;  // raw segments it starts and ends on
 };
 
 void append_piece(Slice& sl, const Segment& s, double t0, double t1, double tol) {
@@ -69,6 +70,54 @@ bool slice_valid(const Slice& sl, const ClearanceField& field, double eps) {
     }
   }
   return true;
+}
+// Crossing number of the ray from q toward +x with a chain polygonised finely (only used to tell
+// nesting, where contours are apart by much more than the chord error).
+bool inside_chain(const std::vector<Segment>& chain, const Vector2d& q) {
+  bool in = false;
+  auto edge = [&](const Vector2d& a, const Vector2d& b) {
+    if ((a.y() > q.y()) != (b.y() > q.y())) {
+      const double x = a.x() + (q.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+      if (x > q.x()) in = !in;
+    }
+  };
+  for (const auto& s : chain) {
+    const int n = s.is_arc() ? std::max(2, static_cast<int>(std::ceil(std::abs(s.sweep) / 0.01))) : 1;
+    Vector2d prev = s.a;
+    for (int k = 1; k <= n; ++k) {
+      const Vector2d p = point_at(s, static_cast<double>(k) / n);
+      edge(prev, p);
+      prev = p;
+    }
+  }
+  return in;
+}
+
+// A contour inside another of the same orientation bounds a doubly covered region (overlapping sharp
+// spikes); it is no boundary of the offset region.
+void drop_nested_same_orientation(std::vector<std::vector<Segment>>& contours) {
+  if (contours.size() < 2) return;
+  std::vector<double> area(contours.size());
+  std::vector<Eigen::AlignedBox2d> box(contours.size());
+  for (size_t k = 0; k < contours.size(); ++k) {
+    area[k] = signed_area(contours[k]);
+    box[k].setEmpty();
+    for (const auto& s : contours[k]) box[k].extend(bounding_box(s));
+  }
+  std::vector<char> drop(contours.size(), 0);
+  for (size_t k = 0; k < contours.size(); ++k)
+    for (size_t j = 0; j < contours.size(); ++j) {
+      if (j == k || (area[j] > 0) != (area[k] > 0) || std::abs(area[j]) <= std::abs(area[k])) continue;
+      if (!box[j].contains(box[k])) continue;
+      if (inside_chain(contours[j], point_at(contours[k][0], 0.5))) {
+        drop[k] = 1;
+        break;
+      }
+    }
+  std::vector<std::vector<Segment>> kept;
+  for (size_t k = 0; k < contours.size(); ++k)
+    if (!drop[k]) kept.push_back(std::move(contours[k]));
+  contours = std::move(kept);
 }
 }  // namespace
 
@@ -122,6 +171,8 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
       const Event& nxt = events[(k + 1) % K];
       Slice sl;
       sl.from = cur.node;
+      sl.first_seg = cur.seg;
+      sl.last_seg = nxt.seg;
       sl.to = nxt.node;
       if (k + 1 < K && nxt.seg == cur.seg) {
         append_piece(sl, raw[cur.seg], cur.t, nxt.t, tol);
@@ -159,11 +210,13 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
         closed = true;
         break;
       }
+      // Where two valid pieces cross (sharp-join spikes), turn onto the other curve: going straight
+      // would make the contour cross itself.
       int next = -1;
       for (auto [it, last] = by_start.equal_range(end); it != last; ++it)
-        if (!used[it->second]) {
+        if (!used[it->second] && (next < 0 || slices[it->second].first_seg != slices[cur].last_seg)) {
+          if (next >= 0 && slices[next].first_seg != slices[cur].last_seg) continue;
           next = it->second;
-          break;
         }
       if (next < 0) break;
       cur = next;
@@ -173,6 +226,7 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
     if (std::abs(signed_area(chain)) <= tol * tol) continue;
     contours.push_back(std::move(chain));
   }
+  drop_nested_same_orientation(contours);
   return contours;
 }
 

@@ -101,6 +101,22 @@ std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigm
   return out;
 }
 
+// The offset of a profile piece at the constant gap g (sigma: side); false when an arc vanishes.
+bool constant_offset(const Segment& e, double sigma, double g, double tol, Segment* out) {
+  if (!e.is_arc()) {
+    const Vector2d n = left_normal_at(e, 0);
+    *out = make_line(e.a + sigma * g * n, e.b + sigma * g * n);
+    return true;
+  }
+  const double r2 = e.r - sigma * (e.sweep > 0 ? 1.0 : -1.0) * g;
+  if (r2 <= tol) return false;
+  *out = e;
+  out->a = e.c + (r2 / e.r) * (e.a - e.c);
+  out->b = e.c + (r2 / e.r) * (e.b - e.c);
+  out->r = r2;
+  return true;
+}
+
 // Points where the supporting line/circle of `in` (continued past its end) meets that of `out`
 // (continued before its start). Lines are given as a point and a direction.
 std::vector<Vector2d> support_crossings(const Segment& s1, const Segment& s2) {
@@ -200,7 +216,17 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
       joins[i].push_back(arc);
     };
     if (sigma * turn < 0) {  // the offsets part: convex corner seen from the offset side
-      if (options.corner == Corner::Sharp && sharp_join(in, out, V, g, options.miter_limit, joins[i])) continue;
+      // Sharp: extend the neighbours' offsets at the vertex's gap (with a varying gap the actual offsets
+      // drift off the element, and their extensions could come closer than the gap).
+      if (options.corner == Corner::Sharp) {
+        Segment sup_in, sup_out;
+        if (constant_offset(pieces[i].seg, sigma, g, tol, &sup_in) &&
+            constant_offset(pieces[j].seg, sigma, g, tol, &sup_out)) {
+          sup_in.b = E, sup_out.a = S;
+          sup_in.line = in.line, sup_out.line = out.line;
+          if (sharp_join(sup_in, sup_out, V, g, options.miter_limit, joins[i])) continue;
+        }
+      }
       round_join();
       continue;
     }
