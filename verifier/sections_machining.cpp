@@ -52,32 +52,41 @@ bool on_segment(const IntPoint& a, const IntPoint& b, const IntPoint& q, double 
 }
 
 // Labels the edges of `result` (the old slice minus new cuts): an edge lying on an old edge keeps that
-// edge's label, any other edge was made by the cut and gets `label`.
-std::vector<std::vector<int>> relabel(const Slice& old, const Paths& result, int label) {
+// edge's label, any other edge was made by the cut and gets `label`. Candidate old edges are those at
+// either end of the new edge; the new edge's midpoint must lie on one (within the cleaning tolerance, as
+// cleaning may have dropped the old vertex between a cut point and the next old vertex).
+std::vector<std::vector<int>> relabel(const Slice& old, const Paths& result, int label, double clean) {
   struct Link {
-    IntPoint other;
-    int label;
+    IntPoint prev, next;
+    int prev_label, next_label;
   };
-  std::unordered_map<IntPoint, Link, PointHash> next, prev;
+  std::unordered_map<IntPoint, Link, PointHash> links;
   for (size_t i = 0; i < old.paths.size(); ++i) {
     const Path& p = old.paths[i];
-    for (size_t k = 0; k < p.size(); ++k) {
-      const IntPoint& b = p[(k + 1) % p.size()];
-      next[p[k]] = {b, old.labels[i][k]};
-      prev[b] = {p[k], old.labels[i][k]};
-    }
+    const size_t n = p.size();
+    for (size_t k = 0; k < n; ++k)
+      links[p[k]] = {p[(k + n - 1) % n], p[(k + 1) % n], old.labels[i][(k + n - 1) % n], old.labels[i][k]};
   }
-  const double tol = 3.0;
+  const double tol = 2.0 * clean + 3.0;
   std::vector<std::vector<int>> labels(result.size());
   for (size_t i = 0; i < result.size(); ++i) {
     const Path& p = result[i];
     labels[i].resize(p.size(), label);
     for (size_t k = 0; k < p.size(); ++k) {
-      const IntPoint &a = p[k], &b = p[(k + 1) % p.size()];
-      if (auto it = next.find(a); it != next.end() && on_segment(a, it->second.other, b, tol)) {
-        labels[i][k] = it->second.label;
-      } else if (auto jt = prev.find(b); jt != prev.end() && on_segment(jt->second.other, b, a, tol)) {
-        labels[i][k] = jt->second.label;
+      const IntPoint &a = p[(k)], &b = p[(k + 1) % p.size()];
+      const IntPoint m{(a.X + b.X) / 2, (a.Y + b.Y) / 2};
+      for (const IntPoint* end : {&a, &b}) {
+        auto it = links.find(*end);
+        if (it == links.end()) continue;
+        const Link& l = it->second;
+        if (on_segment(*end, l.next, m, tol)) {
+          labels[i][k] = l.next_label;
+          break;
+        }
+        if (on_segment(l.prev, *end, m, tol)) {
+          labels[i][k] = l.prev_label;
+          break;
+        }
       }
     }
   }
@@ -213,7 +222,7 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
   ClipperLib::CleanPolygons(result, opt.clean_tolerance * kScale);
   result.erase(std::remove_if(result.begin(), result.end(), [](const Path& p) { return p.size() < 3; }),
                result.end());
-  slice.labels = relabel(slice, result, label);
+  slice.labels = relabel(slice, result, label, opt.clean_tolerance * kScale);
   slice.paths = std::move(result);
   return true;
 }
