@@ -41,7 +41,9 @@ void expect_clean_solid(const SectionStack& s, double rel_tol, TilingStats* stat
   EXPECT_FALSE(testing::self_intersects(m));
   EXPECT_GT(signed_volume(m), 0.0);
   const double v = trapezoid_volume(s);
-  if (rel_tol > 0) EXPECT_NEAR(signed_volume(m), v, rel_tol * v);
+  if (rel_tol > 0) {
+    EXPECT_NEAR(signed_volume(m), v, rel_tol * v);
+  }
 }
 
 TEST(Tiling, IdenticalSectionsGivePrisms) {
@@ -95,6 +97,35 @@ TEST(Tiling, TwistedSlabStaysClean) {
     return c;
   };
   expect_clean_solid(stack_of({{bar(0)}, {bar(M_PI / 2)}, {bar(M_PI / 2)}}, 0.05), -1);
+}
+
+}  // namespace
+}  // namespace tf::grind
+
+namespace tf::grind {
+namespace {
+
+// A "C" whose opening turns from +x to -x between two sections: the tiles between them cross each other, so
+// the slab must be rebuilt as a stair step.
+TEST(Tiling, IntersectingTilesFallBackToAStairStep) {
+  auto c_shape = [](double turn) {
+    Contour c;
+    const int n = 48;
+    for (int i = 0; i <= n; ++i) {  // outer arc, counter-clockwise, opening of +-40 deg around +x
+      const double a = turn + 0.7 + (2 * M_PI - 1.4) * i / n;
+      c.points.emplace_back(2.0 * std::cos(a), 2.0 * std::sin(a));
+    }
+    for (int i = n; i >= 0; --i) {  // inner arc back
+      const double a = turn + 0.7 + (2 * M_PI - 1.4) * i / n;
+      c.points.emplace_back(1.2 * std::cos(a), 1.2 * std::sin(a));
+    }
+    c.labels.assign(c.points.size(), 0);
+    return c;
+  };
+  TilingStats st;
+  expect_clean_solid(stack_of({{c_shape(0)}, {c_shape(M_PI)}, {c_shape(M_PI)}}, 0.05), -1, &st);
+  std::printf("C-shape: tiled %d, fallback slabs %d\n", st.tiled_pairs, st.fallback_slabs);
+  EXPECT_EQ(st.fallback_slabs, 1);
 }
 
 }  // namespace
