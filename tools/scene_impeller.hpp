@@ -54,7 +54,8 @@ struct ImpellerOptions {
   double outlet_radius = 60.0;    // mm
   double outlet_z = 8.0;          // mm
   double nose_z = 48.0;           // top of the nose cylinder, mm, > inlet_z
-  double tolerance = 0.002;       // chordal tolerance of the hub and blade meshes, mm
+  double tolerance = 0.002;       // chordal tolerance of the hub mesh (the design surface), mm
+  double blade_tolerance = 0.01;  // chordal tolerance of the blade meshes (check surfaces), mm
   // Stock.
   double allowance = 0.5;         // finishing allowance of the stock over the hub surface, mm
   double stock_tolerance = 0.01;  // chordal tolerance of the stock mesh, mm
@@ -111,7 +112,8 @@ class ImpellerModel {
   double a_, b_;  // hub ellipse semi-axes (radial, axial)
 };
 
-// Meshes (closed, outward faces). The hub and the blades follow `tolerance`, the stock `stock_tolerance`.
+// Meshes (closed, outward faces). The hub follows `tolerance`, the blades `blade_tolerance`, the stock
+// `stock_tolerance`.
 Mesh impeller_hub_mesh(const ImpellerModel& model);
 Mesh impeller_blade_mesh(const ImpellerModel& model, int blade);
 Mesh impeller_blades_mesh(const ImpellerModel& model);  // all blades, one closed shell each
