@@ -236,8 +236,6 @@ Program post_program(const OrientedPath& path, const PostJob& job, const PostOpt
   Builder b(kin, job, options, tcp, bounds);
   b.start(poses[0], joints[0], feeds[0]);
   std::vector<PosedJoints> pieces;
-  InverseOptions exact;
-  exact.pole_tolerance_deg = 0.0;
   for (size_t i = 1; i < poses.size(); ++i) {
     pieces.clear();
     ToolPose p0 = poses[i - 1];
