@@ -100,7 +100,7 @@ TEST(OffsetProgram, ProgramPointsLieAtTheGap) {
     words >> g >> x >> y;
     if (in_path && (g == "G1" || g == "G2" || g == "G3") && x.size() > 1 && x[0] == 'X' && y.size() > 1 && y[0] == 'Y') {
       const Eigen::Vector2d q(std::stod(x.substr(1)), std::stod(y.substr(1)));
-      EXPECT_NEAR(profile_distance(*field, q), 2.0, 2e-6) << line;
+      EXPECT_NEAR(profile_distance(*field, q), 2.0, 1e-7) << line;
       ++checked;
     }
   }
@@ -111,6 +111,56 @@ TEST(OffsetProgram, ProgramPointsLieAtTheGap) {
     for (int k = 0; k <= 20; ++k) {
       EXPECT_GE(clearance(*field, point_at(rc.lead_in, k / 20.0)), -1e-7);
       EXPECT_GE(clearance(*field, point_at(rc.lead_out, k / 20.0)), -1e-7);
+    }
+  }
+}
+
+// Reads the program's path moves back (G1 lines, G2/G3 arcs with I J relative to the start) and samples
+// them: every sampled point of the path lies at the gap from the profile.
+TEST(OffsetProgram, ProgramMovesSampledLieAtTheGap) {
+  for (const char* name : {"two_lobes_neck.txt", "die_section.txt", "blade_section.txt"}) {
+    SCOPED_TRACE(name);
+    const Profile p = scene_profile(name);
+    const double gap = 2.5;
+    for (Side side : {Side::Inside, Side::Outside}) {
+      OffsetOptions o;
+      o.side = side;
+      const auto r = offset_profile(p, constant_gap(gap), o);
+      const auto field = make_clearance_field(p, constant_gap(gap));
+      std::ostringstream out;
+      write_milling_program(out, plan_leads(r, *field, 2.0), {}, {});
+      std::istringstream in(out.str());
+      std::string line;
+      bool in_path = false;
+      Eigen::Vector2d cur(0, 0);
+      double worst = 0;
+      int moves = 0;
+      while (std::getline(in, line)) {
+        if (line == "(path)") in_path = true;
+        if (line == "(lead-out)") in_path = false;
+        std::istringstream words(line);
+        std::string g, w;
+        words >> g;
+        if (g != "G0" && g != "G1" && g != "G2" && g != "G3") continue;
+        Eigen::Vector2d end = cur, ij(0, 0);
+        bool has_xy = false;
+        while (words >> w) {
+          if (w[0] == 'X') end.x() = std::stod(w.substr(1)), has_xy = true;
+          if (w[0] == 'Y') end.y() = std::stod(w.substr(1)), has_xy = true;
+          if (w[0] == 'I') ij.x() = std::stod(w.substr(1));
+          if (w[0] == 'J') ij.y() = std::stod(w.substr(1));
+        }
+        if (!has_xy) continue;
+        if (in_path) {
+          Segment s = g == "G1" ? make_line(cur, end) : make_arc_to(cur, end, cur + ij, g == "G3");
+          for (int k = 0; k <= 32; ++k)
+            worst = std::max(worst, std::abs(profile_distance(*field, point_at(s, k / 32.0)) - gap));
+          ++moves;
+        }
+        cur = end;
+      }
+      EXPECT_GE(moves, 3);
+      EXPECT_LE(worst, 1e-6);
     }
   }
 }
