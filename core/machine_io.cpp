@@ -37,8 +37,8 @@ bool MachineSpec::has_axis(char letter) const {
 MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file, const std::string& prefix) {
   require_object(j, file, prefix.empty() ? "(top level)" : prefix);
   only_keys(j,
-            {"name", "kinematics", "pivot", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
-             "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "safe_z", "comment"},
+            {"name", "kinematics", "pivot", "tilt_offset", "head_pivot_length", "table_center", "limits", "output", "tcp_style",
+             "tcp_on_code", "tcp_off_code", "max_feed", "rapid_feed", "max_rotary_feed", "safe_z", "comment"},
             file, prefix);
   MachineSpec m;
   if (j.contains("name")) m.name = string(j["name"], file, join(prefix, "name"));
@@ -57,6 +57,7 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
                      "unknown kinematics '" + k +
                          "' (use xyz, table-table-ac, table-table-bc, head-table-bc or head-head-ac)");
   if (j.contains("pivot")) m.pivot = vec3(j["pivot"], file, join(prefix, "pivot"));
+  if (j.contains("tilt_offset")) m.tilt_offset = vec3(j["tilt_offset"], file, join(prefix, "tilt_offset"));
   if (j.contains("table_center")) m.table_center = vec3(j["table_center"], file, join(prefix, "table_center"));
   m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
   if (j.contains("limits")) {
@@ -89,6 +90,8 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   if (j.contains("tcp_off_code")) m.tcp_off_code = string(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
   m.max_feed = positive(number_or(j, "max_feed", m.max_feed, file, prefix), file, join(prefix, "max_feed"));
   m.rapid_feed = positive(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), file, join(prefix, "rapid_feed"));
+  m.max_rotary_feed = positive(number_or(j, "max_rotary_feed", m.max_rotary_feed, file, prefix), file,
+                               join(prefix, "max_rotary_feed"));
   m.safe_z = positive(number_or(j, "safe_z", m.safe_z, file, prefix), file, join(prefix, "safe_z"));
   return m;
 }

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <fstream>
 
+#include "mesh_readers.hpp"
 #include "tiltfield/error.hpp"
 #include "tiltfield/io.hpp"
 #include "tiltfield/mesh.hpp"
@@ -29,12 +30,15 @@ Mesh load_mesh(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), 0, "", "mesh file not found");
   Mesh mesh;
-  OpenMesh::IO::Options opt;
-  // OpenMesh reports malformed input on its own error stream; our caller gets one clear line instead.
-  omerr().disable();
-  const bool ok = OpenMesh::IO::read_mesh(mesh, file.string(), opt);
-  omerr().enable();
-  if (!ok) throw InputError(file.string(), 0, "", "cannot read mesh (malformed " + ext.substr(1) + " file)");
+  if (ext == ".stl") {
+    mesh = detail::read_stl(file);
+  } else if (ext == ".obj") {
+    mesh = detail::read_obj(file);
+  } else if (ext == ".off") {
+    mesh = detail::read_off(file);
+  } else {
+    mesh = detail::read_ply(file);
+  }
   if (mesh.n_faces() == 0) throw InputError(file.string(), 0, "", "mesh has no triangles");
   if (!mesh.is_trimesh()) mesh.triangulate();
   for (auto v : mesh.vertices()) {
@@ -59,8 +63,10 @@ void write_mesh(const Mesh& mesh, const fs::path& file) {
     fs::path named = tmp;
     named += ext;
     omerr().disable();
+    omlog().disable();
     const bool ok = OpenMesh::IO::write_mesh(mesh, named.string(), opt);
     omerr().enable();
+    omlog().enable();
     if (!ok) {
       std::error_code ec;
       fs::remove(named, ec);

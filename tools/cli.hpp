@@ -37,5 +37,6 @@ void add_replan_command(CLI::App& app);
 void add_offset_command(CLI::App& app);
 void add_grind_command(CLI::App& app);
 void add_scene_command(CLI::App& app);
+void add_check_command(CLI::App& app);
 
 }  // namespace tf::cli

@@ -1,14 +1,106 @@
+// tiltfield post SCENE ORIENTED.csv -o PROGRAM.ngc: inverse kinematics, linearisation and G-code/APT output.
+#include <iostream>
+
 #include "cli.hpp"
+#include "tiltfield/error.hpp"
+#include "tiltfield/io.hpp"
+#include "tiltfield/mesh.hpp"
+#include "tiltfield/oriented_path.hpp"
+#include "tiltfield/post.hpp"
+#include "tiltfield/scene.hpp"
 
 namespace tf::cli {
+namespace {
+
+struct PostArgs {
+  std::string scene, oriented, out;
+  std::string dialect, tcp_style, pole_mode = "interpolate";
+  PostOptions options;
+};
+
+// Everything the part occupies: design, check surfaces, stock and fixtures (for safe heights).
+Eigen::AlignedBox3d part_bounds(const Scene& scene) {
+  Eigen::AlignedBox3d box = bounding_box(scene.design);
+  for (const Mesh& m : scene.check_surfaces) box.extend(bounding_box(m));
+  for (const Mesh& m : scene.fixtures) box.extend(bounding_box(m));
+  if (scene.stock.kind == Stock::Kind::Box) {
+    box.extend(scene.stock.box.min);
+    box.extend(scene.stock.box.max);
+  } else {
+    box.extend(bounding_box(stock_to_mesh(scene.stock, 64)));
+  }
+  return box;
+}
+
+void positive_option(double v, const char* name) {
+  if (!(v > 0.0)) throw InputError("", 0, name, "must be positive");
+}
+
+void run_post(PostArgs& a) {
+  PostOptions& o = a.options;
+  positive_option(o.tip_tolerance_mm, "--tip-tol");
+  positive_option(o.axis_tolerance_deg, "--axis-tol");
+  if (!(o.pole_tolerance_deg >= 0.0)) throw InputError("", 0, "--pole-tol", "must not be negative");
+  positive_option(o.spindle_rpm, "--spindle");
+  if (o.tool_number < 0) throw InputError("", 0, "--tool-number", "must not be negative");
+  if (!a.dialect.empty())
+    o.dialect = a.dialect == "joint" ? Dialect::Joint : a.dialect == "tcp" ? Dialect::Tcp : Dialect::Apt;
+  if (!a.tcp_style.empty()) o.tcp_style = a.tcp_style == "M128" ? TcpStyle::M128 : TcpStyle::G43_4;
+  o.pole_mode = a.pole_mode == "hold" ? PoleMode::Hold : PoleMode::Interpolate;
+
+  const Scene scene = load_scene(a.scene);
+  if (!scene.machine) throw InputError(a.scene, 0, "machine", "the scene names no machine; posting needs one");
+  const OrientedPath path = read_oriented_csv(a.oriented);
+  PostJob job;
+  job.machine = *scene.machine;
+  job.tool = scene.tool;
+  job.feed = scene.feed;
+  job.part_bounds = part_bounds(scene);
+  job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
+
+  const Dialect dialect = effective_dialect(o, job.machine);
+  if (dialect == Dialect::Apt) {
+    write_file_atomic(a.out, [&](std::ostream& out) { write_apt(out, path, job, o); });
+    return;
+  }
+  Program program;
+  try {
+    program = post_program(path, job, o, terminal_progress());
+  } catch (const PostRowError& e) {
+    // Name the row by its line in the CSV (comments and blank lines are skipped by the reader).
+    const CsvTable table = read_csv(a.oriented);
+    const int line = e.row() < table.lines.size() ? table.lines[e.row()] : 0;
+    throw InputError(a.oriented, line, "", "row " + std::to_string(e.row() + 1) + ": " + e.what());
+  }
+  if (!global_options().quiet)
+    for (const std::string& w : program.warnings) std::cerr << "tiltfield post: " << a.oriented << ": " << w << "\n";
+  write_file_atomic(a.out, [&](std::ostream& out) { write_gcode(out, program, job, o); });
+}
+
+}  // namespace
 
 void add_post_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("post", "inverse kinematics for the scene's machine and G-code output");
-  static std::string scene, oriented, out;
-  cmd->add_option("SCENE", scene, "scene JSON")->required();
-  cmd->add_option("ORIENTED", oriented, "oriented path CSV")->required();
-  cmd->add_option("-o,--output", out, "G-code program")->required();
-  cmd->callback([] { not_yet_delivered("post", 4); });
+  static PostArgs a;  // CLI11 binds to storage that outlives parsing; one post per process
+  cmd->add_option("SCENE", a.scene, "scene JSON")->required();
+  cmd->add_option("ORIENTED", a.oriented, "oriented path CSV (ball centres and tool axes)")->required();
+  cmd->add_option("-o,--output", a.out, "output program (.ngc, or APT CLDATA with --dialect apt)")->required();
+  cmd->add_option("--dialect", a.dialect, "joint (machine axes, G93), tcp (tool tip + rotaries) or apt; default: the machine's output")
+      ->check(CLI::IsMember({"joint", "tcp", "apt"}));
+  cmd->add_option("--tcp-style", a.tcp_style, "tool-centre-point code for --dialect tcp; default: the machine's tcp_style")
+      ->check(CLI::IsMember({"G43.4", "M128"}));
+  cmd->add_option("--tip-tol", a.options.tip_tolerance_mm, "largest tip deviation from the straight segment, mm")
+      ->capture_default_str();
+  cmd->add_option("--axis-tol", a.options.axis_tolerance_deg, "largest tool-axis deviation, deg")->capture_default_str();
+  cmd->add_option("--pole-tol", a.options.pole_tolerance_deg,
+                  "singular-pole cone: within it C is held or interpolated, deg")
+      ->capture_default_str();
+  cmd->add_option("--pole-mode", a.pole_mode, "C at the pole: interpolate or hold")
+      ->check(CLI::IsMember({"interpolate", "hold"}))
+      ->capture_default_str();
+  cmd->add_option("--spindle", a.options.spindle_rpm, "spindle speed, rev/min")->capture_default_str();
+  cmd->add_option("--tool-number", a.options.tool_number, "tool number (T and H words)")->capture_default_str();
+  cmd->callback([] { run_post(a); });
 }
 
 }  // namespace tf::cli

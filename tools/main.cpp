@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   tf::cli::add_offset_command(app);
   tf::cli::add_grind_command(app);
   tf::cli::add_scene_command(app);
+  tf::cli::add_check_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

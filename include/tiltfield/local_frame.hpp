@@ -5,6 +5,7 @@
 //   axis = cos(lead) (cos(tilt) n + sin(tilt) t) + sin(lead) f.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "tiltfield/toolpath.hpp"

@@ -30,10 +30,13 @@ struct AxisLimit {
 struct MachineSpec {
   std::string name = "machine";
   KinematicsType kinematics = KinematicsType::XYZ;
-  // Table-table machines: the point where the rotary axes meet, in machine coordinates with the part
-  // frame's origin at the machine origin when both rotaries are at 0 (LinuxCNC's xyzac-trt/xyzbc-trt
-  // x-offset, y-offset, z-offset). mm.
+  // Table-table machines: a point on the C axis, in machine coordinates with the part frame's origin at
+  // the machine origin when both rotaries are at 0 (LinuxCNC's xyzac-trt/xyzbc-trt x-rot-point,
+  // y-rot-point, z-rot-point). mm.
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+  // Table-table machines: the tilting axis (A or B) passes through pivot + tilt_offset (LinuxCNC's
+  // x-offset, y-offset, z-offset; the component along the tilting axis has no effect). mm.
+  Eigen::Vector3d tilt_offset = Eigen::Vector3d::Zero();
   // Head machines: distance from the spindle nose (gauge line) to the head's rotation centre, along
   // the tool axis, mm (the "pivot length").
   double head_pivot_length = 0.0;
@@ -48,6 +51,7 @@ struct MachineSpec {
   std::string tcp_off_code;
   double max_feed = 10000.0;   // mm/min
   double rapid_feed = 20000.0; // mm/min, for time estimates
+  double max_rotary_feed = 7200.0;  // deg/min, the rotaries' top speed (bounds inverse-time feeds)
   double safe_z = 50.0;        // retract height above the part's highest point along the tool axis, mm
 
   // The rotary axis letters this machine has, in the order they appear in G-code (e.g. "AC").

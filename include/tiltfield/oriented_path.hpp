@@ -1,6 +1,7 @@
 // tiltfield: the planner's output: cutter locations with a tool axis each.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <limits>
 #include <vector>

@@ -1,6 +1,7 @@
 // tiltfield: the input tool path: cutter locations with design-surface normals, in cutting order.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <limits>
 #include <vector>

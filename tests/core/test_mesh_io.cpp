@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "tiltfield/error.hpp"
+#include "tiltfield/mesh.hpp"
+#include "tiltfield/scene.hpp"
+
+namespace {
+
+tf::Mesh unit_box() {
+  tf::Stock s;
+  s.kind = tf::Stock::Kind::Box;
+  s.box = {{0, 0, 0}, {1, 2, 3}};
+  return tf::stock_to_mesh(s);
+}
+
+TEST(MeshIO, RoundTripEveryFormat) {
+  tf::test::TempDir dir;
+  const tf::Mesh box = unit_box();
+  ASSERT_TRUE(tf::is_closed(box));
+  EXPECT_NEAR(tf::signed_volume(box), 6.0, 1e-12);
+  for (const char* ext : {".stl", ".obj", ".off", ".ply"}) {
+    const auto file = dir / (std::string("box") + ext);
+    tf::write_mesh(box, file);
+    const tf::Mesh back = tf::load_mesh(file);
+    EXPECT_EQ(back.n_faces(), 12u) << ext;
+    EXPECT_TRUE(tf::is_closed(back)) << ext;
+    EXPECT_NEAR(tf::signed_volume(back), 6.0, 1e-5) << ext;
+    const auto bb = tf::bounding_box(back);
+    EXPECT_NEAR(bb.max().z(), 3.0, 1e-6) << ext;
+  }
+}
+
+TEST(MeshIO, AsciiStlIsRead) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "t.stl",
+                       "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                       "endfacet\nendsolid t\n");
+  const tf::Mesh m = tf::load_mesh(dir / "t.stl");
+  EXPECT_EQ(m.n_faces(), 1u);
+  EXPECT_FALSE(tf::is_closed(m));
+}
+
+TEST(MeshIO, CylinderStockIsClosedWithTheRightVolume) {
+  tf::Stock s;
+  s.kind = tf::Stock::Kind::Cylinder;
+  s.cylinder = {{1, 2, 3}, Eigen::Vector3d(0, 1, 1).normalized(), 10.0, 20.0};
+  const tf::Mesh m = tf::stock_to_mesh(s, 256);
+  EXPECT_TRUE(tf::is_closed(m));
+  const double polygon_area = 0.5 * 256 * 100 * std::sin(2 * M_PI / 256);
+  EXPECT_NEAR(tf::signed_volume(m), polygon_area * 20.0, 1e-6);
+}
+
+TEST(MeshIO, BadFilesGiveOneClearError) {
+  tf::test::TempDir dir;
+  auto expect_error = [](const std::filesystem::path& f, const std::string& needle) {
+    try {
+      tf::load_mesh(f);
+      ADD_FAILURE() << f << " loaded";
+    } catch (const tf::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error(dir / "missing.stl", "not found");
+  tf::test::write_text(dir / "a.xyz", "1 2 3");
+  expect_error(dir / "a.xyz", "unknown mesh format");
+  tf::test::write_text(dir / "empty.stl", "");
+  expect_error(dir / "empty.stl", "");
+  tf::test::write_text(dir / "junk.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
+  expect_error(dir / "junk.off", "");
+  tf::test::write_text(dir / "nofaces.obj", "v 0 0 0\nv 1 0 0\n");
+  expect_error(dir / "nofaces.obj", "no triangles");
+}
+
+TEST(MeshIO, FailedWriteLeavesNoFile) {
+  tf::test::TempDir dir;
+  EXPECT_ANY_THROW(tf::write_mesh(unit_box(), dir / "no" / "such" / "folder.stl"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "no"));
+}
+
+}  // namespace

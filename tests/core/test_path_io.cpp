@@ -1,0 +1,115 @@
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "tiltfield/error.hpp"
+#include "tiltfield/local_frame.hpp"
+#include "tiltfield/oriented_path.hpp"
+#include "tiltfield/toolpath.hpp"
+
+namespace {
+
+tf::Tool ball3() {
+  tf::Tool t;
+  t.cutter = tf::BallCutter{3.0};
+  return t;
+}
+
+TEST(PathIO, CsvColumnsInAnyOrderWithFeed) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "p.csv", "# comment\nnz,ny,nx,z,y,x,feed\n1,0,0,3,2,1,800\n0.6,0.8,0,3,2,2,\n");
+  const auto p = tf::read_toolpath_csv(dir / "p.csv");
+  ASSERT_EQ(p.rows.size(), 2u);
+  EXPECT_EQ(p.rows[0].p, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(p.rows[0].n, Eigen::Vector3d(0, 0, 1));
+  EXPECT_DOUBLE_EQ(p.rows[0].feed, 800);
+  EXPECT_TRUE(std::isnan(p.rows[1].feed));
+  EXPECT_NEAR(p.arc_length()[1], 1.0, 1e-12);
+}
+
+TEST(PathIO, CsvRoundTrip) {
+  tf::test::TempDir dir;
+  tf::ToolPath p;
+  p.rows.push_back({{1.123456789, -2, 1e-7}, Eigen::Vector3d(1, 1, 1).normalized(), 1234});
+  p.rows.push_back({{0, 0, 0}, {0, 0, 1}, std::numeric_limits<double>::quiet_NaN()});
+  tf::write_toolpath_csv(p, dir / "p.csv");
+  const std::string text = tf::test::read_text(dir / "p.csv");
+  for (size_t i = 1; i < text.size(); ++i)
+    EXPECT_FALSE(std::isdigit(static_cast<unsigned char>(text[i - 1])) && (text[i] == 'e' || text[i] == 'E'))
+        << "scientific notation in:\n" << text;
+  const auto back = tf::read_toolpath_csv(dir / "p.csv");
+  ASSERT_EQ(back.rows.size(), 2u);
+  EXPECT_NEAR((back.rows[0].p - p.rows[0].p).norm(), 0, 1e-9);
+  EXPECT_NEAR((back.rows[0].n - p.rows[0].n).norm(), 0, 1e-8);
+}
+
+TEST(PathIO, AptCldataGivesCutterLocations) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "p.apt",
+                       "PARTNO/TEST\nCUTTER/6\nMULTAX/ON\nRAPID\nGOTO/0,0,50,0,0,1\nFEDRAT/MMPM,900\n"
+                       "GOTO/10,0,0,0,0,1\nGOTO/10,5,0,$\n0.6,0,0.8\n$$ a comment\nGOTO/20,5,0\nFINI\n");
+  const auto p = tf::read_toolpath_apt(dir / "p.apt", ball3());
+  ASSERT_EQ(p.rows.size(), 3u);  // the RAPID positioning move is not a cutting row
+  EXPECT_NEAR((p.rows[0].p - Eigen::Vector3d(10, 0, 3)).norm(), 0, 1e-12);
+  EXPECT_NEAR((p.rows[1].p - Eigen::Vector3d(10 + 1.8, 5, 2.4)).norm(), 0, 1e-12);
+  EXPECT_NEAR((p.rows[1].n - Eigen::Vector3d(0.6, 0, 0.8)).norm(), 0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.rows[2].feed, 900);
+  EXPECT_EQ(tf::read_toolpath(dir / "p.apt", ball3()).rows.size(), 3u);
+}
+
+TEST(PathIO, BadAptNamesTheLine) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "p.cl", "MULTAX/ON\nGOTO/1,2,3\nGOTO/1,2\n");
+  try {
+    tf::read_toolpath(dir / "p.cl", ball3());
+    FAIL();
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+  }
+  tf::test::write_text(dir / "q.cl", "GOTO/1,2,3,0,0,2\n");
+  EXPECT_THROW(tf::read_toolpath(dir / "q.cl", ball3()), tf::InputError);
+  tf::test::write_text(dir / "r.cl", "MULTAX/ON\n");
+  EXPECT_THROW(tf::read_toolpath(dir / "r.cl", ball3()), tf::InputError);
+}
+
+TEST(PathIO, OrientedRoundTripAndBadAxis) {
+  tf::test::TempDir dir;
+  tf::OrientedPath o;
+  o.rows.push_back({{1, 2, 3}, Eigen::Vector3d(0, 1, 1).normalized(), 5, -7, 1.25});
+  o.rows.push_back({{1, 2, 4}, {0, 0, 1}, 0, 0, std::numeric_limits<double>::infinity()});
+  tf::write_oriented_csv(o, dir / "o.csv");
+  const auto back = tf::read_oriented_csv(dir / "o.csv");
+  ASSERT_EQ(back.rows.size(), 2u);
+  EXPECT_NEAR((back.rows[0].axis - o.rows[0].axis).norm(), 0, 1e-8);
+  EXPECT_DOUBLE_EQ(back.rows[0].tilt_deg, -7);
+  EXPECT_TRUE(std::isinf(back.rows[1].clearance_mm));
+  tf::test::write_text(dir / "bad.csv", "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n0,0,0,0,0,1,0,0,1\n0,0,0,0,0.5,0.5,0,0,1\n");
+  try {
+    tf::read_oriented_csv(dir / "bad.csv");
+    FAIL();
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "i,j,k");
+  }
+  const auto r = tf::test::run_tiltfield("check --oriented '" + (dir / "bad.csv").string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("bad.csv:3"), std::string::npos) << r.out;
+}
+
+TEST(LocalFrame, LeadTiltRoundTripAndConventions) {
+  tf::ToolPath p;
+  for (int i = 0; i < 5; ++i) p.rows.push_back({{double(i), 0, 0}, {0, 0, 1}});
+  const auto frames = tf::local_frames(p);
+  EXPECT_NEAR((frames[2].f - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12);
+  EXPECT_NEAR((frames[2].t - Eigen::Vector3d(0, -1, 0)).norm(), 0, 1e-12);  // t = f x n
+  const Eigen::Vector3d a = tf::axis_from_lead_tilt(frames[2], 10, 0);
+  EXPECT_GT(a.x(), 0);  // a positive lead leans the axis toward the feed
+  for (double lead : {-30.0, 0.0, 12.5}) {
+    for (double tilt : {-45.0, 0.0, 20.0}) {
+      const auto lt = tf::lead_tilt_from_axis(frames[1], tf::axis_from_lead_tilt(frames[1], lead, tilt));
+      EXPECT_NEAR(lt.x(), lead, 1e-9);
+      EXPECT_NEAR(lt.y(), tilt, 1e-9);
+    }
+  }
+}
+
+}  // namespace

@@ -1,0 +1,132 @@
+#include <gtest/gtest.h>
+
+#include "scene_fixture.hpp"
+#include "tiltfield/error.hpp"
+
+namespace {
+using nlohmann::json;
+
+TEST(SceneIO, ValidSceneLoads) {
+  tf::test::TempDir dir;
+  const auto file = tf::test::write_scene(dir, tf::test::valid_scene_json());
+  const tf::Scene s = tf::load_scene(file);
+  EXPECT_EQ(s.path.rows.size(), 3u);
+  EXPECT_EQ(s.check_surfaces.size(), 1u);
+  EXPECT_EQ(s.stock.kind, tf::Stock::Kind::Box);
+  EXPECT_DOUBLE_EQ(s.feed, 1500.0);
+  ASSERT_TRUE(s.machine.has_value());
+  EXPECT_EQ(s.machine->kinematics, tf::KinematicsType::TableTableAC);
+  EXPECT_EQ(s.machine->rotary_axes(), "AC");
+  EXPECT_DOUBLE_EQ(s.machine->limits.at('A').max, 110.0);
+  EXPECT_EQ(s.tool.holder.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.planner.safety_distance, 1.0);
+}
+
+TEST(SceneIO, StockKindsAndInlineMachine) {
+  tf::test::TempDir dir;
+  json j = tf::test::valid_scene_json();
+  j["stock"] = json::parse(R"({"cylinder": {"base": [0,0,0], "axis": [0,0,2], "radius": 30, "height": 20}})");
+  j["machine"] = json::parse(R"({"kinematics": "head-table-bc"})");
+  j["tool"] = json::parse(R"({"type": "bull", "radius": 5, "corner_radius": 1})");
+  const tf::Scene s = tf::load_scene(tf::test::write_scene(dir, j));
+  EXPECT_EQ(s.stock.kind, tf::Stock::Kind::Cylinder);
+  EXPECT_NEAR(s.stock.cylinder.axis.z(), 1.0, 1e-12);
+  EXPECT_EQ(s.machine->kinematics, tf::KinematicsType::HeadTableBC);
+  EXPECT_EQ(s.tool.type_name(), "bull");
+  j["stock"] = json::parse(R"({"mesh": "design.stl"})");
+  EXPECT_EQ(tf::load_scene(tf::test::write_scene(dir, j)).stock.kind, tf::Stock::Kind::Mesh);
+}
+
+// One mutation of the valid scene, and where the error must point.
+struct BadScene {
+  std::string name;
+  std::function<void(json&)> mutate;
+  std::string path_csv;  // empty: the valid one
+  std::string machine;   // empty: the valid one
+  std::string expect_file;  // file name the message must contain
+  std::string expect_where; // field or ":line" the message must contain
+};
+
+std::vector<BadScene> bad_scenes() {
+  const std::string nan_row = "x,y,z,nx,ny,nz\n10,10,21,0,0,1\n11,nan,21,0,0,1\n";
+  return {
+      {"missing design", [](json& j) { j.erase("design"); }, "", "", "scene.json", "design"},
+      {"missing mesh file", [](json& j) { j["design"] = "nope.stl"; }, "", "", "nope.stl", "not found"},
+      {"design wrong type", [](json& j) { j["design"] = 3; }, "", "", "scene.json", "'design'"},
+      {"check not array", [](json& j) { j["check_surfaces"] = "wall.stl"; }, "", "", "scene.json", "check_surfaces"},
+      {"negative radius", [](json& j) { j["tool"]["radius"] = -3; }, "", "", "scene.json", "tool.radius"},
+      {"radius string", [](json& j) { j["tool"]["radius"] = "3"; }, "", "", "scene.json", "tool.radius"},
+      {"unknown tool type", [](json& j) { j["tool"]["type"] = "drill"; }, "", "", "scene.json", "tool.type"},
+      {"bull without corner", [](json& j) { j["tool"]["type"] = "bull"; }, "", "", "scene.json", "tool.corner_radius"},
+      {"holder negative", [](json& j) { j["tool"]["holder"][0]["length"] = -1; }, "", "", "scene.json",
+       "tool.holder[0].length"},
+      {"unknown key", [](json& j) { j["tool"]["radious"] = 3; }, "", "", "scene.json", "tool.radious"},
+      {"stock two kinds", [](json& j) { j["stock"]["mesh"] = "design.stl"; }, "", "", "scene.json", "stock"},
+      {"stock box inverted", [](json& j) { j["stock"]["box"]["max"][0] = -1; }, "", "", "scene.json", "stock.box"},
+      {"stock mesh open", [](json& j) { j["stock"] = json{{"mesh", "open.stl"}}; }, "", "", "open.stl", "not closed"},
+      {"negative feed", [](json& j) { j["path"]["feed"] = -5; }, "", "", "scene.json", "path.feed"},
+      {"missing path file", [](json& j) { j["path"].erase("file"); }, "", "", "scene.json", "path.file"},
+      {"safety negative", [](json& j) { j["planner"]["safety_distance"] = -1; }, "", "", "scene.json",
+       "planner.safety_distance"},
+      {"units inch", [](json& j) { j["units"] = "inch"; }, "", "", "scene.json", "units"},
+      {"nan in path", [](json&) {}, nan_row, "", "path.csv", ":3"},
+      {"zero normal", [](json&) {}, "x,y,z,nx,ny,nz\n1,2,3,0,0,0\n", "", "path.csv", ":2"},
+      {"non-unit normal", [](json&) {}, "x,y,z,nx,ny,nz\n1,2,3,0,0,1\n1,2,3,0,0.5,1\n", "", "path.csv", ":3"},
+      {"empty path", [](json&) {}, "x,y,z,nx,ny,nz\n", "", "path.csv", "no rows"},
+      {"missing column", [](json&) {}, "x,y,z,nx,ny\n1,2,3,0,0\n", "", "path.csv", "nz"},
+      {"short row", [](json&) {}, "x,y,z,nx,ny,nz\n1,2,3,0,0,1\n1,2,3,0,0\n", "", "path.csv", ":3"},
+      {"unknown kinematics", [](json&) {}, "", R"({"kinematics": "xyzabc"})", "machine.json", "kinematics"},
+      {"limits for a missing axis", [](json&) {}, "", R"({"kinematics": "table-table-ac", "limits": {"B": [0, 1]}})",
+       "machine.json", "limits.B"},
+      {"limits inverted", [](json&) {}, "", R"({"kinematics": "xyz", "limits": {"X": [5, 1]}})", "machine.json",
+       "limits.X"},
+      {"machine not json", [](json&) {}, "", "{\n  \"kinematics\": \n}", "machine.json", ":3"},
+  };
+}
+
+TEST(SceneIO, EveryBadInputNamesFileAndFieldOrLine) {
+  for (const auto& bad : bad_scenes()) {
+    SCOPED_TRACE(bad.name);
+    tf::test::TempDir dir;
+    json j = tf::test::valid_scene_json();
+    bad.mutate(j);
+    const auto file = tf::test::write_scene(dir, j, bad.path_csv.empty() ? tf::test::valid_path_csv() : bad.path_csv,
+                                            bad.machine.empty() ? tf::test::valid_machine_json() : bad.machine);
+    tf::test::write_text(dir / "open.stl",
+                         "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                         "endloop\nendfacet\nendsolid t\n");
+    try {
+      tf::load_scene(file);
+      ADD_FAILURE() << "loaded";
+    } catch (const tf::InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(bad.expect_file), std::string::npos) << msg;
+      EXPECT_NE(msg.find(bad.expect_where), std::string::npos) << msg;
+    }
+    // The command line gives exit 2 and exactly one line naming the same place.
+    const auto r = tf::test::run_tiltfield("check '" + file.string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_EQ(tf::test::count_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find(bad.expect_where), std::string::npos) << r.out;
+  }
+}
+
+TEST(SceneIO, SceneJsonSyntaxErrorGivesTheLine) {
+  tf::test::TempDir dir;
+  tf::test::write_scene(dir, tf::test::valid_scene_json());
+  tf::test::write_text(dir / "scene.json", "{\n  \"units\": \"mm\",\n  \"design\" \"design.stl\"\n}\n");
+  const auto r = tf::test::run_tiltfield("check '" + (dir / "scene.json").string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("scene.json:3"), std::string::npos) << r.out;
+}
+
+TEST(SceneIO, CheckCommandSummarisesAValidScene) {
+  tf::test::TempDir dir;
+  const auto file = tf::test::write_scene(dir, tf::test::valid_scene_json());
+  const auto r = tf::test::run_tiltfield("check '" + file.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("3 rows"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("table-table-ac"), std::string::npos) << r.out;
+}
+
+}  // namespace

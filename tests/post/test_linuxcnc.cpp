@@ -1,0 +1,150 @@
+// A real client: LinuxCNC's interpreter (rs274 -g, Debian package linuxcnc-uspace) reads every posted
+// joint program; its canonical STRAIGHT_FEED output, fed back through our forward kinematics,
+// reproduces the planned tool tips within 0.001 mm and the axes within 0.001 deg.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <regex>
+
+#include "post_fixture.hpp"
+#include "tiltfield/machine.hpp"
+#include "tiltfield/scene.hpp"
+
+namespace {
+
+using namespace post_test;
+
+bool have_rs274() { return run_command("command -v rs274").exit_code == 0; }
+
+#define REQUIRE_RS274()                                                                          \
+  do {                                                                                           \
+    if (!have_rs274()) {                                                                         \
+      const char* ci = std::getenv("CI");                                                        \
+      if (ci && std::string(ci) == "true") FAIL() << "rs274 (linuxcnc-uspace) is missing under CI"; \
+      GTEST_SKIP() << "rs274 not installed (apt-get install linuxcnc-uspace)";                   \
+    }                                                                                            \
+  } while (0)
+
+struct Canon {
+  std::vector<tf::Joints> feeds;  // STRAIGHT_FEED end points, in order
+  int traverses = 0;
+};
+
+Canon parse_canon(const std::string& text) {
+  Canon c;
+  const std::regex feed(R"(STRAIGHT_FEED\(([^)]*)\))"), trav(R"(STRAIGHT_TRAVERSE\()");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), feed); it != std::sregex_iterator(); ++it) {
+    std::vector<double> v;
+    std::stringstream s((*it)[1].str());
+    std::string cell;
+    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
+    if (v.size() < 6) continue;
+    c.feeds.push_back(tf::Joints{v[0], v[1], v[2], v[3], v[4], v[5]});
+  }
+  c.traverses = int(std::distance(std::sregex_iterator(text.begin(), text.end(), trav), std::sregex_iterator()));
+  return c;
+}
+
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double L2 = d.squaredNorm();
+  const double t = L2 < 1e-300 ? 0.0 : std::clamp((p - a).dot(d) / L2, 0.0, 1.0);
+  return (a + t * d - p).norm();
+}
+
+double distance_to_arc(const Eigen::Vector3d& v, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double ends = std::min(angle_deg(v, a), angle_deg(v, b));
+  const Eigen::Vector3d n = a.cross(b);
+  if (n.norm() < 1e-12) return ends;
+  const Eigen::Vector3d u = n.normalized();
+  const Eigen::Vector3d w = (v - v.dot(u) * u).normalized();
+  if (std::abs(angle_deg(a, w) + angle_deg(w, b) - angle_deg(a, b)) > 1e-9) return ends;
+  return std::asin(std::min(1.0, std::abs(v.dot(u)))) / kDeg;
+}
+
+// Posts `oriented` for `scene` through the command line (joint dialect), runs rs274 on the program and
+// checks its STRAIGHT_FEED moves against the planned tips and axes.
+void check_program(const std::string& label, const fs::path& dir, const fs::path& scene, const tf::OrientedPath& path,
+                   const tf::MachineSpec& spec, const tf::Tool& tool) {
+  tf::write_oriented_csv(path, dir / "oriented.csv");
+  const fs::path ngc = dir / "program.ngc";
+  const auto post = run_command(std::string(TILTFIELD_EXE) + " --quiet post " + scene.string() + " " +
+                                (dir / "oriented.csv").string() + " -o " + ngc.string() + " --dialect joint");
+  ASSERT_EQ(post.exit_code, 0) << post.output;
+  const auto rs = run_command("cd " + dir.string() + " && rs274 -g " + ngc.string());
+  ASSERT_EQ(rs.exit_code, 0) << label << ": rs274 refused the program:\n" << rs.output.substr(0, 4000);
+  const Canon canon = parse_canon(rs.output);
+  ASSERT_GE(canon.feeds.size(), path.rows.size()) << label;
+  EXPECT_GE(canon.traverses, 3) << label;
+
+  const tf::Kinematics kin(spec, tool.length);
+  std::vector<Eigen::Vector3d> tips;
+  for (const auto& r : path.rows) tips.push_back(tf::row_tip(r, tool));
+
+  // The rows in order among the feed end points; every other end point on the planned polyline.
+  size_t row = 0;
+  double worst_row_tip = 0, worst_row_axis = 0, worst_line = 0, worst_arc = 0;
+  for (const tf::Joints& j : canon.feeds) {
+    const tf::ToolPose p = kin.forward(j);
+    if (row < tips.size() && (p.tip - tips[row]).norm() < 0.001 && angle_deg(p.axis, path.rows[row].axis) < 0.001) {
+      worst_row_tip = std::max(worst_row_tip, (p.tip - tips[row]).norm());
+      worst_row_axis = std::max(worst_row_axis, angle_deg(p.axis, path.rows[row].axis));
+      ++row;
+      continue;
+    }
+    ASSERT_GT(row, 0u) << label << ": a feed move before the first row";
+    ASSERT_LT(row, tips.size()) << label << ": a feed move after the last row";
+    worst_line = std::max(worst_line, distance_to_segment(p.tip, tips[row - 1], tips[row]));
+    worst_arc = std::max(worst_arc, distance_to_arc(p.axis, path.rows[row - 1].axis, path.rows[row].axis));
+  }
+  EXPECT_EQ(row, tips.size()) << label << ": rows reproduced in order";
+  EXPECT_LT(worst_line, 0.001) << label;
+  EXPECT_LT(worst_arc, 0.001) << label;
+  ::testing::Test::RecordProperty(label + "_max_row_tip_error_mm", std::to_string(worst_row_tip));
+  ::testing::Test::RecordProperty(label + "_max_row_axis_error_deg", std::to_string(worst_row_axis));
+}
+
+void check_machine(const std::string& machine, const tf::OrientedPath& path) {
+  TempDir dir("linuxcnc-" + machine);
+  const fs::path scene = write_scene(dir.path, machine_file(machine), path);
+  tf::Tool tool;  // as write_scene's
+  tool.cutter = tf::BallCutter{3.0};
+  tool.length = 60.0;
+  check_program(machine, dir.path, scene, path, tf::read_machine_json(machine_file(machine)), tool);
+}
+
+TEST(LinuxCnc, Rs274ReadsJointProgramsOfEveryMachine) {
+  REQUIRE_RS274();
+  for (const char* m : {"table-table-ac", "table-table-bc", "head-table-bc", "head-head-ac"})
+    check_machine(m, impeller_like_path(120));
+  check_machine("xyz", three_axis_path(50));
+}
+
+// The bundled scenes (generated at build time into build/scenes/NAME/), posted with their path normals
+// as tool axes (vertical for a 3-axis machine).
+TEST(LinuxCnc, Rs274ReadsTheBundledScenesJointPrograms) {
+  REQUIRE_RS274();
+  int checked = 0;
+  for (const char* name : {"impeller", "pocket", "block"}) {
+    const fs::path scene_file = fs::path(TILTFIELD_BINARY_DIR) / "scenes" / name / "scene.json";
+    std::error_code ec;
+    if (!fs::exists(scene_file) || fs::file_size(scene_file, ec) == 0) continue;
+    const tf::Scene scene = tf::load_scene(scene_file);
+    ASSERT_TRUE(scene.machine) << name;
+    tf::OrientedPath path;
+    for (const tf::CLPoint& c : scene.path.rows) {
+      tf::OrientedRow r;
+      r.p = c.p;
+      // A 3-axis machine keeps the axis vertical; the others take the surface normal as the axis.
+      r.axis = scene.machine->kinematics == tf::KinematicsType::XYZ ? Eigen::Vector3d::UnitZ() : c.n.normalized();
+      r.feed = c.feed;
+      path.rows.push_back(r);
+    }
+    TempDir dir(std::string("bundled-") + name);
+    check_program(name, dir.path, scene_file, path, *scene.machine, scene.tool);
+    ++checked;
+  }
+  if (checked == 0) GTEST_SKIP() << "the bundled scenes are not built yet";
+}
+
+}  // namespace

@@ -1,0 +1,117 @@
+// `tiltfield post` on the command line: dialects, options, bad input (exit 2 naming the row or field).
+#include <gtest/gtest.h>
+
+#include "post_fixture.hpp"
+
+namespace {
+
+using namespace post_test;
+
+struct Posted {
+  CommandResult result;
+  fs::path out;
+};
+
+Posted post(const TempDir& dir, const std::string& machine_json, const tf::OrientedPath& path, const std::string& args,
+            const std::string& ext = "ngc") {
+  const fs::path machine = dir.path / "machine.json";
+  fs::copy_file(machine_json, machine, fs::copy_options::overwrite_existing);
+  const fs::path scene = write_scene(dir.path, machine, path);
+  tf::write_oriented_csv(path, dir.path / "oriented.csv");
+  Posted p;
+  p.out = dir.path / ("program." + ext);
+  p.result = run_command(std::string(TILTFIELD_EXE) + " --quiet post " + scene.string() + " " +
+                         (dir.path / "oriented.csv").string() + " -o " + p.out.string() + " " + args);
+  return p;
+}
+
+TEST(PostCli, DialectsAndOptions) {
+  TempDir dir("cli-dialects");
+  const tf::OrientedPath path = impeller_like_path(30);
+  auto p = post(dir, machine_file("table-table-ac").string(), path, "");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  std::string text = read_text(p.out);
+  EXPECT_NE(text.find("G93"), std::string::npos);  // the machine's output: joint
+  EXPECT_NE(text.find("T1 M6"), std::string::npos);
+
+  p = post(dir, machine_file("table-table-ac").string(), path, "--dialect tcp --tcp-style M128 --spindle 12000 --tool-number 7");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  text = read_text(p.out);
+  EXPECT_NE(text.find("\nM128\n"), std::string::npos);
+  EXPECT_NE(text.find("S12000 M3"), std::string::npos);
+  EXPECT_NE(text.find("T7 M6"), std::string::npos);
+
+  p = post(dir, machine_file("table-table-ac").string(), path, "--dialect tcp");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  EXPECT_NE(read_text(p.out).find("\nG43.4 H1\n"), std::string::npos);
+
+  p = post(dir, machine_file("table-table-ac").string(), path, "--dialect apt", "apt");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  EXPECT_NE(read_text(p.out).find("GOTO/"), std::string::npos);
+
+  // Tolerance options reach the linearisation: a tighter tip tolerance gives a longer program.
+  p = post(dir, machine_file("table-table-ac").string(), path, "--tip-tol 0.1 --axis-tol 1");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  const size_t loose = read_text(p.out).size();
+  p = post(dir, machine_file("table-table-ac").string(), path, "--tip-tol 0.001 --axis-tol 0.01 --pole-tol 0.001 --pole-mode hold");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  EXPECT_GT(read_text(p.out).size(), loose);
+}
+
+TEST(PostCli, UnreachableRowExitsTwoNamingTheLine) {
+  TempDir dir("cli-unreachable");
+  tf::OrientedPath path = impeller_like_path(30);
+  path.rows[11].axis = polar_axis(125.0, 40.0);  // beyond A -100 .. 50
+  auto p = post(dir, machine_file("table-table-ac").string(), path, "");
+  EXPECT_EQ(p.result.exit_code, 2) << p.result.output;
+  // Header on line 1, row 12 on line 13.
+  EXPECT_NE(p.result.output.find("oriented.csv:13"), std::string::npos) << p.result.output;
+  EXPECT_NE(p.result.output.find("row 12"), std::string::npos) << p.result.output;
+  EXPECT_NE(p.result.output.find("A limits"), std::string::npos) << p.result.output;
+  EXPECT_FALSE(fs::exists(p.out));
+  EXPECT_EQ(std::count(p.result.output.begin(), p.result.output.end(), '\n'), 1);
+}
+
+TEST(PostCli, UnknownKinematicsExitsTwoNamingTheField) {
+  TempDir dir("cli-kinematics");
+  {
+    std::ofstream m(dir.path / "bad-machine.json");
+    m << "{\"name\": \"x\", \"kinematics\": \"table-table-xy\"}\n";
+  }
+  auto p = post(dir, (dir.path / "bad-machine.json").string(), impeller_like_path(10), "");
+  EXPECT_EQ(p.result.exit_code, 2) << p.result.output;
+  EXPECT_NE(p.result.output.find("kinematics"), std::string::npos) << p.result.output;
+  EXPECT_NE(p.result.output.find("table-table-xy"), std::string::npos) << p.result.output;
+  EXPECT_FALSE(fs::exists(p.out));
+}
+
+TEST(PostCli, NonUnitAxisExitsTwoNamingTheRow) {
+  TempDir dir("cli-axis");
+  const tf::OrientedPath path = impeller_like_path(10);
+  const fs::path scene = write_scene(dir.path, machine_file("table-table-bc"), path);
+  {
+    std::ofstream csv(dir.path / "oriented.csv");
+    csv << "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n";
+    csv << "10,0,5,0,0,1,0,0,1\n";
+    csv << "11,0,5,0,0.5,1,0,0,1\n";  // |axis| = 1.118
+  }
+  const fs::path out = dir.path / "p.ngc";
+  const auto r = run_command(std::string(TILTFIELD_EXE) + " --quiet post " + scene.string() + " " +
+                             (dir.path / "oriented.csv").string() + " -o " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("oriented.csv:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("i,j,k"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(PostCli, BadOptionsExitTwo) {
+  TempDir dir("cli-options");
+  const tf::OrientedPath path = impeller_like_path(10);
+  for (const char* args : {"--tip-tol 0", "--axis-tol -1", "--dialect gcode", "--tcp-style M999", "--pole-tol -0.1"}) {
+    auto p = post(dir, machine_file("head-table-bc").string(), path, args);
+    EXPECT_EQ(p.result.exit_code, 2) << args << ": " << p.result.output;
+    EXPECT_FALSE(fs::exists(p.out)) << args;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,64 @@
+#include "scene_block.hpp"
+
+#include <cmath>
+
+#include "scene_geometry.hpp"
+
+namespace tf::scenes {
+
+namespace {
+double tidy(double v) { return std::round(v * 1e6) / 1e6; }
+void check(bool ok, const char* option, const std::string& what) { require_option(ok, "block", option, what); }
+bool positive(double v) { return std::isfinite(v) && v > 0; }
+}  // namespace
+
+void validate_block_options(const BlockOptions& o) {
+  check(positive(o.size_x), "--size-x", "must be positive");
+  check(positive(o.size_y), "--size-y", "must be positive");
+  check(positive(o.height), "--height", "must be positive");
+  check(positive(o.depth) && o.depth < o.height, "--depth", "must be positive and less than --height");
+  check(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
+  check(positive(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
+        "must be positive and at most the tool diameter");
+  check(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
+  check(positive(o.feed), "--feed", "must be positive (mm/min)");
+}
+
+SceneBundle make_block_scene(const BlockOptions& o, const nlohmann::json& machine) {
+  validate_block_options(o);
+  SceneBundle s;
+  s.name = "block";
+  const double top = o.height - o.depth;
+  s.design = {"block.stl", box_mesh(Eigen::Vector3d::Zero(), {o.size_x, o.size_y, top})};
+  s.stock_box = {Eigen::Vector3d::Zero(), Eigen::Vector3d(o.size_x, o.size_y, o.height)};
+  s.tool = flat_tool(o.tool_radius);
+  const double run = o.tool_radius + 2.0;
+  const int n = std::max(1, static_cast<int>(std::ceil(o.size_y / o.stepover - 1e-9)));
+  std::vector<Eigen::Vector3d> knots;
+  for (int j = 0; j <= n; ++j) {
+    const double y = o.size_y * j / n;
+    const double xa = j % 2 == 0 ? -run : o.size_x + run, xb = o.size_x - xa;
+    knots.emplace_back(xa, y, top);
+    knots.emplace_back(xb, y, top);
+  }
+  for (const Eigen::Vector3d& p : resample_polyline(knots, o.step)) s.path.rows.push_back({p, Eigen::Vector3d::UnitZ()});
+  s.feed = o.feed;
+  s.planner.safety_distance = 1.0;
+  s.machine = machine;
+  s.generator = {{"command", "tiltfield scene block"},
+                 {"options",
+                  {{"size_x", tidy(o.size_x)},
+                   {"size_y", tidy(o.size_y)},
+                   {"height", tidy(o.height)},
+                   {"depth", tidy(o.depth)},
+                   {"tool_radius", tidy(o.tool_radius)},
+                   {"stepover", tidy(o.stepover)},
+                   {"step", tidy(o.step)},
+                   {"feed", tidy(o.feed)}}},
+                 {"facts", {{"rows", s.path.rows.size()}, {"passes", n + 1}}}};
+  s.view_azimuth_deg = -60.0;
+  s.view_elevation_deg = 35.0;
+  return s;
+}
+
+}  // namespace tf::scenes
