@@ -47,6 +47,12 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
                      const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   PlanResult result;
+  auto last = t0;
+  auto stage = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    result.metrics.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - last).count());
+    last = now;
+  };
   const size_t n = path.rows.size();
   PlanContext ctx;
   ctx.path = &path;
@@ -64,6 +70,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   }
   report(progress, "plan", 0.0);
   ctx.bvh = TriangleBvh(check_surfaces);
+  stage("bvh");
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
   if (machine) {
@@ -84,6 +91,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
         return acc;
       },
       std::plus<size_t>());
+  stage("nominal_check");
 
   std::vector<Vector3d> axes;
   if (options.method == PlanMethod::Pointwise) {
@@ -120,17 +128,22 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
       for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
       field.prefetch(wanted, rho + field.cell());
     }
+    stage("field");
     report(progress, "plan", 0.1);
     axes = integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
                           dynamics_params(options, tool, basics), progress);
   }
   report(progress, "plan", 0.7);
+  stage("axes");
   std::vector<BodyClearance> clear = all_clearances(ctx, axes);
+  stage("clearance");
   report(progress, "plan", 0.8);
   result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  stage("corrections");
   if (options.smooth) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed) result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+    stage("smoothing");
   }
   if (!machine)
     result.notes.push_back("no machine: only max_tilt_deg limits the axis");
@@ -185,6 +198,9 @@ nlohmann::json plan_report_json(const PlanResult& r) {
   j["max_deg_per_mm"] = m.max_deg_per_mm;
   j["rms_second_difference"] = m.rms_second_difference;
   j["seconds"] = m.seconds;
+  nlohmann::json st = nlohmann::json::object();
+  for (const auto& [k, v] : m.stage_seconds) st[k] = v;
+  j["stage_seconds"] = st;
   nlohmann::json un = nlohmann::json::array();
   for (const auto& u : r.uncleared)
     un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}, {"unreachable", u.unreachable}});

@@ -75,6 +75,9 @@ struct PlanMetrics {
   double rms_second_difference = 0;   // RMS of |a[i-1] - 2 a[i] + a[i+1]| (unit axes), rad
   size_t corrected_rows = 0;          // rows changed by the guarantee pass
   double seconds = 0;                 // wall time of the whole plan, preprocessing included
+  // Wall time per stage: "bvh", "nominal_check", "field", "axes" (dynamics or search), "clearance",
+  // "corrections", "smoothing".
+  std::vector<std::pair<std::string, double>> stage_seconds;
   std::string method;
   bool smoothed = false;
 };

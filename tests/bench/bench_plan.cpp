@@ -61,11 +61,11 @@ const BenchScene& scene() {
   const double want = env_or("TILTFIELD_BENCH_ROWS", 100000);
   tf::scenes::ImpellerOptions probe = o;
   probe.tolerance = 0.01;
-  probe.passes = 20;
+  probe.passes = 100;
   probe.step = 0.5;
   const auto p = tf::scenes::make_impeller_scene(probe, tf::scenes::machine_json("table-table-ac", {}));
   const double per_row_at_half = static_cast<double>(p.path.rows.size());
-  o.passes = 20;
+  o.passes = 100;  // a 0.2 mm stepover: fewer passes would need a step too fine for the generator
   o.step = std::max(0.01, 0.5 * per_row_at_half / want);
   s->bundle = tf::scenes::make_impeller_scene(o, tf::scenes::machine_json("table-table-ac", {}));
   for (auto& c : s->bundle.check_surfaces) {
@@ -97,6 +97,7 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
   state.counters["rows_nominal_colliding"] = static_cast<double>(r.metrics.rows_nominal_colliding);
   state.counters["rows_below_safety"] = static_cast<double>(r.metrics.rows_below_safety);
   state.counters["rms_second_difference"] = r.metrics.rms_second_difference;
+  for (const auto& [name, sec] : r.metrics.stage_seconds) state.counters["s_" + name] = sec;
 }
 
 void BM_PlanDynamic(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX); }
