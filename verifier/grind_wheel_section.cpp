@@ -24,7 +24,7 @@ PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank
 }
 
 void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2d>& profile, double z0,
-                          int generators, std::vector<Eigen::Vector2d>& out) {
+                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out) {
   const Eigen::Vector3d& c = info.pose.centre;
   const Eigen::Vector3d& a = info.pose.axis;
   // Ring chords: each ring's disc {|p - o| <= rho, a.(p - o) = 0} meets the plane z = z0 in a segment.
@@ -45,16 +45,15 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
     }
   }
   // Generators: only needed when rings are nearly parallel to the plane (their chords get sparse).
-  if (std::abs(a.z()) <= 0.5 || generators < 3) return;
+  if (std::abs(a.z()) <= 0.5 || trig.size() < 3) return;
   const double perp = std::sqrt(std::max(0.0, 1.0 - a.z() * a.z()));
   const double base = c.z() - z0;
   for (size_t i = 0; i + 1 < profile.size(); ++i) {
     const double t0 = profile[i].x(), r0 = profile[i].y(), t1 = profile[i + 1].x(), r1 = profile[i + 1].y();
     const double m0 = base + t0 * a.z(), m1 = base + t1 * a.z();
     if ((m0 - r0 * perp > 0 && m1 - r1 * perp > 0) || (m0 + r0 * perp < 0 && m1 + r1 * perp < 0)) continue;
-    for (int g = 0; g < generators; ++g) {
-      const double phi = 2.0 * M_PI * g / generators;
-      const Eigen::Vector3d dir = std::cos(phi) * info.u1 + std::sin(phi) * info.u2;
+    for (const Eigen::Vector2d& cs : trig) {
+      const Eigen::Vector3d dir = cs.x() * info.u1 + cs.y() * info.u2;
       const double s0 = m0 + r0 * dir.z(), s1 = m1 + r1 * dir.z();
       if ((s0 > 0) == (s1 > 0) || s0 == s1) continue;
       const double f = s0 / (s0 - s1);
@@ -62,6 +61,19 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
       out.emplace_back(p.x(), p.y());
     }
   }
+}
+
+std::vector<Eigen::Vector2d> generator_table(int n) {
+  std::vector<Eigen::Vector2d> t;
+  for (int g = 0; g < n; ++g) t.emplace_back(std::cos(2.0 * M_PI * g / n), std::sin(2.0 * M_PI * g / n));
+  return t;
+}
+
+double distance_bound(const PoseInfo& info, const Wheel& wheel, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - info.pose.centre;
+  const double t = d.dot(info.pose.axis);
+  const double radial = (d - t * info.pose.axis).norm();
+  return std::hypot(std::max(0.0, std::abs(t) - 0.5 * wheel.thickness), std::max(0.0, radial - wheel.radius));
 }
 
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d>& pts) {

@@ -166,7 +166,7 @@ Paths union_tree(Paths polys, double clean) {
 
 // Cuts one operation into one section: returns whether anything was removed.
 bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, const Wheel& wheel,
-                 const SectionOptions& opt, int label) {
+                 const std::vector<Eigen::Vector2d>& trig, const SectionOptions& opt, int label) {
   if (slice.paths.empty()) return false;
   double bx0 = 1e300, bx1 = -1e300, by0 = 1e300, by1 = -1e300;
   for (const Path& p : slice.paths)
@@ -174,6 +174,11 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
       bx0 = std::min(bx0, q.X / kScale), bx1 = std::max(bx1, q.X / kScale);
       by0 = std::min(by0, q.Y / kScale), by1 = std::max(by1, q.Y / kScale);
     }
+  // Radius of the material around the blank axis: a wheel farther than this from (0, 0, z0) cannot cut.
+  double reach = 0.0;
+  for (const Path& p : slice.paths)
+    for (const IntPoint& q : p) reach = std::max(reach, std::hypot(double(q.X), double(q.Y)) / kScale);
+  const Eigen::Vector3d axis_point(0.0, 0.0, z0);
   const double margin = 0.01 * (bx1 - bx0 + by1 - by0) + 0.01;
   Paths clips;
   std::vector<Eigen::Vector2d> cur, prev, pts;
@@ -181,8 +186,8 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
   auto section_at = [&](size_t k, std::vector<Eigen::Vector2d>& out) {
     out.clear();
     const PoseInfo& p = poses[k];
-    if (p.far || z0 < p.z_lo || z0 > p.z_hi) return;
-    detail::wheel_section_points(p, wheel.profile, z0, opt.generators, out);
+    if (p.far || z0 < p.z_lo || z0 > p.z_hi || detail::distance_bound(p, wheel, axis_point) > reach) return;
+    detail::wheel_section_points(p, wheel.profile, z0, trig, out);
   };
   for (size_t k = 0; k + 1 < poses.size(); ++k) {
     const PoseInfo &p0 = poses[k], &p1 = poses[k + 1];
@@ -256,6 +261,7 @@ SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& op
     poses.push_back(operation_poses(op, before, scene, opt.step));
     before = op.moves.back().target;
   }
+  const std::vector<Eigen::Vector2d> trig = detail::generator_table(opt.generators);
   const Path circle = blank_circle(scene.blank, opt.chord_tolerance);
   stack.sections.resize(n + 1);
   std::atomic<int> done{0};
@@ -264,7 +270,7 @@ SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& op
     const double z = i == n ? l : l * i / n;
     Slice slice{{circle}, {std::vector<int>(circle.size(), 0)}};
     for (size_t k = 0; k < poses.size(); ++k)
-      cut_section(slice, z, poses[k], scene.wheel, opt, static_cast<int>(k) + 1);
+      cut_section(slice, z, poses[k], scene.wheel, trig, opt, static_cast<int>(k) + 1);
     stack.sections[i] = to_section(slice, z);
     const int d = ++done;
     if (progress && (d % 16 == 0 || d == n + 1)) {

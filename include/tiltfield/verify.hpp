@@ -46,6 +46,9 @@ struct Collision {
   HitWith with = HitWith::Stock;
   bool rapid = false;
   double depth_mm = 0.0;  // penetration estimate (see docs/verifier.md)
+  // The tool's pose at the start and the end of the block (part frame), so that a re-planner can find
+  // the path rows involved without the program.
+  ToolPose start, end;
 };
 
 struct Gouge {
