@@ -1,4 +1,5 @@
 // Exact clearance of the posed tool body: GJK between each triangle and each convex piece.
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -55,14 +56,15 @@ Vector3d closest_on_simplex(std::array<Vector3d, 4>& y, int& n, bool& inside) {
     const Vector3d& y0 = y[static_cast<size_t>(idx[0])];
     double lambda[4] = {1, 0, 0, 0};
     if (k > 1) {
-      Eigen::Matrix<double, 3, Eigen::Dynamic> E(3, k - 1);
+      using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+      using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> E(3, k - 1);
       for (int j = 1; j < k; ++j) E.col(j - 1) = y[static_cast<size_t>(idx[j])] - y0;
-      const Eigen::MatrixXd G = E.transpose() * E;
-      const Eigen::VectorXd rhs = -E.transpose() * y0;
-      Eigen::LDLT<Eigen::MatrixXd> ldlt(G);
-      if (ldlt.info() != Eigen::Success || std::abs(G.determinant()) < 1e-24 * std::pow(G.trace() + 1e-300, k - 1))
-        continue;
-      const Eigen::VectorXd mu = ldlt.solve(rhs);
+      const Mat G = E.transpose() * E;
+      const Vec rhs = -E.transpose() * y0;
+      // Skip degenerate sub-simplices (their faces are checked on their own).
+      if (std::abs(G.determinant()) < 1e-24 * std::pow(G.trace() + 1e-300, k - 1)) continue;
+      const Vec mu = G.partialPivLu().solve(rhs);
       double s = 0;
       bool ok = true;
       for (int j = 1; j < k; ++j) {
@@ -136,7 +138,9 @@ double triangle_cylinder_distance(const Triangle& t, const Vector3d& p0, const V
   return v.norm();
 }
 
-double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit) {
+double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below) {
+  const double inf = std::numeric_limits<double>::infinity();
   if (piece.sphere) {
     const Vector3d c = pose.c + piece.h0 * pose.axis;
     const double R = piece.radius;
@@ -144,7 +148,8 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
     const double d2 = bvh.minimum(
         [&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(c, lo, hi); },
         [&](int i, double) { return (closest_point_on_triangle(c, bvh.triangle(i)) - c).squaredNorm(); },
-        lim * lim);
+        lim * lim, first_below ? lim * lim : -inf);
+    if (d2 >= lim * lim) return limit;  // nothing nearer than the limit (exactly, not up to rounding)
     return std::max(0.0, std::sqrt(d2) - R);
   }
   const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
@@ -167,7 +172,7 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
         if (capsule >= best) return capsule;
         return triangle_cylinder_distance(t, p0, p1, R);
       },
-      limit);
+      limit, first_below ? limit : -inf);
   return std::max(0.0, d);
 }
 

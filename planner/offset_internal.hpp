@@ -32,6 +32,11 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
 std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field,
                                                double tol, double eps, int* crossings);
 
+// Sharp corners: complete round joins become the neighbours' extensions to their intersection where that
+// miter keeps a clearance >= -eps (mm) and crosses no path segment; miter_limit as in OffsetOptions.
+void apply_sharp_corners(std::vector<std::vector<Segment>>& contours, const ClearanceField& field,
+                         double miter_limit, double eps);
+
 // Variable gap: splits the contours' segments where their clearance leaves 0 (within thr, mm) and marks
 // the parts off the law as SegmentKind::Transition.
 void mark_transitions(std::vector<std::vector<Segment>>& contours, const ClearanceField& field, double thr);

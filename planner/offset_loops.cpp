@@ -251,6 +251,7 @@ OffsetResult offset_profile(const Profile& profile, const GapLaw& law, const Off
   const auto field = make_clearance_field(profile, law);
   const double eps = 1e-8 * scale + (is_constant(law) ? 0.0 : 5 * options.arc_tolerance);
   result.contours = remove_loops(raw, *field, tol, eps, &result.crossings);
+  if (options.corner == Corner::Sharp) apply_sharp_corners(result.contours, *field, options.miter_limit, eps);
   if (!is_constant(law)) mark_transitions(result.contours, *field, std::max(2.5 * options.arc_tolerance, 1e-9 * scale));
   return result;
 }

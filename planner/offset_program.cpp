@@ -47,9 +47,10 @@ struct Writer {
     out << "G0 X" << num(p.x()) << " Y" << num(p.y()) << "\n";
     motion = 0;
   }
-  void segment(const Segment& s, const std::string& feed_word) {
+  // Writes the move; false when it vanishes at the printed resolution (then the feed word is kept).
+  bool segment(const Segment& s, const std::string& feed_word) {
     const Vector2d end = rounded(s.b);
-    if (end == cur) return;  // would read as a full circle (G2/G3) or nothing (G1)
+    if (end == cur) return false;  // would read as a full circle (G2/G3) or nothing (G1)
     // Tiny arcs go out as lines: their sagitta is far below the printed resolution.
     if (!s.is_arc() || (s.b - s.a).norm() < 1e-4 || s.r > 1e5) {
       out << "G1 X" << num(s.b.x()) << " Y" << num(s.b.y()) << feed_word << "\n";
@@ -58,6 +59,7 @@ struct Writer {
           << num(s.c.x() - cur.x()) << " J" << num(s.c.y() - cur.y()) << feed_word << "\n";
     }
     cur = end;
+    return true;
   }
 };
 
@@ -117,8 +119,7 @@ void write_milling_program(std::ostream& out, const std::vector<RunContour>& con
     out << "G1 Z" << num(o.z_cut) << " F" << num(o.plunge_feed) << "\n";
     std::string f = feed;
     auto emit = [&](const Segment& s) {
-      w.segment(s, f);
-      f.clear();
+      if (w.segment(s, f)) f.clear();
     };
     if (rc.has_leads) {
       out << "(lead-in)\n";
@@ -172,8 +173,7 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
           out << "M67 E" << o.voltage_channel << " Q" << num(u) << " (voltage follows the gap)\n";
         }
       }
-      w.segment(s, f);
-      f.clear();
+      if (w.segment(s, f)) f.clear();
       since_retract += length(s);
       if (path && o.retract_every_mm > 0 && since_retract >= o.retract_every_mm) {
         since_retract = 0;

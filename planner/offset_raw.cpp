@@ -1,9 +1,8 @@
 // The raw offset of a profile: every piece offset exactly (lines to lines, arcs to arcs with R -/+ D) or,
 // where the gap varies along an arc, approximated by arcs; then the joins at the vertices (seed 3.1):
-// intersection of the neighbouring offsets where they overlap, an arc of radius D about the vertex (round)
-// or the intersection of the extended offsets (sharp) where they part.
+// intersection of the neighbouring offsets where they overlap, an arc of radius D about the vertex where
+// they part. Sharp corners are made afterwards from these arcs (offset_sharp.cpp), once the loops are gone.
 #include <cmath>
-#include <numbers>
 
 #include "offset_internal.hpp"
 
@@ -44,15 +43,15 @@ void fit_arcs(const OffsetCurve& q, double t0, double t1, const Vector2d& a, con
   if (circle_through(a, m, b, &c) && (c - a).norm() < 1e6) {
     s = make_arc_to(a, b, c, cross(m - a, b - m) > 0);
     ok = true;
-    for (int k = 1; k < 8 && ok; ++k) {
-      if (k == 4) continue;
-      const Vector2d p = q.at(t0 + (t1 - t0) * k / 8.0);
+    for (int k = 1; k < 16 && ok; ++k) {
+      if (k == 8) continue;
+      const Vector2d p = q.at(t0 + (t1 - t0) * k / 16.0);
       ok = distance(s, p) <= tol;
     }
   } else {
     s = make_line(a, b);
     ok = true;
-    for (int k = 1; k < 8 && ok; ++k) ok = distance(s, q.at(t0 + (t1 - t0) * k / 8.0)) <= tol;
+    for (int k = 1; k < 16 && ok; ++k) ok = distance(s, q.at(t0 + (t1 - t0) * k / 16.0)) <= tol;
   }
   if (ok || depth >= 40 || (b - a).norm() <= tol) {
     s.kind = SegmentKind::Fitted;
@@ -101,88 +100,6 @@ std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigm
   return out;
 }
 
-// The offset of a profile piece at the constant gap g (sigma: side); false when an arc vanishes.
-bool constant_offset(const Segment& e, double sigma, double g, double tol, Segment* out) {
-  if (!e.is_arc()) {
-    const Vector2d n = left_normal_at(e, 0);
-    *out = make_line(e.a + sigma * g * n, e.b + sigma * g * n);
-    return true;
-  }
-  const double r2 = e.r - sigma * (e.sweep > 0 ? 1.0 : -1.0) * g;
-  if (r2 <= tol) return false;
-  *out = e;
-  out->a = e.c + (r2 / e.r) * (e.a - e.c);
-  out->b = e.c + (r2 / e.r) * (e.b - e.c);
-  out->r = r2;
-  return true;
-}
-
-// Points where the supporting line/circle of `in` (continued past its end) meets that of `out`
-// (continued before its start). Lines are given as a point and a direction.
-std::vector<Vector2d> support_crossings(const Segment& s1, const Segment& s2) {
-  std::vector<Vector2d> pts;
-  auto line_circle = [&](const Vector2d& a, const Vector2d& d, const Vector2d& c, double r) {
-    const double A = d.squaredNorm(), t0 = -(a - c).dot(d) / A;
-    const Vector2d f = a + t0 * d;
-    const double h2 = r * r - (f - c).squaredNorm();
-    if (h2 < 0) return;
-    const double dt = std::sqrt(h2 / A);
-    pts.push_back(a + (t0 - dt) * d);
-    pts.push_back(a + (t0 + dt) * d);
-  };
-  if (!s1.is_arc() && !s2.is_arc()) {
-    const Vector2d d1 = s1.b - s1.a, d2 = s2.b - s2.a;
-    const double den = cross(d1, d2);
-    if (std::abs(den) > 1e-14 * d1.norm() * d2.norm()) pts.push_back(s1.a + cross(s2.a - s1.a, d2) / den * d1);
-  } else if (!s1.is_arc()) {
-    line_circle(s1.a, s1.b - s1.a, s2.c, s2.r);
-  } else if (!s2.is_arc()) {
-    line_circle(s2.a, s2.b - s2.a, s1.c, s1.r);
-  } else {
-    const Vector2d dc = s2.c - s1.c;
-    const double d = dc.norm();
-    if (d > 0 && d <= s1.r + s2.r && d >= std::abs(s1.r - s2.r)) {
-      const double x = (d * d + s1.r * s1.r - s2.r * s2.r) / (2 * d);
-      const double h = std::sqrt(std::max(0.0, s1.r * s1.r - x * x));
-      const Vector2d e = dc / d, n(-e.y(), e.x());
-      pts.push_back(s1.c + x * e + h * n);
-      pts.push_back(s1.c + x * e - h * n);
-    }
-  }
-  return pts;
-}
-
-// The piece of s's supporting line or circle from p to q, in s's direction of travel.
-Segment extension(const Segment& s, const Vector2d& p, const Vector2d& q) {
-  Segment e = s.is_arc() ? make_arc_to(p, q, s.c, s.sweep > 0) : make_line(p, q);
-  e.kind = SegmentKind::SharpJoin;
-  e.line = s.line;
-  e.g0 = e.g1 = s.is_arc() ? s.g1 : s.g1;
-  return e;
-}
-
-// Sharp join: extensions of `in` and `out` up to the crossing of their supports nearest the vertex V.
-bool sharp_join(const Segment& in, const Segment& out, const Vector2d& V, double g, double miter_limit,
-                std::vector<Segment>& join) {
-  const Vector2d E = in.b, S = out.a;
-  const Vector2d tin = tangent_at(in, 1.0), tout = tangent_at(out, 0.0);
-  double best = miter_limit * g;
-  bool found = false;
-  Vector2d X;
-  for (const Vector2d& p : support_crossings(in, out)) {
-    if ((p - E).dot(tin) < 0 || (S - p).dot(tout) < 0) continue;  // must lie ahead of E and behind S
-    const double d = (p - V).norm();
-    if (d <= best) best = d, X = p, found = true;
-  }
-  if (!found) return false;
-  Segment e1 = extension(in, E, X), e2 = extension(out, X, S);
-  for (const Segment* e : {&e1, &e2})
-    if (e->is_arc() && std::abs(e->sweep) > std::numbers::pi / 2) return false;
-  e1.g0 = e1.g1 = e2.g0 = e2.g1 = g;
-  if ((X - E).norm() > 0) join.push_back(e1);
-  if ((S - X).norm() > 0) join.push_back(e2);
-  return true;
-}
 }  // namespace
 
 std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const OffsetOptions& options, double sigma,
@@ -216,17 +133,6 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
       joins[i].push_back(arc);
     };
     if (sigma * turn < 0) {  // the offsets part: convex corner seen from the offset side
-      // Sharp: extend the neighbours' offsets at the vertex's gap (with a varying gap the actual offsets
-      // drift off the element, and their extensions could come closer than the gap).
-      if (options.corner == Corner::Sharp) {
-        Segment sup_in, sup_out;
-        if (constant_offset(pieces[i].seg, sigma, g, tol, &sup_in) &&
-            constant_offset(pieces[j].seg, sigma, g, tol, &sup_out)) {
-          sup_in.b = E, sup_out.a = S;
-          sup_in.line = in.line, sup_out.line = out.line;
-          if (sharp_join(sup_in, sup_out, V, g, options.miter_limit, joins[i])) continue;
-        }
-      }
       round_join();
       continue;
     }

@@ -30,7 +30,7 @@ void mark_transitions(std::vector<std::vector<Segment>>& contours, const Clearan
   // Uniform samples, and geometric ones toward both ends: a node is on both offsets (exact either way)
   // and the stretch off the law starts right next to it.
   std::vector<double> ts;
-  for (int k = 0; k <= 16; ++k) ts.push_back(k / 16.0);
+  for (int k = 0; k <= 64; ++k) ts.push_back(k / 64.0);
   for (int j = 5; j <= 36; ++j) ts.push_back(std::ldexp(1.0, -j)), ts.push_back(1.0 - std::ldexp(1.0, -j));
   std::sort(ts.begin(), ts.end());
   ts.erase(std::unique(ts.begin(), ts.end()), ts.end());
@@ -58,11 +58,11 @@ void mark_transitions(std::vector<std::vector<Segment>>& contours, const Clearan
       for (size_t k = 0; k + 1 < n; ++k)
         if (flags[k] != flags[k + 1]) {
           const double t = flip_point(s, ts[k], ts[k + 1], field, thr);
-          if (t * length(s) <= 1e-9) {
+          if (t * length(s) <= 1e-7) {  // a sliver at an end joins the end part
             exact.back() = flags[k + 1];
             continue;
           }
-          if ((1 - t) * length(s) <= 1e-9) break;
+          if ((1 - t) * length(s) <= 1e-7) break;
           cuts.push_back(t);
           exact.push_back(flags[k + 1]);
         }
@@ -70,6 +70,10 @@ void mark_transitions(std::vector<std::vector<Segment>>& contours, const Clearan
       const size_t first = out.size();
       for (size_t k = 0; k + 1 < cuts.size(); ++k) {
         Segment part = sub_segment(s, cuts[k], cuts[k + 1]);
+        // A part between flips judged exact from its end samples is checked once more inside; a sliver
+        // (< 10 nm) between flips goes with the transition it borders.
+        for (int j = 0; j <= 8 && exact[k]; ++j) exact[k] = on_law(part, j / 8.0, field, thr);
+        if (length(part) < 1e-5) exact[k] = false;
         if (!exact[k]) part.kind = SegmentKind::Transition;
         if (out.size() > first) part.a = out.back().b;
         out.push_back(part);

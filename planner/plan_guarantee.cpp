@@ -16,7 +16,7 @@ bool PlanContext::clears(size_t row, const Vector3d& axis, double extra) const {
   const Pose p = pose(row, axis);
   for (size_t i = 0; i < pieces.size(); ++i) {
     const double need = required[i] + extra;
-    if (piece_distance(bvh, pieces[i], p, need) < need) return false;
+    if (piece_distance(bvh, pieces[i], p, need, true) < need) return false;
   }
   return true;
 }
@@ -33,6 +33,12 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
                             Vector3d& turn) {
   turn.setZero();
   if (ctx.clears(row, axis, extra)) return true;
+  // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
+  for (size_t i = 0; i < ctx.pieces.size(); ++i)
+    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0) {
+      const double need = ctx.required[i] + extra;
+      if (piece_distance(ctx.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
+    }
   const LocalFrame& fr = ctx.frames[row];
   // Directions: 16 round, plus the ascent direction of the margin (finite differences), tried first.
   std::vector<Vector3d> dirs;

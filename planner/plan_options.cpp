@@ -11,7 +11,7 @@ PlanOptions derive_plan_options(const Tool& tool, const PlannerBasics& basics, d
   PlanOptions o;
   const double R = tool.radius();
   o.response_length_mm = 4.0 * R;
-  o.influence_mm = 2.0 * R + basics.safety_distance;
+  o.influence_mm = R + basics.safety_distance;
   o.field_cell_mm = std::clamp(R / 2.0, 0.25, 4.0);
   o.sample_spacing_mm = std::clamp(R / 2.0, 0.25, 4.0);
   o.correction_window_mm = 2.0 * o.response_length_mm;

@@ -20,9 +20,8 @@ std::vector<Vector3d> pointwise_axes(const PlanContext& ctx, const Progress& pro
       const Vector3d a0 = clamp_to_cone(ctx.nominal[i], ctx.frames[i].n, ctx.cos_max_tilt);
       Vector3d turn;
       // Aim for the same margin above the required clearance as the dynamic method's corrections.
-      axes[i] = smallest_clearing_turn(ctx, i, a0, ctx.options.correction_margin_mm, step, turn)
-                    ? rotate_axis(a0, turn)
-                    : a0;
+      const bool found = smallest_clearing_turn(ctx, i, a0, ctx.options.correction_margin_mm, step, turn);
+      axes[i] = found ? rotate_axis(a0, turn) : a0;
     }
   });
   report(progress, "plan", 0.7);

@@ -21,14 +21,6 @@ struct VerifyArgs {
   bool fail_on_collision = false;
 };
 
-// The scene's forward kinematics (3-axis stand-in until the shared kinematics is merged).
-ForwardFn scene_forward(const Scene& scene) {
-  const MachineSpec m = scene.machine.value_or(MachineSpec{});
-  if (m.kinematics == KinematicsType::XYZ) return forward_xyz;
-  throw InputError(scene.machine_file.empty() ? scene.file.string() : scene.machine_file.string(), 0, "kinematics",
-                   "5-axis kinematics are not available in this build");
-}
-
 void run_verify(const VerifyArgs& a) {
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");

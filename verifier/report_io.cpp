@@ -9,7 +9,7 @@ namespace tf {
 
 namespace {
 // Numbers through tf::fixed (never scientific notation) as raw JSON numbers.
-nlohmann::json num(double v, int decimals = 6) { return nlohmann::json::parse(fixed(v, decimals)); }
+nlohmann::ordered_json num(double v, int decimals = 6) { return nlohmann::ordered_json::parse(fixed(v, decimals)); }
 }  // namespace
 
 void write_verify_json(const VerifyReport& r, const std::filesystem::path& file) {
@@ -25,6 +25,13 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
     o["with"] = std::string(to_string(c.with));
     o["rapid"] = c.rapid;
     o["depth_mm"] = num(c.depth_mm, 4);
+    auto vec = [](const Eigen::Vector3d& v, int d) {
+      return nlohmann::ordered_json::array({num(v.x(), d), num(v.y(), d), num(v.z(), d)});
+    };
+    o["start_tip"] = vec(c.start.tip, 4);
+    o["start_axis"] = vec(c.start.axis, 6);
+    o["end_tip"] = vec(c.end.tip, 4);
+    o["end_axis"] = vec(c.end.axis, 6);
     cs.push_back(o);
   }
   j["collisions"] = cs;

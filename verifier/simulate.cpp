@@ -333,7 +333,8 @@ class Simulator {
           for (int d = 0; d < 3; ++d)
             if (depth[d][c][w][r] > 0) dep = std::min<double>(dep, depth[d][c][w][r]);
           if (!std::isfinite(dep) || dep <= opt_.collision_tolerance) continue;
-          rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep});
+          rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep,
+                                    pose_at(0.0), pose_at(1.0)});
           br.collision = true;
         }
     if (gouge > 0) {

@@ -34,8 +34,8 @@ struct PlanOptions {
   double attraction = 0;           // "attraction": stiffness toward the nominal axis, torque/rad; default J omega_n^2
   double damping = 0;              // "damping": torque/(rad/s); default 2 zeta J omega_n
   double influence_mm = 0;         // "influence_mm": gap (distance beyond the required clearance) where
-                                   // repulsion starts; default 2 x tool radius + safety distance
-  double repulsion_gain = 4.0;     // "repulsion_gain": dimensionless; repulsion relative to attraction
+                                   // repulsion starts; default tool radius + safety distance
+  double repulsion_gain = 1.0;     // "repulsion_gain": dimensionless; repulsion relative to attraction
   double min_gap_mm = 0;           // "min_gap_mm": below this gap the repulsive force stops growing; default influence/20
   double max_substep_deg = 0.25;   // "max_substep_deg": largest axis turn per integration sub-step
 

@@ -37,8 +37,10 @@ struct Pose {
 };
 
 // Exact distance (GJK against each triangle, to 1e-6 mm) from a piece to the surfaces, or a value >=
-// `limit` when it is at least `limit`. 0 when they touch or intersect.
-double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit);
+// `limit` when it is at least `limit`. 0 when they touch or intersect. With `first_below` set, returns as
+// soon as some triangle is nearer than `limit` (then only "< limit" is meaningful): a cheap yes/no test.
+double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below = false);
 
 // Distance between a triangle and a finite cylinder (axis p0 -> p1, radius r) by GJK, mm. 0 on contact.
 double triangle_cylinder_distance(const Triangle& t, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double r);

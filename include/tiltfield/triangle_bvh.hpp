@@ -53,8 +53,10 @@ class TriangleBvh {
   // Generic best-first minimum: `box_bound(lo, hi)` returns a lower bound of the quantity over a box of
   // triangles, `leaf(i, best)` the quantity for triangle i (it may return any value >= best when it can
   // prove the triangle cannot beat `best`). Returns the minimum below `start` (or `start`).
+  // `stop_below`: return as soon as the minimum is known to be below it (a yes/no query).
   template <class BoxBound, class Leaf>
-  double minimum(const BoxBound& box_bound, const Leaf& leaf, double start) const;
+  double minimum(const BoxBound& box_bound, const Leaf& leaf, double start,
+                 double stop_below = -std::numeric_limits<double>::infinity()) const;
 
   struct Node {
     Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
@@ -71,7 +73,7 @@ class TriangleBvh {
 };
 
 template <class BoxBound, class Leaf>
-double TriangleBvh::minimum(const BoxBound& box_bound, const Leaf& leaf, double start) const {
+double TriangleBvh::minimum(const BoxBound& box_bound, const Leaf& leaf, double start, double stop_below) const {
   double best = start;
   if (nodes_.empty()) return best;
   struct Item {
@@ -87,6 +89,7 @@ double TriangleBvh::minimum(const BoxBound& box_bound, const Leaf& leaf, double 
     const Node& n = nodes_[static_cast<size_t>(it.node)];
     if (n.count > 0) {
       for (int i = n.first; i < n.first + n.count; ++i) best = std::min(best, leaf(i, best));
+      if (best < stop_below) return best;
       continue;
     }
     const int l = it.node + 1, r = n.first;

@@ -22,6 +22,10 @@ using ForwardFn = std::function<ToolPose(const Joints&)>;
 // The forward map of a 3-axis machine (tip = X Y Z, axis +Z), for scenes without rotary axes.
 ToolPose forward_xyz(const Joints& j);
 
+// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the tool's
+// gauge length.
+ForwardFn scene_forward(const Scene& scene);
+
 struct VerifyOptions {
   double resolution = 0.1;               // lattice spacing (distance between neighbouring rays), mm
   SweepOptions sweep;                    // sub-step tolerance of 5-axis sweeps
@@ -42,6 +46,9 @@ struct Collision {
   HitWith with = HitWith::Stock;
   bool rapid = false;
   double depth_mm = 0.0;  // penetration estimate (see docs/verifier.md)
+  // The tool's pose at the start and the end of the block (part frame), so that a re-planner can find
+  // the path rows involved without the program.
+  ToolPose start, end;
 };
 
 struct Gouge {
