@@ -1,5 +1,6 @@
 #include "tiltfield/local_frame.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
 

@@ -53,4 +53,17 @@ Mesh stock_to_mesh(const Stock& stock, int segments) {
   return {};
 }
 
+Eigen::AlignedBox3d scene_bounds(const Scene& scene) {
+  Eigen::AlignedBox3d box = bounding_box(scene.design);
+  for (const Mesh& m : scene.check_surfaces) box.extend(bounding_box(m));
+  for (const Mesh& m : scene.fixtures) box.extend(bounding_box(m));
+  if (scene.stock.kind == Stock::Kind::Box) {
+    box.extend(scene.stock.box.min);
+    box.extend(scene.stock.box.max);
+  } else {
+    box.extend(bounding_box(stock_to_mesh(scene.stock, 64)));
+  }
+  return box;
+}
+
 }  // namespace tf

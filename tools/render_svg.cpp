@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <unordered_map>
@@ -59,10 +60,82 @@ std::string xml_escape(const std::string& s) {
 }
 
 struct Painted {
-  double depth;
-  Eigen::Vector2d p[3];
+  double depth;        // toward the camera, mm (larger is nearer)
+  Eigen::Vector2d p[3];  // projected, mm
+  double z[3];         // vertex depths, mm
   std::string colour;
 };
+
+// Splits triangles longer than `max_edge` (projected mm) so painting back to front by centroid depth
+// does not let a large face cover a nearer small one.
+void subdivide(std::vector<Painted>& tris, double max_edge) {
+  std::vector<Painted> out;
+  out.reserve(tris.size());
+  std::vector<std::pair<Painted, int>> stack;
+  for (auto& t : tris) {
+    stack.emplace_back(std::move(t), 0);
+    while (!stack.empty()) {
+      auto [q, level] = std::move(stack.back());
+      stack.pop_back();
+      const double longest = std::max({(q.p[1] - q.p[0]).norm(), (q.p[2] - q.p[1]).norm(), (q.p[0] - q.p[2]).norm()});
+      if (longest <= max_edge || level >= 6) {
+        out.push_back(std::move(q));
+        continue;
+      }
+      Eigen::Vector2d m[3];
+      double mz[3];
+      for (int i = 0; i < 3; ++i) {
+        m[i] = 0.5 * (q.p[i] + q.p[(i + 1) % 3]);
+        mz[i] = 0.5 * (q.z[i] + q.z[(i + 1) % 3]);
+      }
+      auto make = [&](Eigen::Vector2d a, double za, Eigen::Vector2d b, double zb, Eigen::Vector2d c, double zc) {
+        Painted r{(za + zb + zc) / 3.0, {a, b, c}, {za, zb, zc}, q.colour};
+        stack.emplace_back(std::move(r), level + 1);
+      };
+      make(q.p[0], q.z[0], m[0], mz[0], m[2], mz[2]);
+      make(m[0], mz[0], q.p[1], q.z[1], m[1], mz[1]);
+      make(m[2], mz[2], m[1], mz[1], q.p[2], q.z[2]);
+      make(m[0], mz[0], m[1], mz[1], m[2], mz[2]);
+    }
+  }
+  tris = std::move(out);
+}
+
+// Nearest depth per pixel of the painted triangles (screen coordinates from `to_px`).
+struct DepthBuffer {
+  int w = 0, h = 0;
+  std::vector<float> z;
+  float at(double x, double y) const {
+    const int i = static_cast<int>(x), j = static_cast<int>(y);
+    if (i < 0 || j < 0 || i >= w || j >= h) return -std::numeric_limits<float>::infinity();
+    return z[static_cast<size_t>(j) * w + i];
+  }
+};
+
+template <class ToPx>
+DepthBuffer rasterize_depth(const std::vector<Painted>& tris, int w, int h, const ToPx& to_px) {
+  DepthBuffer db{w, h, std::vector<float>(static_cast<size_t>(w) * h, -std::numeric_limits<float>::infinity())};
+  for (const auto& t : tris) {
+    const Eigen::Vector2d a = to_px(t.p[0]), b = to_px(t.p[1]), c = to_px(t.p[2]);
+    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (std::abs(area) < 1e-12) continue;
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()})))),
+              x1 = std::min(w - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()})))),
+              y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()})))),
+              y1 = std::min(h - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d q(x + 0.5, y + 0.5);
+        const double l1 = ((q - a).x() * (c - a).y() - (q - a).y() * (c - a).x()) / area;
+        const double l2 = ((b - a).x() * (q - a).y() - (b - a).y() * (q - a).x()) / area;
+        const double l0 = 1.0 - l1 - l2;
+        if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+        float& d = db.z[static_cast<size_t>(y) * w + x];
+        d = std::max(d, static_cast<float>(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]));
+      }
+  }
+  return db;
+}
 
 std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<SvgPolyline>& lines,
                         const SvgOptions& o) {
@@ -105,7 +178,9 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
         n = -n;
       }
       const double shade = 0.35 + 0.65 * std::max(0.0, n.dot(light));
-      Painted t{(p[0] + p[1] + p[2]).dot(cam) / 3.0, {project(p[0]), project(p[1]), project(p[2])},
+      Painted t{(p[0] + p[1] + p[2]).dot(cam) / 3.0,
+                {project(p[0]), project(p[1]), project(p[2])},
+                {p[0].dot(cam), p[1].dot(cam), p[2].dot(cam)},
                 hex_colour(sm.rgb * shade)};
       for (const auto& q : t.p) bounds.extend(q);
       tris.push_back(std::move(t));
@@ -114,7 +189,6 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
   for (const auto& l : lines)
     for (const auto& p : l.points) bounds.extend(project(p));
   if (bounds.isEmpty()) bounds.extend(Eigen::Vector2d(0, 0)).extend(Eigen::Vector2d(1, 1));
-  std::stable_sort(tris.begin(), tris.end(), [](const Painted& a, const Painted& b) { return a.depth < b.depth; });
 
   const double margin = 20.0, w = std::max(100, o.width_px);
   const double span = std::max(bounds.sizes().x(), 1e-9);
@@ -122,6 +196,22 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
   const double h = std::ceil(bounds.sizes().y() * scale + 2 * margin);
   auto sx = [&](const Eigen::Vector2d& q) { return margin + (q.x() - bounds.min().x()) * scale; };
   auto sy = [&](const Eigen::Vector2d& q) { return margin + (bounds.max().y() - q.y()) * scale; };
+  {
+    // Split large faces, but never more than half the budget again.
+    const size_t limit = tris.size() + o.max_triangles / 2;
+    std::vector<Painted> split;
+    for (double edge_px = 40.0;; edge_px *= 1.5) {
+      split = tris;
+      subdivide(split, edge_px / scale);
+      if (split.size() <= limit) break;
+    }
+    tris = std::move(split);
+  }
+  std::stable_sort(tris.begin(), tris.end(), [](const Painted& a, const Painted& b) { return a.depth < b.depth; });
+  const DepthBuffer depth = rasterize_depth(tris, static_cast<int>(w), static_cast<int>(h),
+                                            [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(sx(q), sy(q)); });
+  // A polyline point is drawn where nothing painted lies in front of it (within a small depth bias).
+  const double bias = 0.004 * std::max(span, bounds.sizes().y());
 
   std::string out;
   out.reserve(tris.size() * 80 + 4096);
@@ -141,16 +231,27 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
   }
   out += "</g>\n";
   for (const auto& l : lines) {
-    if (l.points.size() < 2) continue;
-    std::snprintf(buf, sizeof buf, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%.2f\" points=\"",
-                  xml_escape(l.color).c_str(), l.width_px);
-    out += buf;
+    // Visible runs of the polyline, each its own element.
+    std::vector<std::vector<Eigen::Vector2d>> runs(1);
     for (const auto& p : l.points) {
       const Eigen::Vector2d q = project(p);
-      std::snprintf(buf, sizeof buf, "%.1f,%.1f ", sx(q), sy(q));
-      out += buf;
+      if (p.dot(cam) + bias >= depth.at(sx(q), sy(q))) {
+        runs.back().push_back(q);
+      } else if (!runs.back().empty()) {
+        runs.emplace_back();
+      }
     }
-    out += "\"/>\n";
+    for (const auto& run : runs) {
+      if (run.size() < 2) continue;
+      std::snprintf(buf, sizeof buf, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%.2f\" points=\"",
+                    xml_escape(l.color).c_str(), l.width_px);
+      out += buf;
+      for (const auto& q : run) {
+        std::snprintf(buf, sizeof buf, "%.1f,%.1f ", sx(q), sy(q));
+        out += buf;
+      }
+      out += "\"/>\n";
+    }
   }
   if (!o.title.empty())
     out += "<text x=\"12\" y=\"22\" font-family=\"sans-serif\" font-size=\"15\" fill=\"#333333\">" +

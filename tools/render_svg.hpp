@@ -1,5 +1,6 @@
 // tiltfield: a small SVG renderer for scene previews. Orthographic view from an oblique direction,
-// flat-shaded triangles painted back to front, polylines drawn on top. Large meshes are decimated by
+// flat-shaded triangles painted back to front (large ones split first), polylines drawn on top where a
+// depth buffer of the triangles says they are not hidden. Large meshes are decimated by
 // vertex clustering so the picture stays small (a few MB at most).
 #pragma once
 #include <Eigen/Core>
@@ -27,7 +28,9 @@ struct SvgOptions {
   double azimuth_deg = -60.0;    // camera direction about +z, from +x, deg
   double elevation_deg = 35.0;   // camera height above the xy plane, deg
   int width_px = 1000;           // picture width; the height follows the scene's aspect
-  size_t max_triangles = 30000;  // budget over all meshes before back faces are dropped
+  // Budget of mesh triangles over all meshes (before back faces are dropped); splitting large faces for
+  // painting adds at most half as many again.
+  size_t max_triangles = 30000;
   std::string title;             // drawn in the top-left corner when not empty
 };
 

@@ -14,7 +14,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kHalfPi = std::numbers::pi / 2;
 // Share of the chordal tolerance given to each of the two tessellation directions: a triangle's deviation
 // is at most about the larger of the two sags on these saddle-like surfaces, the rest is margin.
-constexpr double kDirectionShare = 0.4;
+constexpr double kDirectionShare = 0.8;
 
 double rad(double deg) { return deg * kPi / 180.0; }
 

@@ -97,8 +97,8 @@ SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& mach
                   {{"rows", s.path.rows.size()},
                    {"min_ball_clearance_mm", tidy(min_clear)},
                    {"nominal_axis_collision_rows", hits}}}};
-  s.view_azimuth_deg = -115.0;
-  s.view_elevation_deg = 35.0;
+  s.view_azimuth_deg = -25.0;
+  s.view_elevation_deg = 40.0;
   return s;
 }
 

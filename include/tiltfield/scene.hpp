@@ -65,6 +65,10 @@ struct Scene {
   std::filesystem::path machine_file;                      // empty when inline or absent
 };
 
+// Everything the part occupies: design, check surfaces, fixtures and stock, part frame, mm (for safe
+// heights and simulation bounds).
+Eigen::AlignedBox3d scene_bounds(const Scene& scene);
+
 // Loads and validates a scene. Throws InputError naming the scene file (or the referenced file) and the
 // JSON field, or the line of a path file. Every referenced mesh and path file is read.
 Scene load_scene(const std::filesystem::path& file);

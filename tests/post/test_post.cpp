@@ -8,6 +8,7 @@
 #include "post_fixture.hpp"
 #include "tiltfield/error.hpp"
 #include "tiltfield/machine.hpp"
+#include "tiltfield/toolpath.hpp"
 
 namespace {
 
@@ -390,6 +391,23 @@ TEST(Post, AptWritesTipsAndAxes) {
     EXPECT_NEAR(gotos[i + 1][0], tip.x(), 1e-4);
     EXPECT_NEAR(gotos[i + 1][2], tip.z(), 1e-4);
     EXPECT_NEAR(gotos[i + 1][5], path.rows[i].axis.z(), 1e-6);
+  }
+}
+
+TEST(Post, AptReadsBackThroughTheCoreReader) {
+  const tf::PostJob job = job_for("table-table-ac");
+  const tf::OrientedPath path = impeller_like_path(25);
+  TempDir dir("apt-roundtrip");
+  {
+    std::ofstream out(dir.path / "p.apt");
+    tf::write_apt(out, path, job, tf::PostOptions{});
+  }
+  const tf::ToolPath back = tf::read_toolpath(dir.path / "p.apt", job.tool);
+  ASSERT_EQ(back.rows.size(), path.rows.size());  // the RAPID approach and retract are not cutting rows
+  for (size_t i = 0; i < path.rows.size(); ++i) {
+    EXPECT_LT((back.rows[i].p - path.rows[i].p).norm(), 1e-3) << i;
+    EXPECT_LT(angle_deg(back.rows[i].n, path.rows[i].axis), 1e-4) << i;
+    EXPECT_NEAR(back.rows[i].feed, 1500.0, 1e-9);
   }
 }
 

@@ -1,0 +1,94 @@
+// tiltfield: swept volumes of the tool over a motion, as exact per-ray intervals.
+//
+// The tool body (tool.hpp) is split into convex parts: spheres (ball end; the torus of a bull end as a
+// ring of spheres on its centre circle) and cylinders (flat end, flutes, shank, holder segments). Under a
+// pure translation d the swept volume of a convex part K is K + [0, 1] d, and its intersection with an
+// axis-parallel ray is one interval computed exactly: a capsule for a sphere, and for a cylinder the
+// t-extent of the convex set {(t, s) : o + t e - s d in K, 0 <= s <= 1} (one quadratic and four linear
+// constraints, solved by enumerating the active constraints). So a 3-axis linear move of a ball or flat
+// tool is exact. A bull end's torus is the union of spheres spaced so that the lens between neighbours is
+// at most `torus_tolerance` deep (stated error, default 0.001 mm).
+//
+// Rotary motion (simultaneous 5-axis) is split into sub-steps; in sub-step k the tool translates from the
+// tip position at its start to the one at its end with the tool axis of its mid-time. The distance from
+// any point of that approximation to the true swept volume (and back) is at most
+//   (dtheta / 2) * L + sagitta,
+// with dtheta the sub-step's axis rotation, L the reach of the part (distance from the tip to its farthest
+// point) and sagitta the tip path's deviation from the chord; the sub-step count is chosen so that this is
+// at most `tolerance` for the cutting parts (ball, flutes). Shank and holder use the same sub-steps; their
+// larger bound is reported (BlockSweep::holder_error).
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <functional>
+#include <vector>
+
+#include "tiltfield/kinematics.hpp"
+#include "tiltfield/program.hpp"
+#include "tiltfield/tool.hpp"
+
+namespace tf {
+
+// A convex tool part in the tool frame (tip at the origin, axis +z).
+struct ToolPart {
+  enum class Kind { Sphere, Cylinder } kind = Kind::Sphere;
+  double h0 = 0.0;      // sphere: centre height; cylinder: bottom height, mm
+  double h1 = 0.0;      // cylinder: top height, mm
+  double radius = 0.0;  // mm
+  double offset = 0.0;  // sphere: distance of the centre from the axis (torus ring), mm
+  double angle = 0.0;   // sphere: angle of the centre about the axis, rad
+  ToolComponent component = ToolComponent::Ball;
+  bool cutting = true;  // ball end and flutes cut; shank and holder only collide
+};
+
+struct SweepOptions {
+  double tolerance = 0.01;         // mm, bound on the cutting parts' sub-step error (see above)
+  double torus_tolerance = 0.001;  // mm, depth of the gaps between a bull end's ring spheres
+  int max_substeps = 4096;         // per block
+};
+
+// The convex parts of `tool`, in the tool frame.
+std::vector<ToolPart> tool_parts(const Tool& tool, const SweepOptions& options = {});
+
+// One part swept by a translation, in the part frame.
+struct SweptPart {
+  ToolPart::Kind kind = ToolPart::Kind::Sphere;
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();    // sphere centre / cylinder bottom centre at the start
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();     // translation, mm
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(); // cylinder axis (unit)
+  double radius = 0.0, height = 0.0;               // mm
+  Eigen::AlignedBox3d box;                         // bounds of the swept part
+  ToolComponent component = ToolComponent::Ball;
+  bool cutting = true;
+};
+
+// Places `part` at the pose (tip, axis) and sweeps it by d. `ref` is a unit vector perpendicular to axis
+// fixing the angle origin of ring spheres.
+SweptPart sweep_part(const ToolPart& part, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis,
+                     const Eigen::Vector3d& ref, const Eigen::Vector3d& d);
+
+// Interval [t0, t1] of the ray o + t e_dir (dir 0, 1, 2: x, y, z) inside the swept part; false if none.
+bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1);
+
+// The motion of one block: tool pose as a function of time tau in [0, 1].
+using PoseAt = std::function<ToolPose(double tau)>;
+
+struct BlockSweep {
+  std::vector<SweptPart> parts;   // all sub-steps, all parts
+  Eigen::AlignedBox3d box;        // bounds of all parts
+  int substeps = 1;
+  double cutting_error = 0.0;     // bound for ball and flutes, mm
+  double holder_error = 0.0;      // bound for shank and holder, mm
+  double tip_length = 0.0;        // length of the tip path, mm
+  std::vector<ToolPose> poses, mids;  // scratch: sub-step poses (reused between blocks)
+};
+
+// Sub-steps and swept parts of one block. `parts` from tool_parts(); `reach_cut`/`reach_all` the largest
+// distance from the tip of a cutting part / any part (mm). `out` is reused (no allocation when warm).
+void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, double reach_cut, double reach_all,
+                 const SweepOptions& options, BlockSweep& out);
+
+// Joint values at time tau of a block starting at `from` (linear in every axis; XYZ on the arc for G2/G3).
+Joints interpolate_block(const Joints& from, const Block& block, double tau);
+
+}  // namespace tf

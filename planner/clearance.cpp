@@ -1,0 +1,196 @@
+// Exact clearance of the posed tool body: GJK between each triangle and each convex piece.
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "tiltfield/tool_body.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+std::vector<BodyPiece> body_pieces(const Tool& tool) {
+  std::vector<BodyPiece> out;
+  const double cl = tool.cl_height(), R = tool.radius();
+  auto cyl = [&](ToolComponent comp, int seg, double a, double b, double r) {
+    if (b - a > 1e-9 && r > 0) out.push_back({comp, seg, false, a - cl, b - cl, r});
+  };
+  if (std::holds_alternative<BallCutter>(tool.cutter)) {
+    out.push_back({ToolComponent::Ball, -1, true, 0.0, 0.0, R});
+  } else {
+    cyl(ToolComponent::Ball, -1, 0.0, std::max(tool.end_height(), 1e-6), R);
+  }
+  cyl(ToolComponent::Flute, -1, tool.end_height(), tool.flute_length, R);
+  cyl(ToolComponent::Shank, -1, tool.flute_length, tool.length, tool.shank_radius);
+  double h = tool.length;
+  for (size_t i = 0; i < tool.holder.size(); ++i) {
+    cyl(ToolComponent::Holder, static_cast<int>(i), h, h + tool.holder[i].length, tool.holder[i].radius);
+    h += tool.holder[i].length;
+  }
+  return out;
+}
+
+double required_clearance(const PlannerBasics& b, ToolComponent c) {
+  switch (c) {
+    case ToolComponent::Shank: return b.shank_clearance.value_or(b.safety_distance);
+    case ToolComponent::Holder: return b.holder_clearance.value_or(b.safety_distance);
+    default: return b.safety_distance;
+  }
+}
+
+namespace {
+
+// Closest point to the origin of the simplex y[0..n), by checking every face of it (Johnson's
+// sub-simplex enumeration, brute force: at most 15 subsets). Keeps in y only the vertices that support
+// the closest point. Returns the closest point; `inside` when the origin is inside a full tetrahedron.
+Vector3d closest_on_simplex(std::array<Vector3d, 4>& y, int& n, bool& inside) {
+  inside = false;
+  double best = std::numeric_limits<double>::infinity();
+  Vector3d best_v = y[0];
+  int best_mask = 1;
+  for (int mask = 1; mask < (1 << n); ++mask) {
+    int idx[4], k = 0;
+    for (int i = 0; i < n; ++i)
+      if (mask & (1 << i)) idx[k++] = i;
+    // Minimise |y0 + E mu| over the affine hull, then require barycentrics > 0.
+    const Vector3d& y0 = y[static_cast<size_t>(idx[0])];
+    double lambda[4] = {1, 0, 0, 0};
+    if (k > 1) {
+      using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+      using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> E(3, k - 1);
+      for (int j = 1; j < k; ++j) E.col(j - 1) = y[static_cast<size_t>(idx[j])] - y0;
+      const Mat G = E.transpose() * E;
+      const Vec rhs = -E.transpose() * y0;
+      // Skip degenerate sub-simplices (their faces are checked on their own).
+      if (std::abs(G.determinant()) < 1e-24 * std::pow(G.trace() + 1e-300, k - 1)) continue;
+      const Vec mu = G.partialPivLu().solve(rhs);
+      double s = 0;
+      bool ok = true;
+      for (int j = 1; j < k; ++j) {
+        lambda[j] = mu(j - 1);
+        s += mu(j - 1);
+        ok &= mu(j - 1) > 0;
+      }
+      lambda[0] = 1 - s;
+      if (!ok || lambda[0] <= 0) continue;
+    }
+    Vector3d v = Vector3d::Zero();
+    for (int j = 0; j < k; ++j) v += lambda[j] * y[static_cast<size_t>(idx[j])];
+    const double d = v.squaredNorm();
+    if (d < best) {
+      best = d;
+      best_v = v;
+      best_mask = mask;
+      if (k == 4) inside = true;
+    }
+  }
+  if (inside) return Vector3d::Zero();
+  std::array<Vector3d, 4> kept;
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (best_mask & (1 << i)) kept[static_cast<size_t>(m++)] = y[static_cast<size_t>(i)];
+  y = kept;
+  n = m;
+  return best_v;
+}
+
+}  // namespace
+
+double triangle_cylinder_distance(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double r) {
+  const Vector3d axis = (p1 - p0).normalized();
+  const Vector3d mid = 0.5 * (p0 + p1);
+  const double half = 0.5 * (p1 - p0).norm();
+  auto support_tri = [&](const Vector3d& d) {
+    const double a = t.a.dot(d), b = t.b.dot(d), c = t.c.dot(d);
+    return a >= b ? (a >= c ? t.a : t.c) : (b >= c ? t.b : t.c);
+  };
+  auto support_cyl = [&](const Vector3d& d) {
+    const double da = d.dot(axis);
+    Vector3d s = mid + (da >= 0 ? half : -half) * axis;
+    const Vector3d perp = d - da * axis;
+    const double pn = perp.norm();
+    if (pn > 1e-12) s += r * perp / pn;
+    return s;
+  };
+  // Minkowski difference triangle - cylinder; its closest point to the origin gives the distance.
+  auto support = [&](const Vector3d& d) -> Vector3d { return support_tri(d) - support_cyl(-d); };
+  std::array<Vector3d, 4> y;
+  int n = 0;
+  Vector3d v = (t.a + t.b + t.c) / 3.0 - mid;
+  if (v.squaredNorm() < 1e-24) v = Vector3d::UnitX();
+  v = support(-v);
+  constexpr double kTol = 1e-6;  // mm
+  for (int iter = 0; iter < 64; ++iter) {
+    const double vn = v.norm();
+    if (vn < 1e-12) return 0.0;
+    const Vector3d w = support(-v);
+    // Lower bound of the distance is v.w/|v|; stop when it is within kTol of |v|.
+    if (vn - v.dot(w) / vn <= kTol) return vn;
+    bool dup = false;
+    for (int i = 0; i < n; ++i) dup |= (y[static_cast<size_t>(i)] - w).squaredNorm() < 1e-20;
+    if (dup || n == 4) return vn;
+    y[static_cast<size_t>(n++)] = w;
+    bool inside = false;
+    v = closest_on_simplex(y, n, inside);
+    if (inside) return 0.0;
+  }
+  return v.norm();
+}
+
+double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (piece.sphere) {
+    const Vector3d c = pose.c + piece.h0 * pose.axis;
+    const double R = piece.radius;
+    const double lim = limit + R;
+    const double d2 = bvh.minimum(
+        [&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(c, lo, hi); },
+        [&](int i, double) { return (closest_point_on_triangle(c, bvh.triangle(i)) - c).squaredNorm(); },
+        lim * lim, first_below ? lim * lim : -inf);
+    if (d2 >= lim * lim) return limit;  // nothing nearer than the limit (exactly, not up to rounding)
+    return std::max(0.0, std::sqrt(d2) - R);
+  }
+  const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
+  const Vector3d mid = 0.5 * (p0 + p1);
+  const double half = 0.5 * (piece.h1 - piece.h0), R = piece.radius;
+  const Vector3d ax = pose.axis;
+  auto seg_point_distance = [&](const Vector3d& q) {
+    const double s = std::clamp((q - mid).dot(ax), -half, half);
+    return (mid + s * ax - q).norm();
+  };
+  const double d = bvh.minimum(
+      [&](const Vector3d& lo, const Vector3d& hi) {
+        // Sphere around the box against the capsule around the piece: a lower bound of the cylinder's.
+        const Vector3d c = 0.5 * (lo + hi);
+        return seg_point_distance(c) - 0.5 * (hi - lo).norm() - R;
+      },
+      [&](int i, double best) {
+        const Triangle& t = bvh.triangle(i);
+        const double capsule = segment_triangle_distance(p0, p1, t) - R;  // the capsule encloses the cylinder
+        if (capsule >= best) return capsule;
+        return triangle_cylinder_distance(t, p0, p1, R);
+      },
+      limit, first_below ? limit : -inf);
+  return std::max(0.0, d);
+}
+
+BodyClearance body_clearance(const TriangleBvh& bvh, const std::vector<BodyPiece>& pieces,
+                             const std::vector<double>& required, const Pose& pose) {
+  BodyClearance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  out.margin = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const double limit = std::max(out.distance, out.margin + required[i]);
+    const double d = piece_distance(bvh, pieces[i], pose, limit);
+    out.distance = std::min(out.distance, d);
+    if (d - required[i] < out.margin) {
+      out.margin = d - required[i];
+      out.piece = static_cast<int>(i);
+    }
+  }
+  return out;
+}
+
+}  // namespace tf

@@ -1,0 +1,198 @@
+// Triangle BVH and the exact primitive distances the planner is built on.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "tiltfield/triangle_bvh.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+Vector3d closest_point_on_triangle(const Vector3d& p, const Triangle& t) {
+  const Vector3d ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return t.a;
+  const Vector3d bp = p - t.b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return t.b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return t.a + v * ab;
+  }
+  const Vector3d cp = p - t.c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return t.c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return t.a + w * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return t.b + w * (t.c - t.b);
+  }
+  const double denom = va + vb + vc;
+  if (!(std::abs(denom) > 0)) {  // degenerate triangle: nearest of its edges
+    Vector3d best = t.a;
+    for (const auto& [u, w] : {std::pair{t.a, t.b}, std::pair{t.b, t.c}, std::pair{t.c, t.a}}) {
+      const Vector3d e = w - u;
+      const double l2 = e.squaredNorm();
+      const double s = l2 > 0 ? std::clamp((p - u).dot(e) / l2, 0.0, 1.0) : 0.0;
+      const Vector3d q = u + s * e;
+      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+    }
+    return best;
+  }
+  const double v = vb / denom, w = vc / denom;
+  return t.a + ab * v + ac * w;
+}
+
+double segment_segment_distance(const Vector3d& p1, const Vector3d& q1, const Vector3d& p2, const Vector3d& q2) {
+  // Ericson 5.1.9, clamped parameters.
+  const Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  constexpr double eps = 1e-18;
+  if (a <= eps && e <= eps) return r.norm();
+  if (a <= eps) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= eps) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > eps * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) {
+        t = 0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1) {
+        t = 1;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return ((p1 + d1 * s) - (p2 + d2 * t)).norm();
+}
+
+double segment_triangle_distance(const Vector3d& p0, const Vector3d& p1, const Triangle& t) {
+  // Crossing: the segment's endpoints on opposite sides of the plane and the crossing point inside.
+  const Vector3d n = (t.b - t.a).cross(t.c - t.a);
+  const double s0 = n.dot(p0 - t.a), s1 = n.dot(p1 - t.a);
+  if ((s0 <= 0 && s1 >= 0) || (s0 >= 0 && s1 <= 0)) {
+    if (s0 != s1) {
+      const Vector3d x = p0 + (p1 - p0) * (s0 / (s0 - s1));
+      const double u = n.dot((t.b - t.a).cross(x - t.a)), v = n.dot((t.c - t.b).cross(x - t.b)),
+                   w = n.dot((t.a - t.c).cross(x - t.c));
+      if ((u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0)) return 0.0;
+    }
+  }
+  double d = std::min((closest_point_on_triangle(p0, t) - p0).norm(), (closest_point_on_triangle(p1, t) - p1).norm());
+  d = std::min(d, segment_segment_distance(p0, p1, t.a, t.b));
+  d = std::min(d, segment_segment_distance(p0, p1, t.b, t.c));
+  d = std::min(d, segment_segment_distance(p0, p1, t.c, t.a));
+  return d;
+}
+
+TriangleBvh::TriangleBvh(const std::vector<const Mesh*>& meshes) {
+  size_t n = 0;
+  for (const Mesh* m : meshes) n += m->n_faces();
+  tris_.reserve(n);
+  for (const Mesh* m : meshes) {
+    for (auto f : m->faces()) {
+      Vector3d v[3];
+      int k = 0;
+      for (auto vh : m->fv_range(f)) {
+        if (k < 3) v[k] = to_eigen(m->point(vh));
+        ++k;
+      }
+      if (k == 3) tris_.push_back({v[0], v[1], v[2]});
+    }
+  }
+  build();
+}
+
+TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) : tris_(std::move(triangles)) { build(); }
+
+Eigen::AlignedBox3d TriangleBvh::bounds() const {
+  if (nodes_.empty()) return {};
+  return {nodes_[0].lo, nodes_[0].hi};
+}
+
+void TriangleBvh::build() {
+  nodes_.clear();
+  if (tris_.empty()) return;
+  std::vector<Vector3d> centroid(tris_.size());
+  for (size_t i = 0; i < tris_.size(); ++i) centroid[i] = (tris_[i].a + tris_[i].b + tris_[i].c) / 3.0;
+  std::vector<int> perm(tris_.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  nodes_.reserve(tris_.size() / 2 + 16);
+  build_range(0, static_cast<int>(tris_.size()), perm, centroid);
+  // Leaves address contiguous ranges of the permuted order: store the triangles in that order.
+  std::vector<Triangle> sorted(tris_.size());
+  for (size_t i = 0; i < perm.size(); ++i) sorted[i] = tris_[static_cast<size_t>(perm[i])];
+  tris_ = std::move(sorted);
+}
+
+int TriangleBvh::build_range(int begin, int end, std::vector<int>& perm, const std::vector<Vector3d>& centroid) {
+  constexpr int kLeaf = 4;
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.push_back({});
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  Vector3d clo = lo, chi = hi;
+  for (int i = begin; i < end; ++i) {
+    const size_t k = static_cast<size_t>(perm[static_cast<size_t>(i)]);
+    const Triangle& t = tris_[k];
+    lo = lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
+    hi = hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
+    clo = clo.cwiseMin(centroid[k]);
+    chi = chi.cwiseMax(centroid[k]);
+  }
+  nodes_[static_cast<size_t>(index)].lo = lo;
+  nodes_[static_cast<size_t>(index)].hi = hi;
+  if (end - begin <= kLeaf) {
+    nodes_[static_cast<size_t>(index)].first = begin;
+    nodes_[static_cast<size_t>(index)].count = end - begin;
+    return index;
+  }
+  int axis = 0;
+  (chi - clo).maxCoeff(&axis);
+  const int mid = (begin + end) / 2;
+  std::nth_element(perm.begin() + begin, perm.begin() + mid, perm.begin() + end, [&](int x, int y) {
+    return centroid[static_cast<size_t>(x)][axis] < centroid[static_cast<size_t>(y)][axis];
+  });
+  build_range(begin, mid, perm, centroid);
+  const int right = build_range(mid, end, perm, centroid);
+  nodes_[static_cast<size_t>(index)].first = right;
+  nodes_[static_cast<size_t>(index)].count = 0;
+  return index;
+}
+
+ClosestHit TriangleBvh::closest(const Vector3d& p, double max_distance, int hint) const {
+  ClosestHit hit;
+  double best2 = max_distance * max_distance;
+  if (std::isinf(max_distance)) best2 = std::numeric_limits<double>::infinity();
+  if (hint >= 0 && hint < static_cast<int>(tris_.size())) {
+    const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(hint)]);
+    const double d2 = (q - p).squaredNorm();
+    if (d2 < best2) {
+      best2 = d2;
+      hit = {std::sqrt(d2), hint, q};
+    }
+  }
+  minimum([&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(p, lo, hi); },
+          [&](int i, double best) {
+            const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(i)]);
+            const double d2 = (q - p).squaredNorm();
+            if (d2 < best) hit = {0.0, i, q}, best2 = d2;
+            return d2;
+          },
+          best2);
+  if (hit.triangle >= 0) hit.distance = std::sqrt(best2);
+  return hit;
+}
+
+}  // namespace tf

@@ -1,0 +1,136 @@
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "field.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+DistanceField::DistanceField(const TriangleBvh& bvh, double cell, double band) : bvh_(bvh), cell_(cell), band_(band) {
+  if (bvh.empty()) return;
+  const auto box = bvh.bounds();
+  const Vector3d pad = Vector3d::Constant(band + 2 * cell);
+  origin_ = box.min() - pad;
+  const Vector3d ext = box.max() + pad - origin_;
+  // Keep the brick index small (it is dense): a huge part with a tiny cell gets a coarser cell.
+  for (;;) {
+    int64_t total = 1;
+    for (int k = 0; k < 3; ++k) {
+      dims_[k] = std::max(1, static_cast<int>(std::ceil(ext[k] / (kBrick * cell_))));
+      total *= dims_[k];
+    }
+    if (total <= (int64_t{1} << 25)) break;
+    cell_ *= 1.25;
+  }
+  index_.assign(static_cast<size_t>(dims_[0]) * static_cast<size_t>(dims_[1]) * static_cast<size_t>(dims_[2]), kUnbuilt);
+}
+
+bool DistanceField::compute_brick(int bx, int by, int bz, float* out) const {
+  const double bs = kBrick * cell_;
+  const Vector3d lo = origin_ + Vector3d(bx, by, bz) * bs;
+  const Vector3d centre = lo + Vector3d::Constant(0.5 * bs);
+  const double half_diag = 0.5 * std::sqrt(3.0) * bs;
+  const ClosestHit c = bvh_.closest(centre, band_ + half_diag);
+  if (c.triangle < 0) return false;
+  int hint = c.triangle;
+  int k = 0;
+  for (int z = 0; z <= kBrick; ++z)
+    for (int y = 0; y <= kBrick; ++y)
+      for (int x = 0; x <= kBrick; ++x, ++k) {
+        const Vector3d p = lo + Vector3d(x, y, z) * cell_;
+        const ClosestHit h = bvh_.closest(p, band_, hint);
+        if (h.triangle >= 0) {
+          hint = h.triangle;
+          out[k] = static_cast<float>(h.distance);
+        } else {
+          out[k] = static_cast<float>(band_);
+        }
+      }
+  return true;
+}
+
+int32_t DistanceField::ensure(int bx, int by, int bz) {
+  const size_t id = static_cast<size_t>(brick_id(bx, by, bz));
+  if (index_[id] != kUnbuilt) return index_[id];
+  float tmp[kNodes];
+  ++built_;
+  if (!compute_brick(bx, by, bz, tmp)) return index_[id] = kFar;
+  const size_t off = values_.size();
+  values_.insert(values_.end(), tmp, tmp + kNodes);
+  return index_[id] = static_cast<int32_t>(off / kNodes);
+}
+
+double DistanceField::sample(const Vector3d& p, Vector3d* gradient) {
+  if (gradient) gradient->setZero();
+  if (index_.empty()) return band_;
+  const Vector3d g = (p - origin_) / cell_;
+  const int ix = static_cast<int>(std::floor(g.x())), iy = static_cast<int>(std::floor(g.y())),
+            iz = static_cast<int>(std::floor(g.z()));
+  const int bx = ix / kBrick, by = iy / kBrick, bz = iz / kBrick;
+  if (ix < 0 || iy < 0 || iz < 0 || bx >= dims_[0] || by >= dims_[1] || bz >= dims_[2]) return band_;
+  const int32_t b = ensure(bx, by, bz);
+  if (b < 0) return band_;
+  const float* v = values_.data() + static_cast<size_t>(b) * kNodes;
+  const int lx = ix - bx * kBrick, ly = iy - by * kBrick, lz = iz - bz * kBrick;
+  const double fx = g.x() - ix, fy = g.y() - iy, fz = g.z() - iz;
+  constexpr int sy = kBrick + 1, sz = (kBrick + 1) * (kBrick + 1);
+  const int base = lz * sz + ly * sy + lx;
+  const double c000 = v[base], c100 = v[base + 1], c010 = v[base + sy], c110 = v[base + sy + 1];
+  const double c001 = v[base + sz], c101 = v[base + sz + 1], c011 = v[base + sz + sy], c111 = v[base + sz + sy + 1];
+  const double c00 = c000 + fx * (c100 - c000), c10 = c010 + fx * (c110 - c010);
+  const double c01 = c001 + fx * (c101 - c001), c11 = c011 + fx * (c111 - c011);
+  const double c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
+  const double d = c0 + fz * (c1 - c0);
+  if (gradient) {
+    const double dx0 = (c100 - c000) + fy * ((c110 - c010) - (c100 - c000));
+    const double dx1 = (c101 - c001) + fy * ((c111 - c011) - (c101 - c001));
+    const double dy0 = c10 - c00, dy1 = c11 - c01;
+    *gradient = Vector3d(dx0 + fz * (dx1 - dx0), dy0 + fz * (dy1 - dy0), c1 - c0) / cell_;
+  }
+  return d;
+}
+
+void DistanceField::prefetch(const std::vector<Vector3d>& points, double radius) {
+  if (index_.empty()) return;
+  std::set<int64_t> wanted;
+  const double bs = kBrick * cell_;
+  for (const Vector3d& p : points) {
+    const Vector3d lo = (p - Vector3d::Constant(radius) - origin_) / bs, hi = (p + Vector3d::Constant(radius) - origin_) / bs;
+    int a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = std::max(0, static_cast<int>(std::floor(lo[k])));
+      b[k] = std::min(dims_[k] - 1, static_cast<int>(std::floor(hi[k])));
+    }
+    for (int z = a[2]; z <= b[2]; ++z)
+      for (int y = a[1]; y <= b[1]; ++y)
+        for (int x = a[0]; x <= b[0]; ++x) {
+          const int64_t id = brick_id(x, y, z);
+          if (index_[static_cast<size_t>(id)] == kUnbuilt) wanted.insert(id);
+        }
+  }
+  const std::vector<int64_t> ids(wanted.begin(), wanted.end());
+  std::vector<float> vals(ids.size() * kNodes);
+  std::vector<char> near(ids.size(), 0);
+  tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
+    const int64_t id = ids[i];
+    const int bx = static_cast<int>(id % dims_[0]), by = static_cast<int>((id / dims_[0]) % dims_[1]),
+              bz = static_cast<int>(id / (static_cast<int64_t>(dims_[0]) * dims_[1]));
+    near[i] = compute_brick(bx, by, bz, vals.data() + i * kNodes) ? 1 : 0;
+  });
+  for (size_t i = 0; i < ids.size(); ++i) {
+    ++built_;
+    if (!near[i]) {
+      index_[static_cast<size_t>(ids[i])] = kFar;
+      continue;
+    }
+    const size_t off = values_.size();
+    values_.insert(values_.end(), vals.begin() + static_cast<std::ptrdiff_t>(i * kNodes),
+                   vals.begin() + static_cast<std::ptrdiff_t>((i + 1) * kNodes));
+    index_[static_cast<size_t>(ids[i])] = static_cast<int32_t>(off / kNodes);
+  }
+}
+
+}  // namespace tf

@@ -1,0 +1,169 @@
+// The raw offset of a profile: every piece offset exactly (lines to lines, arcs to arcs with R -/+ D) or,
+// where the gap varies along an arc, approximated by arcs; then the joins at the vertices (seed 3.1):
+// intersection of the neighbouring offsets where they overlap, an arc of radius D about the vertex where
+// they part. Sharp corners are made afterwards from these arcs (offset_sharp.cpp), once the loops are gone.
+#include <cmath>
+
+#include "offset_internal.hpp"
+
+namespace tf::offset {
+namespace {
+using Eigen::Vector2d;
+
+double cross(const Vector2d& u, const Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+
+// Circle through three points; false when they are (nearly) collinear.
+bool circle_through(const Vector2d& p, const Vector2d& q, const Vector2d& r, Vector2d* c) {
+  const Vector2d b = q - p, d = r - p;
+  const double den = 2 * cross(b, d);
+  if (std::abs(den) <= 1e-14 * b.squaredNorm() * d.norm() / std::max(b.norm(), 1e-300) + 1e-300) return false;
+  const double b2 = b.squaredNorm(), d2 = d.squaredNorm();
+  *c = p + Vector2d(d.y() * b2 - b.y() * d2, b.x() * d2 - d.x() * b2) / den;
+  return true;
+}
+
+struct OffsetCurve {
+  const Piece& piece;
+  const GapLaw& law;
+  double sigma;
+  Vector2d at(double t) const {
+    const double g = gap_at(law, piece.s0 + t * (piece.s1 - piece.s0));
+    return point_at(piece.seg, t) + sigma * g * left_normal_at(piece.seg, t);
+  }
+};
+
+// Arcs through q(t0), q(tm), q(t1), bisected until every probe is within tol of its arc.
+void fit_arcs(const OffsetCurve& q, double t0, double t1, const Vector2d& a, const Vector2d& b, double tol, int depth,
+              std::vector<Segment>& out) {
+  const double tm = 0.5 * (t0 + t1);
+  const Vector2d m = q.at(tm);
+  Vector2d c;
+  Segment s;
+  bool ok = false;
+  if (circle_through(a, m, b, &c) && (c - a).norm() < 1e6) {
+    s = make_arc_to(a, b, c, cross(m - a, b - m) > 0);
+    ok = true;
+    for (int k = 1; k < 16 && ok; ++k) {
+      if (k == 8) continue;
+      const Vector2d p = q.at(t0 + (t1 - t0) * k / 16.0);
+      ok = distance(s, p) <= tol;
+    }
+  } else {
+    s = make_line(a, b);
+    ok = true;
+    for (int k = 1; k < 16 && ok; ++k) ok = distance(s, q.at(t0 + (t1 - t0) * k / 16.0)) <= tol;
+  }
+  if (ok || depth >= 40 || (b - a).norm() <= tol) {
+    s.kind = SegmentKind::Fitted;
+    s.g0 = gap_at(q.law, q.piece.s0 + t0 * (q.piece.s1 - q.piece.s0));
+    s.g1 = gap_at(q.law, q.piece.s0 + t1 * (q.piece.s1 - q.piece.s0));
+    s.line = q.piece.seg.line;
+    out.push_back(s);
+    return;
+  }
+  fit_arcs(q, t0, tm, a, m, tol, depth + 1, out);
+  fit_arcs(q, tm, t1, m, b, tol, depth + 1, out);
+}
+
+// The offset of one piece at side sigma.
+std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigma, double arc_tol, double tol) {
+  std::vector<Segment> out;
+  const Segment& e = p.seg;
+  if (!e.is_arc() && p.linear) {
+    // A line with a linear gap stays a line: its points are p(s) + gap(s) n.
+    const Vector2d n = left_normal_at(e, 0);
+    Segment s = make_line(e.a + sigma * p.g0 * n, e.b + sigma * p.g1 * n);
+    s.g0 = p.g0, s.g1 = p.g1, s.line = e.line;
+    out.push_back(s);
+    return out;
+  }
+  if (p.constant) {
+    // Seed 1.B / 2.A: R' = R - D on the arc's concave side, R + D on its convex side.
+    const double r2 = e.r - sigma * (e.sweep > 0 ? 1.0 : -1.0) * p.g0;
+    const Vector2d a2 = e.c + (r2 / e.r) * (e.a - e.c), b2 = e.c + (r2 / e.r) * (e.b - e.c);
+    Segment s;
+    if (r2 > tol) {
+      s = e;
+      s.a = a2, s.b = b2, s.r = r2;
+    } else if (r2 < -tol) {
+      s = make_line(a2, b2);  // the arc vanished (R - D < 0): this piece is always inside, cut away later
+    } else {
+      return out;  // R - D == 0: the offset degenerates to the centre point
+    }
+    s.kind = SegmentKind::Element;
+    s.g0 = s.g1 = p.g0, s.line = e.line;
+    out.push_back(s);
+    return out;
+  }
+  OffsetCurve q{p, law, sigma};
+  fit_arcs(q, 0.0, 1.0, q.at(0.0), q.at(1.0), arc_tol, 0, out);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const OffsetOptions& options, double sigma,
+                                double tol) {
+  const auto pieces = profile_pieces(profile, law);
+  const size_t n = pieces.size();
+  std::vector<std::vector<Segment>> off(n);
+  for (size_t i = 0; i < n; ++i) off[i] = offset_piece(pieces[i], law, sigma, options.arc_tolerance, tol);
+  std::vector<std::vector<Segment>> joins(n);  // joins[i]: between piece i and the next non-empty one
+
+  for (size_t i = 0; i < n; ++i) {
+    if (off[i].empty()) continue;
+    size_t j = (i + 1) % n;
+    while (off[j].empty() && j != i) j = (j + 1) % n;
+    Segment& in = off[i].back();
+    Segment& out = off[j].front();
+    const Vector2d E = in.b, S = out.a;
+    if ((E - S).norm() <= tol) {
+      out.a = E;  // tangent join or a gap-law break inside an element: continuous already
+      continue;
+    }
+    const Vector2d V = pieces[i].seg.b;  // the profile vertex
+    const double g = pieces[i].g1;
+    const Vector2d tin = tangent_at(pieces[i].seg, 1.0), tout = tangent_at(pieces[j].seg, 0.0);
+    const double turn = std::atan2(cross(tin, tout), tin.dot(tout));
+    auto round_join = [&] {
+      Segment arc = make_arc_to(E, S, V, turn > 0);
+      arc.kind = SegmentKind::RoundJoin;
+      arc.g0 = arc.g1 = g;
+      arc.line = pieces[j].seg.line;
+      joins[i].push_back(arc);
+    };
+    if (sigma * turn < 0) {  // the offsets part: convex corner seen from the offset side
+      round_join();
+      continue;
+    }
+    // The offsets overlap: cut both at their crossing nearest the vertex (no local loop). Without one
+    // (a neighbour too short), an arc about the vertex closes the chain; the loop it makes is removed later.
+    const auto xs = intersect(in, out, tol);
+    const Crossing* best = nullptr;
+    for (const auto& c : xs)
+      if (c.t1 > 1e-12 && c.t2 < 1 - 1e-12 && (!best || c.t1 > best->t1)) best = &c;
+    if (best) {
+      const Crossing c = *best;
+      in = sub_segment(in, 0.0, c.t1);
+      out = sub_segment(out, c.t2, 1.0);
+      in.b = c.p;
+      out.a = c.p;
+      continue;
+    }
+    round_join();
+  }
+
+  std::vector<Segment> chain;
+  for (size_t i = 0; i < n; ++i) {
+    for (const auto& s : off[i]) chain.push_back(s);
+    for (const auto& s : joins[i]) chain.push_back(s);
+  }
+  // Drop degenerate pieces and make the chain bit-exactly continuous.
+  std::vector<Segment> clean;
+  for (const auto& s : chain)
+    if (length(s) > tol) clean.push_back(s);
+  for (size_t k = 0; k < clean.size(); ++k) clean[(k + 1) % clean.size()].a = clean[k].b;
+  return clean;
+}
+
+}  // namespace tf::offset

@@ -1,0 +1,180 @@
+// The planning job: frames, nominal axes, the chosen method, guarantees, smoothing, metrics.
+#include "tiltfield/plan.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "dynamics.hpp"
+#include "plan_context.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Reported clearance when there is nothing to collide with (no check surfaces): JSON and CSV want a number.
+constexpr double kNoObstacle = 1e6;
+
+double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
+}  // namespace
+
+void axis_metrics(const OrientedPath& path, PlanMetrics& m) {
+  const auto& r = path.rows;
+  m.max_step_deg = 0;
+  m.max_deg_per_mm = 0;
+  double sum = 0;
+  size_t count = 0;
+  for (size_t i = 1; i < r.size(); ++i) {
+    const double ang = std::acos(std::clamp(r[i].axis.dot(r[i - 1].axis), -1.0, 1.0)) / kDeg;
+    m.max_step_deg = std::max(m.max_step_deg, ang);
+    const double ds = (r[i].p - r[i - 1].p).norm();
+    if (ds > 1e-9) m.max_deg_per_mm = std::max(m.max_deg_per_mm, ang / ds);
+    if (i + 1 < r.size()) {
+      sum += (r[i - 1].axis - 2 * r[i].axis + r[i + 1].axis).squaredNorm();
+      ++count;
+    }
+  }
+  m.rms_second_difference = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+                     const PlannerBasics& basics, double feed, const PlanOptions& options, const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult result;
+  const size_t n = path.rows.size();
+  PlanContext ctx;
+  ctx.path = &path;
+  ctx.tool = &tool;
+  ctx.basics = basics;
+  ctx.options = options;
+  ctx.cos_max_tilt = std::cos(basics.max_tilt_deg * kDeg);
+  ctx.frames = local_frames(path);
+  ctx.arc = path.arc_length();
+  ctx.nominal.resize(n);
+  ctx.feed.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], basics.lead_deg, basics.tilt_deg);
+    ctx.feed[i] = std::isfinite(path.rows[i].feed) ? path.rows[i].feed : feed;
+  }
+  report(progress, "plan", 0.0);
+  ctx.bvh = TriangleBvh(check_surfaces);
+  ctx.pieces = body_pieces(tool);
+  for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
+  report(progress, "plan", 0.05);
+
+  // How many rows the nominal axis leaves too close (for the report).
+  result.metrics.rows_nominal_colliding = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 64), size_t{0},
+      [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+        for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0) ? 0 : 1;
+        return acc;
+      },
+      std::plus<size_t>());
+
+  std::vector<Vector3d> axes;
+  if (options.method == PlanMethod::Pointwise) {
+    result.metrics.method = "pointwise";
+    axes = pointwise_axes(ctx, progress);
+  } else {
+    result.metrics.method = "dynamic";
+    const BodySamples samples = make_body_samples(tool, basics, options.sample_spacing_mm);
+    double max_req = 0;
+    for (double r : ctx.required) max_req = std::max(max_req, r);
+    DistanceField field(ctx.bvh, options.field_cell_mm, options.influence_mm + max_req + 2 * options.field_cell_mm);
+    // Build in parallel the bricks the nominal poses will need: around every chunk of the body that is
+    // within reach of an obstacle, at rows about a brick apart.
+    {
+      std::vector<Vector3d> centres;
+      std::vector<double> radii;
+      const double brick = DistanceField::kBrick * field.cell();
+      double next = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (ctx.arc[i] < next && i + 1 != n) continue;
+        next = ctx.arc[i] + 0.5 * brick;
+        for (const auto& ch : samples.chunks) centres.push_back(path.rows[i].p + ch.hc * ctx.nominal[i]);
+      }
+      std::vector<char> near(centres.size(), 0);
+      const double reach = options.influence_mm + max_req;
+      tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
+        const auto& ch = samples.chunks[k % samples.chunks.size()];
+        near[k] = ctx.bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
+      });
+      std::vector<Vector3d> wanted;
+      for (size_t k = 0; k < centres.size(); ++k)
+        if (near[k]) wanted.push_back(centres[k]);
+      double rho = 0;
+      for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
+      field.prefetch(wanted, rho + field.cell());
+    }
+    report(progress, "plan", 0.1);
+    axes = integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+                          dynamics_params(options, tool, basics), progress);
+  }
+  report(progress, "plan", 0.7);
+  std::vector<BodyClearance> clear = all_clearances(ctx, axes);
+  report(progress, "plan", 0.8);
+  result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  if (options.smooth) {
+    result.metrics.smoothed = smooth_axes(ctx, axes, clear);
+    if (!result.metrics.smoothed) result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+  }
+  // TODO(kinematics): when planner/kinematics.cpp is on main, reject axes the scene's machine cannot
+  // reach (Kinematics::inverse) like rows beyond max_tilt_deg. Until then only max_tilt_deg is enforced.
+  result.notes.push_back("machine rotary limits are not checked by the planner yet; only max_tilt_deg is enforced");
+
+  result.path.rows.resize(n);
+  double min_c = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < n; ++i) {
+    OrientedRow& o = result.path.rows[i];
+    o.p = path.rows[i].p;
+    o.axis = axes[i].normalized();
+    const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], o.axis);
+    o.lead_deg = lt.x();
+    o.tilt_deg = lt.y();
+    o.clearance_mm = finite_or(clear[i].distance, kNoObstacle);
+    o.feed = path.rows[i].feed;
+    min_c = std::min(min_c, o.clearance_mm);
+    if (clear[i].margin < 0) result.uncleared.push_back({i, o.clearance_mm, clear[i].margin});
+  }
+  result.metrics.rows = n;
+  result.metrics.min_clearance_mm = n ? min_c : kNoObstacle;
+  result.metrics.rows_below_safety = result.uncleared.size();
+  axis_metrics(result.path, result.metrics);
+  result.metrics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report(progress, "plan", 1.0);
+  return result;
+}
+
+PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress) {
+  std::vector<const Mesh*> meshes;
+  for (const auto& m : scene.check_surfaces) meshes.push_back(&m);
+  return plan_path(scene.path, scene.tool, meshes, scene.planner, scene.feed, options, progress);
+}
+
+nlohmann::json plan_report_json(const PlanResult& r) {
+  const auto& m = r.metrics;
+  nlohmann::json j;
+  j["method"] = m.method;
+  j["smoothed"] = m.smoothed;
+  j["rows"] = m.rows;
+  j["min_clearance_mm"] = m.min_clearance_mm;
+  j["rows_below_safety"] = m.rows_below_safety;
+  j["rows_nominal_colliding"] = m.rows_nominal_colliding;
+  j["corrected_rows"] = m.corrected_rows;
+  j["max_step_deg"] = m.max_step_deg;
+  j["max_deg_per_mm"] = m.max_deg_per_mm;
+  j["rms_second_difference"] = m.rms_second_difference;
+  j["seconds"] = m.seconds;
+  nlohmann::json un = nlohmann::json::array();
+  for (const auto& u : r.uncleared) un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}});
+  j["uncleared"] = un;
+  j["notes"] = r.notes;
+  return j;
+}
+
+}  // namespace tf

@@ -1,0 +1,144 @@
+// Clearance guarantees: exact clearance of every row, and the smallest smooth correction of the rows the
+// dynamics left too close.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "dynamics.hpp"
+#include "plan_context.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+bool PlanContext::clears(size_t row, const Vector3d& axis, double extra) const {
+  const Pose p = pose(row, axis);
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const double need = required[i] + extra;
+    if (piece_distance(bvh, pieces[i], p, need, true) < need) return false;
+  }
+  return true;
+}
+
+std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes) {
+  std::vector<BodyClearance> out(axes.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, axes.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = ctx.clearance(i, axes[i]);
+  });
+  return out;
+}
+
+bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra, double step,
+                            Vector3d& turn) {
+  turn.setZero();
+  if (ctx.clears(row, axis, extra)) return true;
+  // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
+  for (size_t i = 0; i < ctx.pieces.size(); ++i)
+    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0) {
+      const double need = ctx.required[i] + extra;
+      if (piece_distance(ctx.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
+    }
+  const LocalFrame& fr = ctx.frames[row];
+  // Directions: 16 round, plus the ascent direction of the margin (finite differences), tried first.
+  std::vector<Vector3d> dirs;
+  {
+    const double eps = 0.2 * std::numbers::pi / 180.0;
+    const double m0 = ctx.clearance(row, axis).margin;
+    const double gf = ctx.clearance(row, rotate_axis(axis, eps * fr.f)).margin - m0;
+    const double gt = ctx.clearance(row, rotate_axis(axis, eps * fr.t)).margin - m0;
+    if (std::hypot(gf, gt) > 1e-9) dirs.push_back((gf * fr.f + gt * fr.t).normalized());
+  }
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2 * std::numbers::pi * k / 16;
+    dirs.push_back(std::cos(a) * fr.f + std::sin(a) * fr.t);
+  }
+  const double max_angle = 2.0 * std::acos(std::clamp(ctx.cos_max_tilt, -1.0, 1.0)) + step;
+  auto ok = [&](const Vector3d& w) {
+    const Vector3d a = rotate_axis(axis, w);
+    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.clears(row, a, extra);
+  };
+  for (double ang = step; ang <= max_angle; ang += step) {
+    int best = -1;
+    double best_margin = -std::numeric_limits<double>::infinity();
+    for (size_t d = 0; d < dirs.size(); ++d) {
+      if (!ok(ang * dirs[d])) continue;
+      const double m = ctx.clearance(row, rotate_axis(axis, ang * dirs[d])).margin;
+      if (m > best_margin) best_margin = m, best = static_cast<int>(d);
+      if (d == 0 && dirs.size() == 17) break;  // the ascent direction wins ties: keep it
+    }
+    if (best < 0) continue;
+    // Bisect the angle along the chosen direction down to step/64.
+    double lo = ang - step, hi = ang;
+    for (int k = 0; k < 6; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (ok(mid * dirs[static_cast<size_t>(best)]) ? hi : lo) = mid;
+    }
+    turn = hi * dirs[static_cast<size_t>(best)];
+    return true;
+  }
+  return false;
+}
+
+namespace {
+double bump(double u, double w) {  // 1 at 0, smoothly (C1) down to 0 at |u| = w
+  if (w <= 0) return u == 0 ? 1.0 : 0.0;
+  const double x = std::abs(u) / w;
+  return x >= 1 ? 0.0 : 0.5 * (1 + std::cos(std::numbers::pi * x));
+}
+}  // namespace
+
+size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
+                         const Progress& progress) {
+  const size_t n = axes.size();
+  std::vector<char> changed(n, 0);
+  const double W = ctx.options.correction_window_mm;
+  const double step = 0.5 * std::numbers::pi / 180.0;
+  for (int iter = 0; iter < ctx.options.correction_iterations; ++iter) {
+    std::vector<size_t> failing;
+    for (size_t i = 0; i < n; ++i)
+      if (clear[i].margin < 0) failing.push_back(i);
+    if (failing.empty()) break;
+    // Later rounds aim a little higher, so rows pulled back by their neighbours' blend converge.
+    const double extra = ctx.options.correction_margin_mm * (1 + iter);
+    std::vector<Vector3d> turn(failing.size(), Vector3d::Zero());
+    std::vector<char> found(failing.size(), 0);
+    tbb::parallel_for(size_t{0}, failing.size(), [&](size_t k) {
+      const size_t i = failing[k];
+      found[k] = smallest_clearing_turn(ctx, i, axes[i], extra, step, turn[k]) ? 1 : 0;
+    });
+    // Spread each turn over the window with a smooth bump; where windows overlap take, per component,
+    // the largest push each way (an envelope, so no row gets less than its own correction).
+    std::vector<Vector3d> pos(n, Vector3d::Zero()), neg(n, Vector3d::Zero());
+    std::vector<char> touched(n, 0);
+    for (size_t k = 0; k < failing.size(); ++k) {
+      if (!found[k]) continue;
+      const size_t i = failing[k];
+      size_t lo = i, hi = i;
+      while (lo > 0 && ctx.arc[i] - ctx.arc[lo - 1] < W) --lo;
+      while (hi + 1 < n && ctx.arc[hi + 1] - ctx.arc[i] < W) ++hi;
+      for (size_t j = lo; j <= hi; ++j) {
+        const Vector3d w = bump(ctx.arc[j] - ctx.arc[i], W) * turn[k];
+        pos[j] = pos[j].cwiseMax(w);
+        neg[j] = neg[j].cwiseMin(w);
+        touched[j] = 1;
+      }
+    }
+    std::vector<size_t> rows;
+    for (size_t j = 0; j < n; ++j) {
+      if (!touched[j]) continue;
+      const LocalFrame& fr = ctx.frames[j];
+      Vector3d w = pos[j] + neg[j];
+      w = w.dot(fr.f) * fr.f + w.dot(fr.t) * fr.t;
+      if (w.norm() < 1e-12) continue;
+      axes[j] = clamp_to_cone(rotate_axis(axes[j], w), fr.n, ctx.cos_max_tilt);
+      changed[j] = 1;
+      rows.push_back(j);
+    }
+    tbb::parallel_for(size_t{0}, rows.size(), [&](size_t k) { clear[rows[k]] = ctx.clearance(rows[k], axes[rows[k]]); });
+    report(progress, "plan", 0.8 + 0.1 * (iter + 1) / ctx.options.correction_iterations);
+  }
+  return static_cast<size_t>(std::count(changed.begin(), changed.end(), 1));
+}
+
+}  // namespace tf

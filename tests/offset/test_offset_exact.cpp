@@ -1,0 +1,110 @@
+// Exactness of the trajectory: every output element, sampled densely, lies at the gap's distance from
+// the profile (>= for sharp-corner extensions), and contours are closed and free of self-crossings.
+#include "offset_test_util.hpp"
+#include "tiltfield/error.hpp"
+
+namespace tf::offset::test {
+namespace {
+
+struct Case {
+  std::string name;
+  Profile profile;
+};
+
+std::vector<Case> cases() {
+  return {{"rounded_rect", scene_profile("rounded_rect.txt")},
+          {"die_section", scene_profile("die_section.txt")},
+          {"two_lobes_neck", scene_profile("two_lobes_neck.txt")},
+          {"lobes_wide_neck", profile_text(lobes_text(20, 8, 25))},
+          {"turbine_blade", scene_profile("blade_section.txt")}};
+}
+
+TEST(OffsetExact, ConstantGapEveryElementAtTheGap) {
+  for (const auto& c : cases())
+    for (Side side : {Side::Inside, Side::Outside})
+      for (Corner corner : {Corner::Round, Corner::Sharp})
+        for (double gap : {0.5, 3.0, 7.0}) {
+          OffsetOptions o;
+          o.side = side;
+          o.corner = corner;
+          const auto r = offset_profile(c.profile, constant_gap(gap), o);
+          SCOPED_TRACE(c.name + (side == Side::Inside ? " inside" : " outside") +
+                       (corner == Corner::Round ? " round" : " sharp") + " gap " + std::to_string(gap));
+          if (side == Side::Outside) {
+            ASSERT_GE(r.contours.size(), 1u);
+          }
+          const auto e = check_exactness(c.profile, constant_gap(gap), r);
+          EXPECT_LE(e.max_error, 1e-6);
+          EXPECT_GE(e.min_sharp, -1e-6);
+          expect_clean_contours(r);
+          if (corner == Corner::Round) {
+            for (const auto& ct : r.contours)
+              for (const auto& s : ct) EXPECT_NE(s.kind, SegmentKind::SharpJoin);
+          }
+        }
+}
+
+TEST(OffsetExact, NeckSplitsIntoTwoContours) {
+  const Profile p = scene_profile("two_lobes_neck.txt");  // neck half-width 5
+  EXPECT_EQ(offset_profile(p, constant_gap(4.0), {}).contours.size(), 1u);
+  EXPECT_EQ(offset_profile(p, constant_gap(6.0), {}).contours.size(), 2u);
+  EXPECT_EQ(offset_profile(p, constant_gap(31.0), {}).contours.size(), 0u);  // wider than the lobes
+}
+
+TEST(OffsetExact, VariableGapFollowsTheLaw) {
+  for (const auto& c : cases()) {
+    const double L = chain_length(c.profile.elements);
+    GapLaw law;
+    law.s = {0, 0.3 * L, 0.55 * L, L};
+    law.gap = {1.0, 2.5, 1.5, 1.0};
+    for (double blend : {0.0, 2.0})
+      for (Side side : {Side::Inside, Side::Outside}) {
+        law.blend = blend;
+        SCOPED_TRACE(c.name + " blend " + std::to_string(blend) + (side == Side::Inside ? " inside" : " outside"));
+        OffsetOptions o;
+        o.side = side;
+        const auto r = offset_profile(c.profile, law, o);
+        ASSERT_GE(r.contours.size(), 1u);
+        const auto e = check_exactness(c.profile, law, r);
+        EXPECT_LE(e.max_error, 1e-6);
+        EXPECT_LE(e.max_fitted, 1e-6);
+        EXPECT_GE(e.min_sharp, -1e-6);
+        // Across a junction the law jumps between the two closest points' values; the transition stays
+        // within that jump (here at most 2.5 - 1.0 mm).
+        EXPECT_GE(e.min_transition, -1.5 - 1e-6);
+        // Transitions are short stretches at junctions, not the bulk of the path.
+        double total = 0;
+        for (const auto& ct : r.contours) total += chain_length(ct);
+        EXPECT_LE(e.transition_length, 0.05 * total);
+        expect_clean_contours(r);
+      }
+  }
+}
+
+TEST(OffsetExact, GapLawMustCloseOnClosedProfile) {
+  const Profile p = scene_profile("rounded_rect.txt");
+  GapLaw law;
+  law.s = {0, 100};
+  law.gap = {1, 2};
+  law.file = "law.csv";
+  EXPECT_THROW(offset_profile(p, law, {}), InputError);
+}
+
+TEST(OffsetExact, GapLawInterpolatesLinearlyAndBlends) {
+  GapLaw law;
+  law.s = {0, 10, 20};
+  law.gap = {1, 2, 1};
+  EXPECT_DOUBLE_EQ(gap_at(law, -5), 1);
+  EXPECT_DOUBLE_EQ(gap_at(law, 5), 1.5);
+  EXPECT_DOUBLE_EQ(gap_at(law, 10), 2);
+  EXPECT_DOUBLE_EQ(gap_at(law, 25), 1);
+  law.blend = 2;
+  EXPECT_DOUBLE_EQ(gap_at(law, 5), 1.5);                 // outside the blend windows
+  EXPECT_NEAR(gap_at(law, 10), 2 - 0.1 * 2 / 2, 1e-12);  // parabola apex: g_k + (m2 - m1) w / 4
+  const double h = 1e-6;                                 // C1 at the window ends
+  for (double s : {8.0, 12.0})
+    EXPECT_NEAR((gap_at(law, s + h) - gap_at(law, s)) / h, (gap_at(law, s) - gap_at(law, s - h)) / h, 1e-5);
+}
+
+}  // namespace
+}  // namespace tf::offset::test

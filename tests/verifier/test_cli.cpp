@@ -1,0 +1,118 @@
+// `tiltfield verify` end to end: outputs, exit codes, bad input.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "helpers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace tf {
+namespace {
+
+struct Run {
+  int code;
+  std::string err;
+};
+
+Run tiltfield(const std::string& args, const fs::path& dir) {
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = std::string(TILTFIELD_EXE) + " --quiet " + args + " 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+class VerifyCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("tf_verify_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    write_mesh(test::box_mesh({-1, -1, -1}, {41, 31, 8}), dir / "design.stl");
+    write(dir / "path.csv", "x,y,z,nx,ny,nz\n5,5,11,0,0,1\n");
+    write(dir / "scene.json", R"({
+      "units": "mm", "design": "design.stl",
+      "stock": {"box": {"min": [0, 0, 0], "max": [40, 30, 10]}},
+      "tool": {"type": "ball", "radius": 3, "flute_length": 12, "shank_radius": 3, "length": 20,
+               "holder": [{"radius": 10, "length": 30}]},
+      "path": {"file": "path.csv", "feed": 1000},
+      "machine": {"kinematics": "xyz"}
+    })");
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  fs::path dir;
+};
+
+TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
+  write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const Run r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                              (dir / "v.json").string() + " --blocks " + (dir / "b.csv").string() + " --stock-mesh " +
+                              (dir / "s.ply").string() + " --resolution 0.25",
+                          dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir / "v.json");
+  const auto j = nlohmann::json::parse(in);
+  for (const char* key : {"blocks", "removed_volume_mm3", "collisions", "gouges", "max_gouge_mm", "resolution_mm", "rays", "seconds"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["blocks"], 4);
+  EXPECT_TRUE(j["collisions"].empty());
+  EXPECT_GT(j["removed_volume_mm3"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(j["resolution_mm"].get<double>(), 0.25);
+  std::ifstream csv(dir / "b.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision");
+  int rows = 0;
+  while (std::getline(csv, row)) {
+    ++rows;
+    if (rows == 3) {
+      EXPECT_EQ(row.rfind("3,4,", 0), 0u) << row;          // block 3 is line 4
+      EXPECT_NE(row.find(",,,,0"), std::string::npos) << row;  // engagement cells empty, no collision
+    }
+  }
+  EXPECT_EQ(rows, 4);
+  EXPECT_GT(fs::file_size(dir / "s.ply"), 1000u);
+}
+
+TEST_F(VerifyCli, CollisionsAndFailOnCollision) {
+  write(dir / "p.ngc", "G0 X20 Y15 Z40\nG1 Z-5 F300\nG0 Z40\n");  // the holder face ends 5 mm below the top
+  const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --resolution 0.25";
+  Run r = tiltfield(base, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir / "v.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_FALSE(j["collisions"].empty());
+  EXPECT_EQ(j["collisions"][0]["line"], 2);
+  EXPECT_EQ(j["collisions"][0]["with"], "stock");
+  r = tiltfield(base + " --fail-on-collision", dir);
+  EXPECT_EQ(r.code, 1) << r.err;
+}
+
+TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
+  write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X5 A10 F100\n");
+  Run r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("A10"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+  write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X1..5 F100\n");
+  r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
+  r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string() +
+                    " --resolution -1", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,80 @@
+// The verifier's report files: VERIFY.json and blocks.csv (spec: "Verification report").
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "tiltfield/io.hpp"
+#include "tiltfield/verify.hpp"
+
+namespace tf {
+
+namespace {
+// Numbers through tf::fixed (never scientific notation) as raw JSON numbers.
+nlohmann::ordered_json num(double v, int decimals = 6) { return nlohmann::ordered_json::parse(fixed(v, decimals)); }
+}  // namespace
+
+void write_verify_json(const VerifyReport& r, const std::filesystem::path& file) {
+  nlohmann::ordered_json j;
+  j["blocks"] = r.blocks;
+  j["removed_volume_mm3"] = num(r.removed_volume_mm3, 4);
+  nlohmann::ordered_json cs = nlohmann::ordered_json::array();
+  for (const Collision& c : r.collisions) {
+    nlohmann::ordered_json o;
+    o["block"] = c.block;
+    o["line"] = c.line;
+    o["component"] = std::string(to_string(c.component));
+    o["with"] = std::string(to_string(c.with));
+    o["rapid"] = c.rapid;
+    o["depth_mm"] = num(c.depth_mm, 4);
+    auto vec = [](const Eigen::Vector3d& v, int d) {
+      return nlohmann::ordered_json::array({num(v.x(), d), num(v.y(), d), num(v.z(), d)});
+    };
+    o["start_tip"] = vec(c.start.tip, 4);
+    o["start_axis"] = vec(c.start.axis, 6);
+    o["end_tip"] = vec(c.end.tip, 4);
+    o["end_axis"] = vec(c.end.axis, 6);
+    cs.push_back(o);
+  }
+  j["collisions"] = cs;
+  nlohmann::ordered_json gs = nlohmann::ordered_json::array();
+  for (const Gouge& g : r.gouges) {
+    nlohmann::ordered_json o;
+    o["block"] = g.block;
+    o["line"] = g.line;
+    o["depth_mm"] = num(g.depth_mm, 4);
+    gs.push_back(o);
+  }
+  j["gouges"] = gs;
+  j["max_gouge_mm"] = num(r.max_gouge_mm, 4);
+  j["resolution_mm"] = num(r.resolution_mm, 6);
+  j["rays"] = r.rays;
+  j["seconds"] = num(r.seconds, 3);
+  j["material_rays"] = r.material_rays;
+  j["stock_volume_start_mm3"] = num(r.stock_volume_start_mm3, 4);
+  j["stock_volume_end_mm3"] = num(r.stock_volume_end_mm3, 4);
+  j["sweep_error_mm"] = num(r.sweep_error_mm, 6);
+  j["holder_sweep_error_mm"] = num(r.holder_sweep_error_mm, 6);
+  j["excess"] = {{"samples", r.excess.samples},
+                 {"mean_mm", num(r.excess.mean_mm, 4)},
+                 {"p95_mm", num(r.excess.p95_mm, 4)},
+                 {"max_mm", num(r.excess.max_mm, 4)}};
+  j["stopped_at_first_collision"] = r.stopped_early;
+  j["memory_mb"] = num(r.memory_bytes / 1048576.0, 1);
+  j["warnings"] = r.warnings;
+  const std::string text = j.dump(2);
+  write_file_atomic(file, [&](std::ostream& out) { out << text << "\n"; });
+}
+
+void write_blocks_csv(const VerifyReport& r, const std::filesystem::path& file) {
+  write_file_atomic(file, [&](std::ostream& out) {
+    out << "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n";
+    for (const BlockResult& b : r.per_block) {
+      out << b.block << ',' << b.line << ',' << fixed(b.removed_mm3, 4) << ',';
+      // MRR is removed volume over block time; empty when the block takes no time.
+      if (b.minutes > 0) out << fixed(b.removed_mm3 / b.minutes, 2);
+      // Engagement angles and area (issue 6) are not computed yet: empty cells.
+      out << ",,,," << (b.collision ? 1 : 0) << "\n";
+    }
+  });
+}
+
+}  // namespace tf

@@ -1,0 +1,561 @@
+// The block loop of the verifier: per block the swept parts, the lattice tiles they can touch, and per
+// ray (in parallel over tiles) the exact union of the swept intervals subtracted from the material, with
+// collision, gouge and removal bookkeeping.
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include "obstacles.hpp"
+#include "raycast.hpp"
+#include "tiltfield/error.hpp"
+#include "tiltfield/verify.hpp"
+
+namespace tf {
+
+ToolPose forward_xyz(const Joints& j) { return {Eigen::Vector3d(j.x, j.y, j.z), Eigen::Vector3d::UnitZ()}; }
+
+std::string_view to_string(HitWith w) {
+  switch (w) {
+    case HitWith::Stock: return "stock";
+    case HitWith::Check: return "check";
+    case HitWith::Fixture: return "fixture";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr int kTile = 16;
+constexpr float kEmptyLo = std::numeric_limits<float>::infinity();
+
+struct Hit {
+  Interval iv;
+  uint8_t component;
+  bool cutting;
+};
+
+// Per thread, per block.
+struct Accum {
+  std::array<double, 3> removed{};
+  // Longest overlap along each grid direction, per component, obstacle kind and rapid flag.
+  std::array<std::array<std::array<std::array<float, 2>, 3>, 4>, 3> depth{};
+  double gouge = 0.0;
+  std::vector<Hit> hits;
+  std::vector<Interval> cut, mat, removed_pieces;
+  std::vector<int> parts;
+  void reset() {
+    removed = {};
+    for (auto& a : depth)
+      for (auto& b : a)
+        for (auto& c : b) c = {0.f, 0.f};
+    gouge = 0.0;
+  }
+};
+
+struct Task {
+  int d, tu, tv;
+};
+
+// Overlap of the interval [a, b] with an obstacle's crossings on one ray: solid obstacles by their inside
+// spans (winding), open surfaces by the distance from a crossing to the nearer end of [a, b].
+float obstacle_depth(const Crossing* c, const Crossing* e, bool solid, float a, float b) {
+  float best = 0.f;
+  if (!c) return 0.f;
+  if (solid) {
+    int w = 0;
+    float start = -std::numeric_limits<float>::infinity();
+    for (; c != e; ++c) {
+      const int before = w;
+      w += c->cos < 0 ? 1 : -1;
+      if (before == 0 && w > 0) start = c->t;
+      if (before > 0 && w == 0) best = std::max(best, std::min(b, c->t) - std::max(a, start));
+    }
+    return std::max(best, 0.f);
+  }
+  for (; c != e; ++c)
+    if (c->t > a && c->t < b) best = std::max(best, std::min(c->t - a, b - c->t));
+  return best;
+}
+
+// Deepest over-cut (normal to the design) of the removed pieces on one ray. The part side lies between an
+// entering crossing (cos < 0) and the next exiting one; depth at x is the distance to the nearer crossing
+// times |cos| there (a planar estimate; crossings more grazing than |cos| < 0.3 are left to other grids).
+double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Interval>& removed, double* where) {
+  if (!c || c == e || removed.empty()) return 0.0;
+  constexpr double kMinCos = 0.3;
+  const double inf = std::numeric_limits<double>::infinity();
+  double best = 0.0;
+  auto span = [&](double t_in, double c_in, double t_out, double c_out) {
+    const bool vin = std::isfinite(t_in) && c_in >= kMinCos, vout = std::isfinite(t_out) && c_out >= kMinCos;
+    if (!vin && !vout) return;
+    auto depth = [&](double x) {
+      double d = inf;
+      if (vin) d = std::min(d, (x - t_in) * c_in);
+      if (vout) d = std::min(d, (t_out - x) * c_out);
+      return d;
+    };
+    auto take = [&](double x) {
+      const double v = depth(x);
+      if (v > best) {
+        best = v;
+        *where = x;
+      }
+    };
+    for (const Interval& r : removed) {
+      const double p0 = std::max<double>(r.lo, t_in), p1 = std::min<double>(r.hi, t_out);
+      if (!(p1 > p0)) continue;
+      take(p0);
+      take(p1);
+      if (vin && vout) {
+        const double x = (t_in * c_in + t_out * c_out) / (c_in + c_out);
+        if (x > p0 && x < p1) take(x);
+      }
+    }
+  };
+  double t_in = -inf, c_in = 0.0;
+  bool inside = c->cos > 0;  // the first crossing exits: the ray starts on the part side
+  for (; c != e; ++c) {
+    if (c->cos < 0) {
+      t_in = c->t;
+      c_in = -c->cos;
+      inside = true;
+    } else {
+      if (inside) span(t_in, c_in, c->t, c->cos);
+      inside = false;
+    }
+  }
+  if (inside) span(t_in, c_in, inf, 0.0);
+  return best;
+}
+
+class Simulator {
+ public:
+  Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
+      : scene_(scene), program_(program), forward_(forward), opt_(options),
+        lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
+    for (const Mesh& m : scene.fixtures) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture});
+    for (const Mesh& m : scene.check_surfaces) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Check});
+    if (options.check_gouges && scene.design.n_faces() > 0) {
+      design_ = std::make_unique<RayTable>(scene.design, lattice_);
+      design_mesh_ = std::make_unique<RayMesh>(scene.design);
+    }
+    parts_ = tool_parts(scene.tool, options.sweep);
+    for (const ToolPart& p : parts_) {
+      const double reach = p.kind == ToolPart::Kind::Sphere ? std::hypot(p.offset, p.h0) + p.radius : std::hypot(p.radius, p.h1);
+      reach_all_ = std::max(reach_all_, reach);
+      if (p.cutting) reach_cut_ = std::max(reach_cut_, reach);
+    }
+    for (int d = 0; d < 3; ++d) {
+      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+      tiles_u_[d] = (lattice_.n[u] + kTile - 1) / kTile;
+      tiles_v_[d] = (lattice_.n[v] + kTile - 1) / kTile;
+      tile_ext_[d].assign(size_t(tiles_u_[d]) * tiles_v_[d], {kEmptyLo, -kEmptyLo});
+      stamp_[d].assign(tile_ext_[d].size(), 0);
+      for (int tv = 0; tv < tiles_v_[d]; ++tv)
+        for (int tu = 0; tu < tiles_u_[d]; ++tu) update_tile(d, tu, tv);
+    }
+  }
+
+  VerifyResult run() {
+    const auto t_start = std::chrono::steady_clock::now();
+    VerifyReport rep;
+    rep.resolution_mm = lattice_.h;
+    rep.rays = stock_.ray_count();
+    rep.material_rays = stock_.material_rays();
+    rep.stock_volume_start_mm3 = stock_.volume();
+    rep.warnings = program_.warnings;
+    Joints from = program_.start;
+    bool prev_tcp = program_.blocks.empty() ? false : program_.blocks.front().tcp;
+    const size_t nb = program_.blocks.size();
+    for (size_t bi = 0; bi < nb; ++bi) {
+      const Block& b = program_.blocks[bi];
+      if (b.tcp != prev_tcp) {
+        if (b.tcp) {
+          const ToolPose p = forward_(from);  // joint position -> tip in the part frame
+          from.x = p.tip.x();
+          from.y = p.tip.y();
+          from.z = p.tip.z();
+        } else {
+          rep.warnings.push_back("block " + std::to_string(bi + 1) + " (line " + std::to_string(b.line) +
+                                 "): tool-centre-point control switched off; the block is simulated from its end position");
+          from.x = b.target.x;
+          from.y = b.target.y;
+          from.z = b.target.z;
+        }
+        prev_tcp = b.tcp;
+      }
+      BlockResult br = simulate_block(b, from, static_cast<int>(bi) + 1, rep);
+      rep.per_block.push_back(br);
+      rep.removed_volume_mm3 += br.removed_mm3;
+      from = b.target;
+      if ((bi & 255) == 0) report(opt_.progress, "verify", double(bi) / double(std::max<size_t>(nb, 1)));
+      if (br.collision && opt_.stop_at_first_collision) {
+        rep.stopped_early = bi + 1 < nb;
+        break;
+      }
+    }
+    rep.blocks = static_cast<int>(rep.per_block.size());
+    rep.stock_volume_end_mm3 = stock_.volume();
+    rep.memory_bytes = stock_.memory_bytes();
+    excess(rep);
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    report(opt_.progress, "verify", 1.0);
+    return {std::move(rep), std::move(stock_)};
+  }
+
+ private:
+  struct Obstacle {
+    std::unique_ptr<RayTable> table;
+    HitWith with;
+  };
+
+  static Lattice make_lattice(const Scene& scene, double h) {
+    if (!(h > 0.0) || !std::isfinite(h)) throw InputError("", 0, "resolution", "must be a positive number of mm");
+    Eigen::AlignedBox3d box;
+    if (scene.stock.kind == Stock::Kind::Mesh) {
+      box = bounding_box(scene.stock.mesh);
+    } else if (scene.stock.kind == Stock::Kind::Box) {
+      box = Eigen::AlignedBox3d(scene.stock.box.min, scene.stock.box.max);
+    } else {
+      const auto& c = scene.stock.cylinder;
+      const Eigen::Vector3d a = c.axis.normalized();
+      const Eigen::Vector3d ext = (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * c.radius;
+      box = Eigen::AlignedBox3d(c.base - ext, c.base + ext);
+      box.extend(c.base + c.height * a - ext);
+      box.extend(c.base + c.height * a + ext);
+    }
+    for (const Mesh& m : scene.fixtures) box.extend(bounding_box(m));
+    for (const Mesh& m : scene.check_surfaces) box.extend(bounding_box(m));
+    if (box.isEmpty()) throw InputError(scene.file.string(), 0, "stock", "the stock is empty");
+    const Eigen::Vector3d ext = box.sizes();
+    const double nodes = (ext.x() / h + 3) * (ext.y() / h + 3) * (ext.z() / h + 3);
+    const double rays = nodes / std::max({ext.x() / h + 3, ext.y() / h + 3, ext.z() / h + 3}) * 3;
+    if (rays > 2e8) throw InputError("", 0, "resolution", "too fine for this stock (more than 2e8 rays)");
+    return lattice_for(box, h, 2);
+  }
+
+  void update_tile(int d, int tu, int tv) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    Interval ext{kEmptyLo, -kEmptyLo};
+    for (int iv = tv * kTile; iv < std::min(lattice_.n[v], (tv + 1) * kTile); ++iv)
+      for (int iu = tu * kTile; iu < std::min(lattice_.n[u], (tu + 1) * kTile); ++iu) {
+        const Dexel& r = stock_.ray(d, iu, iv);
+        if (r.empty()) continue;
+        ext.lo = std::min(ext.lo, r.begin()->lo);
+        ext.hi = std::max(ext.hi, (r.end() - 1)->hi);
+      }
+    tile_ext_[d][size_t(tv) * tiles_u_[d] + tu] = ext;
+  }
+
+  // Can part p touch material or an obstacle in tile (tu, tv) of grid d?
+  bool relevant(const SweptPart& p, int d, int tu, int tv) const {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    const double h = lattice_.h;
+    const double u_lo = lattice_.origin[u] + h * tu * kTile, u_hi = u_lo + h * (kTile - 1);
+    const double v_lo = lattice_.origin[v] + h * tv * kTile, v_hi = v_lo + h * (kTile - 1);
+    if (p.box.max()[u] < u_lo || p.box.min()[u] > u_hi || p.box.max()[v] < v_lo || p.box.min()[v] > v_hi) return false;
+    const float a = static_cast<float>(p.box.min()[d] - lattice_.origin[d]);
+    const float b = static_cast<float>(p.box.max()[d] - lattice_.origin[d]);
+    const Interval& ext = tile_ext_[d][size_t(tv) * tiles_u_[d] + tu];
+    if (b >= ext.lo && a <= ext.hi) return true;
+    for (const Obstacle& o : obstacles_)
+      if (b >= o.table->lo(d) && a <= o.table->hi(d)) return true;
+    return false;
+  }
+
+  BlockResult simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep) {
+    BlockResult br;
+    br.block = index;
+    br.line = b.line;
+    const bool tcp = b.tcp;
+    PoseAt pose_at = [&](double tau) {
+      const Joints j = interpolate_block(from, b, tau);
+      if (!tcp) return forward_(j);
+      Joints rot = j;
+      rot.x = rot.y = rot.z = 0.0;
+      ToolPose p = forward_(rot);
+      p.tip = Eigen::Vector3d(j.x, j.y, j.z);
+      return p;
+    };
+    sweep_block(pose_at, parts_, reach_cut_, reach_all_, opt_.sweep, sweep_);
+    br.substeps = sweep_.substeps;
+    rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
+    rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);
+    br.minutes = block_minutes(b, from);
+
+    // Tiles any part can touch.
+    ++stamp_value_;
+    tasks_.clear();
+    for (const SweptPart& p : sweep_.parts)
+      for (int d = 0; d < 3; ++d) {
+        const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+        int tu0, tu1, tv0, tv1;
+        if (!tile_range(p.box.min()[u], p.box.max()[u], u, tu0, tu1) ||
+            !tile_range(p.box.min()[v], p.box.max()[v], v, tv0, tv1))
+          continue;
+        for (int tv = tv0; tv <= tv1; ++tv)
+          for (int tu = tu0; tu <= tu1; ++tu) {
+            uint32_t& s = stamp_[d][size_t(tv) * tiles_u_[d] + tu];
+            if (s == stamp_value_ || !relevant(p, d, tu, tv)) continue;
+            s = stamp_value_;
+            tasks_.push_back({d, tu, tv});
+          }
+      }
+    for (auto& a : accum_) a.reset();
+    const bool rapid = b.motion == Motion::Rapid;
+    tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
+
+    std::array<double, 3> removed{};
+    double gouge = 0.0;
+    std::array<std::array<std::array<std::array<float, 2>, 3>, 4>, 3> depth{};
+    for (const Accum& a : accum_) {
+      for (int d = 0; d < 3; ++d) removed[d] += a.removed[d];
+      gouge = std::max(gouge, a.gouge);
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 4; ++c)
+          for (int w = 0; w < 3; ++w)
+            for (int r = 0; r < 2; ++r) depth[d][c][w][r] = std::max(depth[d][c][w][r], a.depth[d][c][w][r]);
+    }
+    br.removed_mm3 = (removed[0] + removed[1] + removed[2]) / 3.0 * lattice_.h * lattice_.h;
+    for (int c = 0; c < 4; ++c)
+      for (int w = 0; w < 3; ++w)
+        for (int r = 0; r < 2; ++r) {
+          // The smallest of the directions that saw it: the longest overlap along a ray grazing the
+          // contact overstates the depth, the ray most normal to it does not.
+          double dep = std::numeric_limits<double>::infinity();
+          for (int d = 0; d < 3; ++d)
+            if (depth[d][c][w][r] > 0) dep = std::min<double>(dep, depth[d][c][w][r]);
+          if (!std::isfinite(dep) || dep <= opt_.collision_tolerance) continue;
+          rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep,
+                                    pose_at(0.0), pose_at(1.0)});
+          br.collision = true;
+        }
+    if (gouge > 0) {
+      rep.max_gouge_mm = std::max(rep.max_gouge_mm, gouge);
+      if (gouge > opt_.gouge_tolerance) rep.gouges.push_back({index, b.line, gouge});
+    }
+    return br;
+  }
+
+  // Tiles along lattice axis `axis` whose nodes lie in [lo, hi]; false when none.
+  bool tile_range(double lo, double hi, int axis, int& t0, int& t1) const {
+    const double big = lattice_.n[axis] + 1.0;
+    const int n0 = static_cast<int>(std::clamp(std::ceil((lo - lattice_.origin[axis]) / lattice_.h), 0.0, big));
+    const int n1 = static_cast<int>(std::clamp(std::floor((hi - lattice_.origin[axis]) / lattice_.h), -1.0, lattice_.n[axis] - 1.0));
+    if (n1 < n0) return false;
+    t0 = n0 / kTile;
+    t1 = n1 / kTile;
+    return true;
+  }
+
+  void process_tile(const Task& task, bool rapid, Accum& acc) {
+    const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    acc.parts.clear();
+    for (size_t i = 0; i < sweep_.parts.size(); ++i)
+      if (relevant(sweep_.parts[i], d, task.tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
+    if (acc.parts.empty()) return;
+    bool changed = false;
+    const double h = lattice_.h;
+    const int iu_end = std::min(lattice_.n[u], (task.tu + 1) * kTile), iv_end = std::min(lattice_.n[v], (task.tv + 1) * kTile);
+    for (int iv = task.tv * kTile; iv < iv_end; ++iv) {
+      const double cv = lattice_.origin[v] + h * iv;
+      for (int iu = task.tu * kTile; iu < iu_end; ++iu) {
+        const double cu = lattice_.origin[u] + h * iu;
+        acc.hits.clear();
+        Eigen::Vector3d o = lattice_.origin;
+        o[u] = cu;
+        o[v] = cv;
+        for (int pi : acc.parts) {
+          const SweptPart& p = sweep_.parts[pi];
+          if (cu < p.box.min()[u] || cu > p.box.max()[u] || cv < p.box.min()[v] || cv > p.box.max()[v]) continue;
+          double t0, t1;
+          if (!ray_interval(p, o, d, t0, t1)) continue;
+          acc.hits.push_back({{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
+        }
+        if (acc.hits.empty()) continue;
+        changed |= process_ray(d, iu, iv, rapid, acc);
+      }
+    }
+    if (changed) update_tile(d, task.tu, task.tv);
+  }
+
+  bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
+    Dexel& ray = stock_.ray(d, iu, iv);
+    // Union of the cutting parts' intervals.
+    acc.cut.clear();
+    for (const Hit& h : acc.hits)
+      if (h.cutting) acc.cut.push_back(h.iv);
+    merge_union(acc.cut);
+    bool changed = false;
+    acc.removed_pieces.clear();
+    if (!ray.empty()) {
+      if (rapid)
+        for (const Hit& h : acc.hits)
+          if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, ray));
+      if (!acc.cut.empty() && acc.cut.front().lo < (ray.end() - 1)->hi && acc.cut.back().hi > ray.begin()->lo) {
+        const double gone = subtract_intervals(ray.begin(), ray.size(), acc.cut.data(), acc.cut.size(), acc.mat,
+                                               design_ ? &acc.removed_pieces : nullptr);
+        if (gone > 0) {
+          ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+          acc.removed[d] += gone;
+          changed = true;
+        }
+      }
+      bool crash = false;
+      for (const Hit& h : acc.hits) {
+        if (h.cutting || ray.empty()) continue;
+        const float depth = overlap_longest(h.iv, ray);
+        record(acc, d, h.component, HitWith::Stock, rapid, depth);
+        crash |= depth > 0;
+      }
+      // A crash destroys the material the shank or holder met: take it away too, so the following
+      // blocks report their own collisions, not this one again.
+      if (crash) {
+        acc.cut.clear();
+        for (const Hit& h : acc.hits)
+          if (!h.cutting) acc.cut.push_back(h.iv);
+        merge_union(acc.cut);
+        const double gone = subtract_intervals(ray.begin(), ray.size(), acc.cut.data(), acc.cut.size(), acc.mat, nullptr);
+        if (gone > 0) {
+          ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+          acc.removed[d] += gone;
+          changed = true;
+        }
+      }
+    }
+    for (const Obstacle& o : obstacles_) {
+      const Crossing* b = o.table->begin(d, iu, iv);
+      if (!b) continue;
+      const Crossing* e = o.table->end(d, iu, iv);
+      for (const Hit& h : acc.hits)
+        record(acc, d, h.component, o.with, rapid, obstacle_depth(b, e, o.table->solid(), h.iv.lo, h.iv.hi));
+    }
+    if (design_ && !acc.removed_pieces.empty()) {
+      double at = 0.0;
+      const double est = gouge_depth(design_->begin(d, iu, iv), design_->end(d, iu, iv), acc.removed_pieces, &at);
+      // The along-ray estimate selects the point; a point deep inside the part along a ray parallel to its
+      // surface is much closer to the surface than the ray says, so the depth is its true distance.
+      if (est > 0.25 * opt_.gouge_tolerance) {
+        Eigen::Vector3d p = lattice_.origin;
+        p[Lattice::u_axis(d)] += lattice_.h * iu;
+        p[Lattice::v_axis(d)] += lattice_.h * iv;
+        p[d] += at;
+        Eigen::Vector3d q, n;
+        const double dist = design_mesh_->closest(p, est + 1e-6, q, n) ? (p - q).norm() : est;
+        acc.gouge = std::max(acc.gouge, std::min(est, dist));
+      }
+    }
+    return changed;
+  }
+
+  // Sorts and merges intervals in place into a disjoint union.
+  static void merge_union(std::vector<Interval>& v) {
+    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+    size_t m = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
+      else v[m++] = v[i];
+    }
+    v.resize(m);
+  }
+
+  static float overlap_longest(const Interval& iv, const Dexel& ray) {
+    double longest = 0.0;
+    overlap_length(&iv, 1, ray.begin(), ray.size(), &longest);
+    return static_cast<float>(longest);
+  }
+
+  static void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float depth) {
+    float& slot = acc.depth[d][comp][static_cast<int>(with)][rapid ? 1 : 0];
+    slot = std::max(slot, depth);
+  }
+
+  double block_minutes(const Block& b, const Joints& from) const {
+    const double xyz = std::sqrt((b.target.x - from.x) * (b.target.x - from.x) + (b.target.y - from.y) * (b.target.y - from.y) +
+                                 (b.target.z - from.z) * (b.target.z - from.z));
+    // Arcs and TCP moves: the tip path; joint moves: the XYZ path (the controller's feed reference),
+    // rotary degrees when only rotaries move.
+    double len = b.tcp || b.motion == Motion::ArcCW || b.motion == Motion::ArcCCW ? sweep_.tip_length : xyz;
+    if (len < 1e-9)
+      len = std::abs(b.target.a - from.a) + std::abs(b.target.b - from.b) + std::abs(b.target.c - from.c);
+    if (b.motion == Motion::Rapid) return len / std::max(1.0, scene_.machine ? scene_.machine->rapid_feed : 20000.0);
+    if (b.feed_mode == FeedMode::InverseTime) return b.feed > 0 ? 1.0 / b.feed : 0.0;
+    return b.feed > 0 ? len / b.feed : 0.0;
+  }
+
+  // Material left outside the design, measured at the design's crossings inside the initial stock bounds.
+  void excess(VerifyReport& rep) const {
+    if (!design_) return;
+    std::vector<double> values;
+    for (int d = 0; d < 3; ++d) {
+      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+      for (int iv = 0; iv < lattice_.n[v]; ++iv)
+        for (int iu = 0; iu < lattice_.n[u]; ++iu) {
+          const Crossing* c = design_->begin(d, iu, iv);
+          if (!c) continue;
+          const Crossing* e = design_->end(d, iu, iv);
+          const Dexel& ray = stock_.ray(d, iu, iv);
+          for (const Crossing* x = c; x != e; ++x) {
+            if (std::abs(x->cos) < 0.5) continue;
+            double along = 0.0;
+            const float tol = 1e-3f;
+            for (const Interval& m : ray) {
+              if (x->cos < 0 && m.lo < x->t && m.hi >= x->t - tol) {
+                const float prev = x == c ? -std::numeric_limits<float>::infinity() : (x - 1)->t;
+                along = x->t - std::max(m.lo, prev);
+              }
+              if (x->cos > 0 && m.hi > x->t && m.lo <= x->t + tol) {
+                const float next = x + 1 == e ? std::numeric_limits<float>::infinity() : (x + 1)->t;
+                along = std::min(m.hi, next) - x->t;
+              }
+            }
+            values.push_back(std::max(0.0, along) * std::abs(x->cos));
+          }
+        }
+    }
+    if (values.empty()) return;
+    std::sort(values.begin(), values.end());
+    double sum = 0.0;
+    for (double x : values) sum += x;
+    rep.excess.samples = values.size();
+    rep.excess.mean_mm = sum / values.size();
+    rep.excess.max_mm = values.back();
+    rep.excess.p95_mm = values[std::min(values.size() - 1, static_cast<size_t>(0.95 * values.size()))];
+  }
+
+  const Scene& scene_;
+  const Program& program_;
+  ForwardFn forward_;
+  VerifyOptions opt_;
+  Lattice lattice_;
+  TriDexel stock_;
+  std::vector<Obstacle> obstacles_;
+  std::unique_ptr<RayTable> design_;
+  std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
+  std::vector<ToolPart> parts_;
+  double reach_cut_ = 0.0, reach_all_ = 0.0;
+  std::array<int, 3> tiles_u_{}, tiles_v_{};
+  std::array<std::vector<Interval>, 3> tile_ext_;
+  std::array<std::vector<uint32_t>, 3> stamp_;
+  uint32_t stamp_value_ = 0;
+  std::vector<Task> tasks_;
+  BlockSweep sweep_;
+  tbb::enumerable_thread_specific<Accum> accum_;
+};
+
+}  // namespace
+
+VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
+                            const VerifyOptions& options) {
+  Simulator sim(scene, program, forward, options);
+  return sim.run();
+}
+
+}  // namespace tf
