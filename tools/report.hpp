@@ -9,25 +9,29 @@
 // Units: mm, deg, mm^3, mm^3/min, mm^2, seconds.
 #pragma once
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "tiltfield/kinematics.hpp"
 #include "tiltfield/mesh.hpp"
 #include "tiltfield/oriented_path.hpp"
+#include "tiltfield/program.hpp"
 #include "tiltfield/scene.hpp"
 
 namespace tf::reporting {
 
 // One row of the verifier's blocks.csv.
+// One row of the verifier's blocks.csv. NaN: not computed (an empty cell).
 struct BlockRow {
-  int block = 0;  // 0-based block index in the program
+  int block = 0;  // block number as the verifier numbers them
   int line = 0;   // 1-based G-code line, 0 when unknown
-  double removed_mm3 = 0.0;
-  double mrr_mm3_min = 0.0;
-  double entry_deg = 0.0;  // engagement entry angle, deg
-  double exit_deg = 0.0;   // engagement exit angle, deg
-  double engaged_area_mm2 = 0.0;
+  double removed_mm3 = std::numeric_limits<double>::quiet_NaN();
+  double mrr_mm3_min = std::numeric_limits<double>::quiet_NaN();
+  double entry_deg = std::numeric_limits<double>::quiet_NaN();  // engagement entry angle, deg
+  double exit_deg = std::numeric_limits<double>::quiet_NaN();   // engagement exit angle, deg
+  double engaged_area_mm2 = std::numeric_limits<double>::quiet_NaN();
   bool collision = false;
 };
 
@@ -93,6 +97,7 @@ struct ReportInputs {
   std::vector<Gouge> gouges;
   const Mesh* stock = nullptr;                // simulated stock (optional)
   std::vector<double> stock_deviation_mm;     // per stock vertex: + material left, - cut into the design
+                                              // (stock_deviation() computes it)
   Summary summary;
 };
 
@@ -114,7 +119,8 @@ void write_html_report(const ReportInputs& inputs, const std::filesystem::path& 
 std::string render_html_report(const ReportInputs& inputs, const ReportOptions& options = {});
 
 // Reads the spec's blocks.csv (header block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,
-// engaged_area_mm2,collision; collision 0/1 or true/false). Throws InputError naming file, line, column.
+// engaged_area_mm2,collision; collision 0/1 or true/false; an empty number cell is NaN: not computed).
+// Throws InputError naming file, line, column.
 std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& file);
 
 // What the report takes from the spec's verify.json: collisions, gouges and the headline numbers.
@@ -128,6 +134,25 @@ struct VerifyData {
 };
 // Throws InputError naming the file and the JSON field for a missing or mistyped field.
 VerifyData read_verify_json(const std::filesystem::path& file);
+
+// Signed distance (mm) of every stock vertex to the design surface: + on the side the design's faces
+// face (material left), - behind it (over-cut). The sign comes from the nearest triangle's normal, so
+// right at the design's sharp edges it can flip for vertices off to the side (colour only).
+std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design);
+
+// The motion blocks of a program as the report plots them: block numbers from 1 in program order (as
+// the verifier numbers them), the G-code line, the axis values at the block's end.
+std::vector<BlockAxes> block_axes(const Program& program);
+
+// The report's inputs read back from the files of a `tiltfield run` folder (oriented.csv,
+// program.ngc, verify.json, blocks.csv, stock.ply); a missing file leaves its part empty, a bad one
+// throws InputError. The stock's deviation is computed against the scene's design.
+struct RunFolder {
+  OrientedPath oriented;
+  Mesh stock;
+  ReportInputs inputs;  // points into this object and at `scene`, which must outlive it
+};
+std::unique_ptr<RunFolder> load_run_folder(const Scene& scene, const std::filesystem::path& dir);
 
 // True when the 3-D viewer script was built into this binary (npm was available at build time).
 bool viewer_built_in();

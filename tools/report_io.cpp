@@ -1,11 +1,13 @@
 // tiltfield report: readers for the verifier's outputs (blocks.csv, verify.json), for callers that have
 // the files rather than the values in memory.
 #include <fstream>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
 #include "report.hpp"
 #include "tiltfield/error.hpp"
+#include "tiltfield/gcode.hpp"
 #include "tiltfield/io.hpp"
 
 namespace tf::reporting {
@@ -24,7 +26,10 @@ std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& file) {
   for (size_t r = 0; r < t.rows.size(); ++r) {
     const auto& cells = t.rows[r];
     const int line = t.lines[r];
-    auto number = [&](int k) { return parse_number(cells[size_t(col[k])], name, line, columns[k]); };
+    auto number = [&](int k) {
+      const std::string& cell = cells[size_t(col[k])];
+      return cell.empty() && k >= 2 ? std::numeric_limits<double>::quiet_NaN() : parse_number(cell, name, line, columns[k]);
+    };
     auto integer = [&](int k) {
       const double v = number(k);
       if (v != double(long(v)) || v < 0) throw InputError(name, line, columns[k], "expected a whole number >= 0");
@@ -101,6 +106,44 @@ VerifyData read_verify_json(const std::filesystem::path& file) {
                           field<double>(g, "depth_mm", name, where)});
     }
   return v;
+}
+
+std::vector<BlockAxes> block_axes(const Program& program) {
+  std::vector<BlockAxes> axes;
+  axes.reserve(program.blocks.size());
+  for (size_t i = 0; i < program.blocks.size(); ++i) {
+    const Block& b = program.blocks[i];
+    axes.push_back({int(i) + 1, b.line, b.target, b.motion == Motion::Rapid, b.tcp});
+  }
+  return axes;
+}
+
+std::unique_ptr<RunFolder> load_run_folder(const Scene& scene, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  auto run = std::make_unique<RunFolder>();
+  ReportInputs& in = run->inputs;
+  in.scene = &scene;
+  if (fs::exists(dir / "oriented.csv")) {
+    run->oriented = read_oriented_csv(dir / "oriented.csv");
+    in.oriented = &run->oriented;
+  }
+  if (fs::exists(dir / "program.ngc"))
+    in.axes = block_axes(read_gcode(dir / "program.ngc", scene.machine.value_or(MachineSpec{})));
+  if (fs::exists(dir / "verify.json")) {
+    VerifyData v = read_verify_json(dir / "verify.json");
+    in.collisions = std::move(v.collisions);
+    in.gouges = std::move(v.gouges);
+    in.summary.removed_volume_mm3 = v.removed_volume_mm3;
+    in.summary.max_gouge_mm = v.max_gouge_mm;
+    in.summary.resolution_mm = v.resolution_mm;
+  }
+  if (fs::exists(dir / "blocks.csv")) in.blocks = read_blocks_csv(dir / "blocks.csv");
+  if (fs::exists(dir / "stock.ply")) {
+    run->stock = load_mesh(dir / "stock.ply");
+    in.stock = &run->stock;
+    in.stock_deviation_mm = stock_deviation(run->stock, scene.design);
+  }
+  return run;
 }
 
 }  // namespace tf::reporting

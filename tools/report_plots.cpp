@@ -136,14 +136,14 @@ LinePlot block_plot(const ReportInputs& in, std::string id, std::string title, s
   p.title = std::move(title);
   p.x_label = "block";
   p.y_label = std::move(y_label);
-  p.empty_note = "no verification data";
+  p.empty_note = in.blocks.empty() ? "no verification data" : "not computed by the verifier";
   if (in.blocks.empty()) return p;
   const char* colors[] = {kBlue, kOrange, kGreen};
   for (size_t k = 0; k < fields.size(); ++k) {
     Series s{fields[k].first, colors[k % 3], {}, {}};
     for (const auto& b : in.blocks) {
       s.x.push_back(b.block);
-      s.y.push_back(b.*fields[k].second);
+      s.y.push_back(std::isfinite(b.*fields[k].second) ? b.*fields[k].second : kNaN);
     }
     p.series.push_back(std::move(s));
   }

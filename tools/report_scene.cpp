@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -11,6 +12,7 @@
 #include "tiltfield/io.hpp"
 #include "tiltfield/kinematics.hpp"
 #include "tiltfield/post.hpp"
+#include "tiltfield/triangle_bvh.hpp"
 
 namespace tf::reporting {
 
@@ -96,6 +98,23 @@ nlohmann::json pose_json(const ToolPose& pose, const std::string& label) {
 
 }  // namespace
 
+std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design) {
+  std::vector<double> dev(stock.n_vertices(), 0.0);
+  if (design.n_faces() == 0) return dev;
+  const TriangleBvh bvh({&design});
+  int hint = -1;
+  for (auto vh : stock.vertices()) {
+    const Eigen::Vector3d p = to_eigen(stock.point(vh));
+    const ClosestHit hit = bvh.closest(p, std::numeric_limits<double>::infinity(), hint);
+    if (hit.triangle < 0) continue;
+    hint = hit.triangle;
+    const Triangle& t = bvh.triangle(hit.triangle);
+    const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
+    dev[size_t(vh.idx())] = (p - hit.point).dot(n) >= 0.0 ? hit.distance : -hit.distance;
+  }
+  return dev;
+}
+
 nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& options) {
   const Scene& scene = *in.scene;
   nlohmann::json layers = nlohmann::json::array();
@@ -132,7 +151,7 @@ nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& opt
     if (!m.mesh.values.empty()) {
       const double lo = std::min(quantile(m.mesh.values, 0.01), -0.01);
       const double hi = std::max(quantile(m.mesh.values, 0.99), 0.01);
-      layer["value_label"] = "deviation from the design (mm): \u2212 gouge, + material left";
+      layer["value_label"] = "deviation from the design (mm): \u2212 over-cut, + material left";
       layer["value_range"] = {lo, hi};
     }
     layers.push_back(std::move(layer));
@@ -163,8 +182,10 @@ nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& opt
       const size_t i = samples == 1 ? 0 : (k * (n - 1) + (samples - 1) / 2) / (samples - 1);
       const Eigen::Vector3d tip = row_tip(rows[i], scene.tool);
       push(seg, tip);
-      push(seg, tip + rows[i].axis.normalized() * scene.tool.total_length());
-      clearance.push_back(std::isfinite(rows[i].clearance_mm) ? float(rows[i].clearance_mm) : 1e9f);
+      push(seg, tip + rows[i].axis.normalized() * scene.tool.length);  // tip to holder face
+      // +inf: nothing near (drawn as clear); NaN: not known (drawn grey).
+      const double c = rows[i].clearance_mm;
+      clearance.push_back(std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : std::isinf(c) ? 1e9f : float(c));
     }
     layers.push_back({{"id", "axes"},
                       {"label", "Tool axes at " + std::to_string(samples) + " rows, coloured by clearance"},

@@ -247,9 +247,11 @@ TEST(ReportIo, BlocksCsv) {
   TempDir dir;
   write_text(dir / "blocks.csv",
              "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
-             "0,12,1.5,300,0,90,2.5,0\n1,13,0,0,0,0,0,true\n");
+             "0,12,1.5,300,0,90,2.5,0\n1,13,0,0,0,0,0,true\n2,14,1.25,,,,,0\n");
   const auto rows = read_blocks_csv(dir / "blocks.csv");
-  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_TRUE(std::isnan(rows[2].mrr_mm3_min)) << "empty cell: not computed";
+  EXPECT_DOUBLE_EQ(rows[2].removed_mm3, 1.25);
   EXPECT_EQ(rows[0].line, 12);
   EXPECT_DOUBLE_EQ(rows[0].mrr_mm3_min, 300.0);
   EXPECT_TRUE(rows[1].collision);
@@ -284,6 +286,43 @@ TEST(ReportIo, VerifyJson) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "collisions[0].rapid");
   }
+}
+
+TEST(ReportIo, RunFolder) {
+  auto job = synthetic_job();
+  TempDir dir;
+  write_oriented_csv(job->oriented, dir / "oriented.csv");
+  write_text(dir / "program.ngc", "G21 G90 G94\nG0 X0 Y0 Z50 A0 C0\nG1 X1 Y2 Z40 A10 C20 F1000\nG1 X2 Y2 Z40 A12 C25\nM2\n");
+  write_text(dir / "verify.json", R"({"removed_volume_mm3": 5, "collisions": [{"block": 2, "line": 3,
+    "component": "shank", "with": "check", "rapid": false, "depth_mm": 0.5}], "gouges": []})");
+  write_text(dir / "blocks.csv", "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
+                                 "1,2,0,,,,,0\n2,3,1,60,,,,1\n3,4,1,60,,,,0\n");
+  write_mesh(job->stock, dir / "stock.ply");
+  const auto run = load_run_folder(job->scene, dir.path());
+  const ReportInputs& in = run->inputs;
+  ASSERT_EQ(in.oriented, &run->oriented);
+  EXPECT_EQ(run->oriented.rows.size(), job->oriented.rows.size());
+  ASSERT_EQ(in.axes.size(), 3u);
+  EXPECT_EQ(in.axes[0].block, 1);
+  EXPECT_TRUE(in.axes[0].rapid);
+  EXPECT_EQ(in.axes[1].line, 3);
+  EXPECT_DOUBLE_EQ(in.axes[1].joints.c, 20.0);
+  ASSERT_EQ(in.collisions.size(), 1u);
+  EXPECT_EQ(in.blocks.size(), 3u);
+  ASSERT_EQ(in.stock_deviation_mm.size(), job->stock.n_vertices());
+  // The stock is the design raised by 0.3 sin(x/7) - 0.05: its deviation is that, to the grids' difference.
+  double worst = 0.0;
+  for (auto vh : run->stock.vertices()) {
+    const double x = run->stock.point(vh)[0];
+    worst = std::max(worst, std::abs(in.stock_deviation_mm[size_t(vh.idx())] - (0.3 * std::sin(x / 7.0) - 0.05)));
+  }
+  EXPECT_LT(worst, 0.06);
+  const std::string html = render_html_report(in);
+  EXPECT_NE(html.find("not computed by the verifier"), std::string::npos);
+  EXPECT_NE(html.find("1 collision left"), std::string::npos);
+  // Nothing there: an empty report, not an error.
+  TempDir empty;
+  EXPECT_EQ(load_run_folder(job->scene, empty.path())->inputs.oriented, nullptr);
 }
 
 }  // namespace

@@ -2,10 +2,10 @@
 // [value, '#rrggbb'] stops in increasing value; colours between stops are interpolated linearly in sRGB.
 import { Color } from 'three';
 
-// Deviation from the design, in units of the layer's range: -1 the deepest gouge shown (red), 0 on the
-// surface (green), +1 the most material left shown (navy).
+// Deviation from the design, in units of the layer's range: -1 the deepest over-cut shown (blue), 0 on
+// the surface (green), +1 the most material left shown (red): the colours of the verifier's stock.ply.
 export const DEVIATION_STOPS = [
-  [-1, '#b71c1c'], [-0.35, '#ff7043'], [0, '#43a047'], [0.35, '#4fc3f7'], [1, '#1a237e'],
+  [-1, '#1a237e'], [-0.35, '#29b6f6'], [0, '#43a047'], [0.35, '#ffb74d'], [1, '#c62828'],
 ];
 
 // Clearance to the check surfaces, mm: red at contact, amber at the safety distance, green beyond.
@@ -16,6 +16,7 @@ export function clearanceStops(safety, top) {
 
 const scratch = new Color();
 export function colorAt(stops, v, out) {
+  if (Number.isNaN(v)) return out.set('#9e9e9e');  // unknown
   if (!(v > stops[0][0])) return out.set(stops[0][1]);
   for (let i = 1; i < stops.length; ++i) {
     if (v <= stops[i][0]) {

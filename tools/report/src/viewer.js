@@ -151,6 +151,7 @@ export function startViewer() {
   // Meshes first, so the bounding box (and with it the marker size) comes from the part.
   const objects = new Map();
   const box = new Box3();
+  const pathBox = new Box3();
   for (const layer of data.layers) {
     let obj = null;
     if (layer.kind === 'mesh') obj = meshObject(layer);
@@ -161,8 +162,11 @@ export function startViewer() {
     obj.visible = layer.visible;
     scene.add(obj);
     objects.set(layer.id, obj);
-    if (layer.kind !== 'tool' && (layer.visible || layer.kind === 'mesh')) box.expandByObject(obj);
+    // The view frames the part (the meshes); axes and tool bodies may reach beyond it.
+    if (layer.kind === 'mesh') box.expandByObject(obj);
+    else if (layer.kind === 'line') pathBox.expandByObject(obj);
   }
+  if (box.isEmpty()) box.copy(pathBox);
   if (box.isEmpty()) box.set(new Vector3(-1, -1, -1), new Vector3(1, 1, 1));
   const sphere = box.getBoundingSphere(new Sphere());
   for (const layer of data.layers)
