@@ -167,7 +167,8 @@ std::string render_html_report(const ReportInputs& in, const ReportOptions& opti
   o << "</div><div class=\"status " << (left || !in.gouges.empty() ? "bad" : "good") << "\">"
     << (left ? std::to_string(left) + (left == 1 ? " collision left" : " collisions left")
              : in.gouges.empty() ? "no collisions, no gouges" : "no collisions")
-    << (!in.gouges.empty() ? " \u00b7 " + std::to_string(in.gouges.size()) + " gouges" : "") << "</div></header>\n";
+    << (!in.gouges.empty() ? " \u00b7 " + std::to_string(in.gouges.size()) + (in.gouges.size() == 1 ? " gouge" : " gouges") : "")
+    << "</div></header>\n";
 
   o << "<section class=\"cards\">";
   for (const auto& c : cards(in)) o << card_html(c);
@@ -177,7 +178,7 @@ std::string render_html_report(const ReportInputs& in, const ReportOptions& opti
     std::vector<BarPart> parts;
     for (size_t i = 0; i < in.summary.stages.size(); ++i)
       parts.push_back({in.summary.stages[i].name, in.summary.stages[i].seconds, colors[i % 8]});
-    o << "<section class=\"panel stages\"><h2>Time per stage</h2>" << render_stacked_bar(parts, "s", 1100) << "</section>\n";
+    o << "<section class=\"panel stages\"><h2>Time per stage</h2>" << render_stacked_bar(parts, "s", 1300) << "</section>\n";
   }
 
   o << "<section class=\"panel\"><h2>3-D view</h2><div class=\"viewer-wrap\"><div id=\"tf-viewer\" class=\"viewer\">"

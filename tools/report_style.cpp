@@ -29,7 +29,7 @@ header .note { margin-top: 6px; color: #ffd27a; font-size: 13px; }
 .card .detail { color: var(--muted); font-size: 12px; }
 .panel { background: var(--panel); border: 1px solid var(--line); border-radius: 10px; margin: 14px 28px; padding: 12px 18px 16px; }
 .panel h2 { margin: 2px 0 10px; font-size: 17px; font-weight: 650; }
-.stages svg { max-width: 100%; height: auto; }
+.stages svg { width: 100%; height: auto; }
 .viewer-wrap { display: flex; gap: 16px; align-items: stretch; }
 .viewer { position: relative; flex: 1 1 auto; min-width: 0; height: 600px; border-radius: 8px; overflow: hidden;
           background: linear-gradient(#fdfdfe, #e4e9ef); border: 1px solid var(--line); }
