@@ -197,8 +197,8 @@ std::string render_html_report(const ReportInputs& in, const ReportOptions& opti
 
   o << "<section class=\"panel tables\"><div>" << collision_table(in, options.max_table_rows) << "</div><div>"
     << gouge_table(in, options.max_table_rows) << "</div></section>\n";
-  o << "<footer>tiltfield " TILTFIELD_VERSION " \u00b7 units: mm, deg, mm/min \u00b7 blocks are numbered from 0 in "
-       "program order; G-code lines from 1.</footer>\n";
+  o << "<footer>tiltfield " TILTFIELD_VERSION " \u00b7 units: mm, deg, mm/min \u00b7 motion blocks are numbered from 1 in "
+       "program order, as the verifier numbers them; G-code lines from 1.</footer>\n";
 
   if (viewer_built_in()) {
     o << "<script type=\"application/json\" id=\"tf-scene-data\">" << script_safe(build_scene_json(in, options).dump())
