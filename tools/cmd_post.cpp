@@ -18,20 +18,6 @@ struct PostArgs {
   PostOptions options;
 };
 
-// Everything the part occupies: design, check surfaces, stock and fixtures (for safe heights).
-Eigen::AlignedBox3d part_bounds(const Scene& scene) {
-  Eigen::AlignedBox3d box = bounding_box(scene.design);
-  for (const Mesh& m : scene.check_surfaces) box.extend(bounding_box(m));
-  for (const Mesh& m : scene.fixtures) box.extend(bounding_box(m));
-  if (scene.stock.kind == Stock::Kind::Box) {
-    box.extend(scene.stock.box.min);
-    box.extend(scene.stock.box.max);
-  } else {
-    box.extend(bounding_box(stock_to_mesh(scene.stock, 64)));
-  }
-  return box;
-}
-
 void positive_option(double v, const char* name) {
   if (!(v > 0.0)) throw InputError("", 0, name, "must be positive");
 }
@@ -55,7 +41,7 @@ void run_post(PostArgs& a) {
   job.machine = *scene.machine;
   job.tool = scene.tool;
   job.feed = scene.feed;
-  job.part_bounds = part_bounds(scene);
+  job.part_bounds = scene_bounds(scene);
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);

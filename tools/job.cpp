@@ -1,5 +1,7 @@
 #include "job.hpp"
 
+#include "report.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -35,6 +37,47 @@ std::vector<CollisionSite> sites_of(const VerifyReport& report) {
     sites.push_back({c.block, c.line, std::string(to_string(c.component)), std::string(to_string(c.with)), c.rapid,
                      c.depth_mm, c.start, c.end});
   return sites;
+}
+
+void write_job_report(const Scene& scene, const OrientedPath& first_plan, const Round& final_round,
+                      const std::vector<reporting::RowWindow>& replanned, const Mesh& stock_mesh,
+                      const JobSummary& summary, double resolution_mm, const fs::path& file) {
+  using namespace reporting;
+  const VerifyReport& report = final_round.verified.report;
+  ReportInputs in;
+  in.scene = &scene;
+  in.oriented = &final_round.path;
+  in.first_plan = &first_plan;
+  in.replanned = replanned;
+  in.axes = block_axes(final_round.program);
+  for (const BlockResult& b : report.per_block) {
+    BlockRow row;
+    row.block = b.block;
+    row.line = b.line;
+    row.removed_mm3 = b.removed_mm3;
+    if (b.minutes > 0) row.mrr_mm3_min = b.removed_mm3 / b.minutes;
+    row.collision = b.collision;
+    in.blocks.push_back(row);
+  }
+  for (const auto& c : report.collisions)
+    in.collisions.push_back({c.block, c.line, std::string(to_string(c.component)), std::string(to_string(c.with)),
+                             c.rapid, c.depth_mm});
+  for (const auto& g : report.gouges) in.gouges.push_back({g.block, g.line, g.depth_mm});
+  in.stock = &stock_mesh;
+  if (scene.design.n_faces()) in.stock_deviation_mm = stock_deviation(stock_mesh, scene.design);
+  in.summary.title = scene.file.parent_path().filename().string();
+  in.summary.collisions_found = static_cast<int>(summary.collisions_first);
+  in.summary.collisions_fixed =
+      static_cast<int>(summary.collisions_first - std::min(summary.collisions_first, summary.collisions_final));
+  in.summary.min_clearance_mm = std::isfinite(summary.min_clearance_mm) ? summary.min_clearance_mm : -1.0;
+  in.summary.removed_volume_mm3 = report.removed_volume_mm3;
+  in.summary.max_gouge_mm = report.max_gouge_mm;
+  in.summary.resolution_mm = resolution_mm;
+  in.summary.stages = {{"plan", summary.seconds.plan},
+                       {"post", summary.seconds.post},
+                       {"verify", summary.seconds.verify},
+                       {"replan", summary.seconds.replan}};
+  write_html_report(in, file);
 }
 
 }  // namespace
@@ -81,6 +124,7 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   };
 
   Round current = post_and_verify(planned.path);
+  std::vector<reporting::RowWindow> replanned;
   summary.collisions_first = current.verified.report.collisions.size();
 
   // Re-plan while collisions remain and each round reduces them.
@@ -97,6 +141,7 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
     Round next = post_and_verify(re.path);
     if (next.verified.report.collisions.size() >= current.verified.report.collisions.size()) break;
     summary.rows_replanned += re.rows_changed;
+    for (const auto& w : re.windows) replanned.push_back({static_cast<int>(w.first), static_cast<int>(w.last)});
     current = std::move(next);
   }
 
@@ -123,6 +168,12 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   write_blocks_csv(report, wrote("blocks.csv"));
   const Mesh stock_mesh = reconstruct_stock(current.verified.stock, scene.design.n_faces() ? &scene.design : nullptr);
   write_mesh(stock_mesh, wrote("stock.ply"));
+  if (options.write_report) {
+    const auto t = std::chrono::steady_clock::now();
+    write_job_report(scene, planned.path, current, replanned, stock_mesh, summary, options.resolution_mm,
+                     wrote("report.html"));
+    summary.seconds.report = seconds_since(t);
+  }
   return summary;
 }
 
