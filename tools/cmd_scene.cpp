@@ -50,7 +50,8 @@ void add_impeller(CLI::App* parent) {
   cmd->add_option("--outlet-radius", o->outlet_radius, "hub radius at the outlet, mm")->capture_default_str();
   cmd->add_option("--outlet-z", o->outlet_z, "hub height at the outlet, mm")->capture_default_str();
   cmd->add_option("--nose-z", o->nose_z, "top of the hub nose, mm")->capture_default_str();
-  cmd->add_option("--tolerance", o->tolerance, "chordal tolerance of hub and blades, mm")->capture_default_str();
+  cmd->add_option("--tolerance", o->tolerance, "chordal tolerance of the hub, mm")->capture_default_str();
+  cmd->add_option("--blade-tolerance", o->blade_tolerance, "chordal tolerance of the blades, mm")->capture_default_str();
   cmd->add_option("--allowance", o->allowance, "stock allowance over the hub, mm")->capture_default_str();
   cmd->add_option("--stock-tolerance", o->stock_tolerance, "chordal tolerance of the stock, mm")->capture_default_str();
   cmd->add_option("--tool-radius", o->tool_radius, "ball radius, mm")->capture_default_str();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Dense>
 #include <cstdio>
 #include <limits>
 #include <numbers>
@@ -283,18 +284,45 @@ Mesh cluster_decimate(const Mesh& mesh, double cell) {
     ++count[it->second];
     map[v.idx()] = it->second;
   }
+  // Each cluster's point minimises the squared distances to the planes of the faces around its vertices
+  // (Lindstrom's quadric clustering), which keeps sharp edges such as blade tips straight; a small pull
+  // toward the vertices' mean keeps flat clusters (singular quadrics) in place.
+  std::vector<Eigen::Matrix3d> qa(sum.size(), Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Vector3d> qb(sum.size(), Eigen::Vector3d::Zero());
   std::vector<Eigen::Vector3i> faces;
   for (auto f : mesh.faces()) {
     int c[3], k = 0;
-    for (auto v : mesh.fv_range(f)) c[k++] = map[v.idx()];
+    Eigen::Vector3d p[3];
+    for (auto v : mesh.fv_range(f)) {
+      p[k] = to_eigen(mesh.point(v));
+      c[k++] = map[v.idx()];
+    }
+    const Eigen::Vector3d n2 = (p[1] - p[0]).cross(p[2] - p[0]);  // |n2| = twice the area
+    const double len = n2.norm();
+    if (len > 0) {
+      const Eigen::Vector3d n = n2 / len;
+      for (int i = 0; i < 3; ++i) {
+        qa[c[i]] += len * n * n.transpose();
+        qb[c[i]] += len * n * n.dot(p[0]);
+      }
+    }
     if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) faces.emplace_back(c[0], c[1], c[2]);
+  }
+  std::vector<Eigen::Vector3d> rep(sum.size());
+  for (size_t i = 0; i < sum.size(); ++i) {
+    const Eigen::Vector3d mean = sum[i] / count[i];
+    const double eps = 1e-3 * qa[i].trace() + 1e-12;
+    Eigen::Vector3d x = (qa[i] + eps * Eigen::Matrix3d::Identity()).ldlt().solve(qb[i] + eps * mean);
+    // A representative far outside its cell would be an ill-conditioned solve: fall back to the mean.
+    if (!x.allFinite() || (x - mean).norm() > 2.0 * cell) x = mean;
+    rep[i] = x;
   }
   // Built as a triangle soup: clustering can make the surface non-manifold, which a half-edge mesh
   // refuses; the renderer only needs the triangles.
   Mesh out;
   for (const auto& f : faces) {
     Mesh::VertexHandle vh[3];
-    for (int i = 0; i < 3; ++i) vh[i] = out.add_vertex(to_om(sum[f[i]] / count[f[i]]));
+    for (int i = 0; i < 3; ++i) vh[i] = out.add_vertex(to_om(rep[f[i]]));
     out.add_face(vh[0], vh[1], vh[2]);
   }
   return out;

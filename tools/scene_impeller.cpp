@@ -47,6 +47,7 @@ SceneBundle make_impeller_scene(const ImpellerOptions& o, const nlohmann::json& 
         {"outlet_z", tidy(o.outlet_z)},
         {"nose_z", tidy(o.nose_z)},
         {"tolerance", tidy(o.tolerance)},
+        {"blade_tolerance", tidy(o.blade_tolerance)},
         {"allowance", tidy(o.allowance)},
         {"stock_tolerance", tidy(o.stock_tolerance)},
         {"tool_radius", tidy(o.tool_radius)},

@@ -54,7 +54,8 @@ struct ImpellerOptions {
   double outlet_radius = 60.0;    // mm
   double outlet_z = 8.0;          // mm
   double nose_z = 48.0;           // top of the nose cylinder, mm, > inlet_z
-  double tolerance = 0.002;       // chordal tolerance of the hub and blade meshes, mm
+  double tolerance = 0.002;       // chordal tolerance of the hub mesh (the design surface), mm
+  double blade_tolerance = 0.01;  // chordal tolerance of the blade meshes (check surfaces), mm
   // Stock.
   double allowance = 0.5;         // finishing allowance of the stock over the hub surface, mm
   double stock_tolerance = 0.01;  // chordal tolerance of the stock mesh, mm
@@ -64,7 +65,7 @@ struct ImpellerOptions {
   int passes = 9;                 // passes across the channel, >= 1
   double m_start = 0.03;          // first meridional parameter of a pass
   double m_end = 0.97;            // last meridional parameter of a pass
-  double ball_clearance = 0.2;    // least distance of the ball to any blade, mm
+  double ball_clearance = 1.2;    // least distance of the ball to any blade, mm (above the scene's 1.0 mm safety distance, which binds the ball too)
   double feed = 1500.0;           // mm/min
 };
 
@@ -111,7 +112,8 @@ class ImpellerModel {
   double a_, b_;  // hub ellipse semi-axes (radial, axial)
 };
 
-// Meshes (closed, outward faces). The hub and the blades follow `tolerance`, the stock `stock_tolerance`.
+// Meshes (closed, outward faces). The hub follows `tolerance`, the blades `blade_tolerance`, the stock
+// `stock_tolerance`.
 Mesh impeller_hub_mesh(const ImpellerModel& model);
 Mesh impeller_blade_mesh(const ImpellerModel& model, int blade);
 Mesh impeller_blades_mesh(const ImpellerModel& model);  // all blades, one closed shell each

@@ -42,6 +42,7 @@ void validate_impeller_options(const ImpellerOptions& o) {
   check(std::isfinite(o.blade_sink) && o.blade_sink > 0 && o.blade_sink < o.outlet_z, "--blade-sink",
         "must be positive and less than --outlet-z");
   check(finite_in(o.tolerance, 0.0005, 1.0), "--tolerance", "must be within [0.0005, 1] mm");
+  check(finite_in(o.blade_tolerance, 0.0005, 1.0), "--blade-tolerance", "must be within [0.0005, 1] mm");
   check(finite_in(o.stock_tolerance, 0.0005, 1.0), "--stock-tolerance", "must be within [0.0005, 1] mm");
   check(std::isfinite(o.allowance) && o.allowance > 0 && o.allowance < o.inlet_radius, "--allowance",
         "must be positive and less than --inlet-radius");
@@ -155,6 +156,55 @@ std::vector<Eigen::Vector2d> hub_profile(const ImpellerModel& model, double offs
   return p;
 }
 
+// A blade is a twisted surface: its triangles can leave it inside a grid cell even when every grid line
+// is within the tolerance. Refines the tensor grid (ms x sig) until the cell's two triangles (split along
+// the (i, j)-(i+1, j+1) diagonal, as meshed) follow both faces within `tol` at interior sample points,
+// splitting each bad cell along its longer side.
+void refine_for_twist(const ImpellerModel& model, int blade, std::vector<double>& ms, std::vector<double>& sig,
+                      double tol) {
+  static const double samples[][2] = {{0.5, 0.5},  {1.0 / 3, 2.0 / 3}, {2.0 / 3, 1.0 / 3}, {0.25, 0.5},
+                                      {0.5, 0.75}, {0.75, 0.5},        {0.5, 0.25}};
+  for (int pass = 0; pass < 12; ++pass) {
+    const size_t nm = ms.size(), ns = sig.size();
+    std::vector<char> split_m(nm - 1, 0), split_s(ns - 1, 0);
+    bool any = false;
+    for (int side : {1, -1}) {
+      std::vector<Eigen::Vector3d> g(nm * ns);
+      for (size_t i = 0; i < nm; ++i)
+        for (size_t j = 0; j < ns; ++j) g[i * ns + j] = model.face_point(blade, side, ms[i], sig[j]);
+      for (size_t i = 0; i + 1 < nm; ++i)
+        for (size_t j = 0; j + 1 < ns; ++j) {
+          const Eigen::Vector3d &p00 = g[i * ns + j], &p10 = g[(i + 1) * ns + j], &p01 = g[i * ns + j + 1],
+                                &p11 = g[(i + 1) * ns + j + 1];
+          double dev = 0;
+          for (const auto& uv : samples) {
+            const double u = uv[0], v = uv[1];
+            const Eigen::Vector3d flat = v >= u ? Eigen::Vector3d((1 - v) * p00 + (v - u) * p01 + u * p11)
+                                                : Eigen::Vector3d((1 - u) * p00 + v * p11 + (u - v) * p10);
+            const Eigen::Vector3d exact =
+                model.face_point(blade, side, ms[i] + u * (ms[i + 1] - ms[i]), sig[j] + v * (sig[j + 1] - sig[j]));
+            dev = std::max(dev, (exact - flat).norm());
+          }
+          if (dev <= tol) continue;
+          any = true;
+          ((p10 - p00).norm() >= (p01 - p00).norm() ? split_m[i] : split_s[j]) = 1;
+        }
+    }
+    if (!any) return;
+    auto refine = [](std::vector<double>& t, const std::vector<char>& split) {
+      std::vector<double> out;
+      for (size_t k = 0; k + 1 < t.size(); ++k) {
+        out.push_back(t[k]);
+        if (split[k]) out.push_back(0.5 * (t[k] + t[k + 1]));
+      }
+      out.push_back(t.back());
+      t = std::move(out);
+    };
+    refine(ms, split_m);
+    refine(sig, split_s);
+  }
+}
+
 Mesh closed_or_throw(Mesh mesh, const char* what) {
   if (!is_closed(mesh) || !(signed_volume(mesh) > 0))
     throw std::logic_error(std::string("impeller generator: the ") + what + " mesh is not a closed outward solid");
@@ -177,10 +227,10 @@ Mesh impeller_stock_mesh(const ImpellerModel& model) {
 }
 
 Mesh impeller_blade_mesh(const ImpellerModel& model, int blade) {
-  const double tol = kDirectionShare * model.options().tolerance;
+  const double tol = kDirectionShare * model.options().blade_tolerance;
   const double m0 = model.blade_m_start(blade);
   const std::vector<double> sig_probe = {0.0, 0.25, 0.5, 0.75, 1.0};
-  const std::vector<double> ms = sample_by_chord(
+  std::vector<double> ms = sample_by_chord(
       [&](double m) {
         std::vector<Eigen::Vector3d> pts;
         for (int side : {1, -1})
@@ -188,7 +238,7 @@ Mesh impeller_blade_mesh(const ImpellerModel& model, int blade) {
         return pts;
       },
       m0, 1.0, tol, 16);
-  const std::vector<double> sig = sample_by_chord(
+  std::vector<double> sig = sample_by_chord(
       [&](double sg) {
         std::vector<Eigen::Vector3d> pts;
         for (int side : {1, -1})
@@ -196,6 +246,7 @@ Mesh impeller_blade_mesh(const ImpellerModel& model, int blade) {
         return pts;
       },
       0.0, 1.0, tol, 4);
+  refine_for_twist(model, blade, ms, sig, 0.9 * model.options().blade_tolerance);
   const int nm = static_cast<int>(ms.size()), ns = static_cast<int>(sig.size());
   Eigen::MatrixX3d V(2 * nm * ns, 3);
   auto P = [&](int i, int j) { return i * ns + j; };            // the + face
