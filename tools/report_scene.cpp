@@ -133,18 +133,31 @@ nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& opt
     // Under a machined stock the design is mostly hidden: a smaller share of the budget, off by default.
     meshes.push_back({"design", "Design surface", "#b9bec6", 1.0, !in.stock, in.stock ? 0.5 : 1.0,
                       to_indexed(scene.design, nullptr)});
-  double weighted = 0.0;
-  size_t total = 0;
-  for (const auto& m : meshes) {
-    weighted += m.weight * double(m.mesh.F.size());
-    total += m.mesh.F.size();
+  // Water-filling: a mesh below its weighted share of the budget keeps every triangle and leaves the rest
+  // to the others, so a small check surface stays exact next to a million-triangle stock.
+  std::vector<size_t> budget(meshes.size(), 0);
+  std::vector<bool> open(meshes.size(), true);
+  double remaining = double(options.max_triangles);
+  for (bool changed = true; changed;) {
+    changed = false;
+    double weights = 0.0;
+    for (size_t i = 0; i < meshes.size(); ++i)
+      if (open[i]) weights += meshes[i].weight;
+    for (size_t i = 0; i < meshes.size() && weights > 0.0; ++i)
+      if (open[i] && double(meshes[i].mesh.F.size()) <= remaining * meshes[i].weight / weights) {
+        budget[i] = meshes[i].mesh.F.size();
+        remaining -= double(budget[i]);
+        open[i] = false;
+        changed = true;
+      }
+    if (!changed)
+      for (size_t i = 0; i < meshes.size(); ++i)
+        if (open[i]) budget[i] = size_t(std::max(0.0, remaining * meshes[i].weight / weights));
   }
-  for (auto& m : meshes) {
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    auto& m = meshes[i];
     const size_t original = m.mesh.F.size();
-    if (total > options.max_triangles && weighted > 0.0) {
-      const auto budget = size_t(double(options.max_triangles) * m.weight * double(original) / weighted);
-      m.mesh = decimate_to_budget(m.mesh, budget);
-    }
+    if (original > budget[i]) m.mesh = decimate_to_budget(m.mesh, budget[i]);
     nlohmann::json layer{{"id", m.id},           {"label", m.label},     {"kind", "mesh"},
                          {"color", m.color},     {"opacity", m.opacity}, {"visible", m.visible},
                          {"original_triangles", original}, {"mesh", encode_mesh(m.mesh)}};

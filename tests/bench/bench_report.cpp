@@ -7,7 +7,10 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+
+#include <nlohmann/json.hpp>
 
 #include "job.hpp"
 #include "report.hpp"
@@ -31,20 +34,34 @@ const Impeller& impeller() {
     const fs::path dir = fs::path(TILTFIELD_BINARY_DIR) / "report_impeller";
     try {
       d.scene = tf::load_scene(scene_file);
-      tf::JobOptions options;
-      options.out_dir = dir;
-      const char* res = std::getenv("TILTFIELD_BENCH_RESOLUTION");
-      options.resolution_mm = res ? std::atof(res) : 0.25;
-      const tf::JobSummary s = tf::run_job(d.scene, options);
+      // TILTFIELD_BENCH_REUSE=1 keeps a previous run's folder (the job takes minutes) and its numbers.
+      const bool reuse = std::getenv("TILTFIELD_BENCH_REUSE") && fs::exists(dir / "job_summary.json");
+      nlohmann::json js;
+      if (reuse) {
+        js = nlohmann::json::parse(std::ifstream(dir / "job_summary.json"));
+      } else {
+        tf::JobOptions options;
+        options.out_dir = dir;
+        const char* res = std::getenv("TILTFIELD_BENCH_RESOLUTION");
+        options.resolution_mm = res ? std::atof(res) : 0.25;
+        const tf::JobSummary s = tf::run_job(d.scene, options);
+        js = {{"resolution_mm", options.resolution_mm}, {"collisions_first", s.collisions_first},
+              {"collisions_final", s.collisions_final}, {"min_clearance_mm", s.min_clearance_mm},
+              {"rounds", s.rounds}, {"rows_replanned", s.rows_replanned},
+              {"seconds", {s.seconds.plan, s.seconds.post, s.seconds.verify, s.seconds.replan}}};
+        tf::write_file_atomic(dir / "job_summary.json", [&](std::ostream& out) { out << js.dump(2); });
+      }
       d.run = tf::reporting::load_run_folder(d.scene, dir);
       auto& sum = d.run->inputs.summary;
       sum.title = "Impeller (bundled scene)";
-      sum.collisions_found = int(s.collisions_first);
-      sum.collisions_fixed = int(s.collisions_first) - int(s.collisions_final);
-      sum.min_clearance_mm = s.min_clearance_mm;
-      sum.stages = {{"plan", s.seconds.plan}, {"post", s.seconds.post}, {"verify", s.seconds.verify}, {"replan", s.seconds.replan}};
-      sum.note = "tiltfield run, dexel spacing " + tf::fixed(options.resolution_mm, 3) + " mm; " +
-                 std::to_string(s.rounds) + " re-plan round(s), " + std::to_string(s.rows_replanned) + " rows re-planned.";
+      sum.collisions_found = js["collisions_first"].get<int>();
+      sum.collisions_fixed = js["collisions_first"].get<int>() - js["collisions_final"].get<int>();
+      sum.min_clearance_mm = js["min_clearance_mm"].get<double>();
+      const auto sec = js["seconds"].get<std::vector<double>>();
+      sum.stages = {{"plan", sec[0]}, {"post", sec[1]}, {"verify", sec[2]}, {"replan", sec[3]}};
+      sum.note = "tiltfield run, dexel spacing " + tf::fixed(js["resolution_mm"].get<double>(), 3) + " mm; " +
+                 std::to_string(js["rounds"].get<int>()) + " re-plan round(s), " +
+                 std::to_string(js["rows_replanned"].get<int>()) + " rows re-planned.";
     } catch (const std::exception& e) {
       d.error = e.what();
     }

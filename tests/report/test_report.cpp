@@ -136,6 +136,22 @@ TEST(Report, WritesAtomicallyAndRejectsBadInputs) {
     EXPECT_EQ(e.path().filename(), "report.html") << "no temporary left behind";
 }
 
+TEST(Report, TriangleBudgetSparesSmallMeshes) {
+  if (!viewer_built_in()) GTEST_SKIP() << "built without the 3-D viewer";
+  auto job = synthetic_job();
+  ReportOptions opt;
+  opt.max_triangles = 4000;  // stock 10800 + design 4800 + boss ~200 triangles
+  const auto data = scene_data(render_html_report(job->inputs, opt));
+  const auto& check = *layer(data, "check");
+  EXPECT_EQ(check["mesh"]["triangles"], check["original_triangles"]) << "below its share: kept whole";
+  size_t total = 0;
+  for (const auto& l : data["layers"])
+    if (l["kind"] == "mesh") total += l["mesh"]["triangles"].get<size_t>();
+  EXPECT_LE(total, opt.max_triangles);
+  EXPECT_GE(total, opt.max_triangles / 3);
+  EXPECT_LT(layer(data, "stock")->at("mesh")["triangles"].get<size_t>(), job->stock.n_faces());
+}
+
 TEST(Report, LongTablesAreCut) {
   auto job = synthetic_job();
   for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back({i, i + 1, "ball", "stock", true, 0.1});

@@ -180,7 +180,8 @@ export function startViewer() {
   const controls = new OrbitControls(camera, renderer.domElement);
   const home = () => {
     const dir = new Vector3(0.55, -0.85, 0.75).normalize();
-    const dist = sphere.radius / Math.sin((camera.fov * Math.PI) / 360) * 1.05;
+    // A box's bounding sphere is loose: 0.9 of the distance that fits it still frames the part.
+    const dist = sphere.radius / Math.sin((camera.fov * Math.PI) / 360) * 0.9;
     camera.position.copy(sphere.center).addScaledVector(dir, dist);
     camera.near = dist / 100;
     camera.far = dist * 10;
@@ -229,8 +230,10 @@ export function startViewer() {
     layersEl.appendChild(label);
     if (legendsEl && layer.value_range) {
       const [lo, hi] = layer.value_range;
-      if (layer.kind === 'mesh') legend(legendsEl, layer.value_label, DEVIATION_STOPS.map(([t, c]) => [t < 0 ? -t * lo : t * hi, c]), [lo, lo / 2, 0, hi / 2, hi], fmt);
-      else legend(legendsEl, layer.value_label, clearanceStops(layer.safety_distance, hi), [0, layer.safety_distance, hi], fmt);
+      // Evenly spaced ticks: the labels sit where their values are on the (linear) ramp.
+      const ticks = (a, b) => [0, 1, 2, 3, 4].map((k) => a + ((b - a) * k) / 4);
+      if (layer.kind === 'mesh') legend(legendsEl, layer.value_label, DEVIATION_STOPS.map(([t, c]) => [t < 0 ? -t * lo : t * hi, c]), ticks(lo, hi), fmt);
+      else legend(legendsEl, layer.value_label, clearanceStops(layer.safety_distance, hi), ticks(0, hi), fmt);
     }
   }
 
