@@ -168,8 +168,13 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
       },
       [&](int i, double best) {
         const Triangle& t = bvh.triangle(i);
-        const double capsule = segment_triangle_distance(p0, p1, t) - R;  // the capsule encloses the cylinder
+        double s = 0;
+        const double capsule = segment_triangle_distance(p0, p1, t, &s) - R;  // the capsule encloses the cylinder
         if (capsule >= best) return capsule;
+        // A closest axis point strictly inside the segment means the capsule's nearest point is on the
+        // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the
+        // capsule distance is the cylinder's, exactly. Only cap-side contacts need GJK.
+        if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
         return triangle_cylinder_distance(t, p0, p1, R);
       },
       limit, first_below ? limit : -inf);

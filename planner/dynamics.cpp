@@ -132,7 +132,19 @@ class Repulsion {
       const Vector3d cc = c + ch.hc * a;
       const double reach = p_.influence + ch.required;
       double lb = cache_.bound[k] - (cc - cache_.centre[k]).norm();
+      bool fresh = false;
       if (lb < reach) {
+        // Near the surfaces the field answers (its trilinear value is within sqrt(3) cells of the exact
+        // distance); far away (or off the grid) an exact query gives a bound that stays valid longer.
+        const double df = field_.sample(cc, nullptr);
+        if (df < field_.band()) {
+          cache_.centre[k] = cc;
+          cache_.bound[k] = df - std::sqrt(3.0) * field_.cell() - ch.rho;
+          lb = cache_.bound[k];
+          fresh = true;
+        }
+      }
+      if (lb < reach && !fresh) {
         const double limit = 2 * (reach + ch.rho);
         const ClosestHit h = bvh_.closest(cc, limit, cache_.hint[k]);
         cache_.hint[k] = h.triangle;

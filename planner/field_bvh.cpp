@@ -49,12 +49,14 @@ Vector3d closest_point_on_triangle(const Vector3d& p, const Triangle& t) {
   return t.a + ab * v + ac * w;
 }
 
-double segment_segment_distance(const Vector3d& p1, const Vector3d& q1, const Vector3d& p2, const Vector3d& q2) {
+double segment_segment_distance(const Vector3d& p1, const Vector3d& q1, const Vector3d& p2, const Vector3d& q2,
+                                double* s_out) {
   // Ericson 5.1.9, clamped parameters.
   const Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   double s = 0, t = 0;
   constexpr double eps = 1e-18;
+  if (s_out) *s_out = 0;
   if (a <= eps && e <= eps) return r.norm();
   if (a <= eps) {
     t = std::clamp(f / e, 0.0, 1.0);
@@ -75,10 +77,11 @@ double segment_segment_distance(const Vector3d& p1, const Vector3d& q1, const Ve
       }
     }
   }
+  if (s_out) *s_out = s;
   return ((p1 + d1 * s) - (p2 + d2 * t)).norm();
 }
 
-double segment_triangle_distance(const Vector3d& p0, const Vector3d& p1, const Triangle& t) {
+double segment_triangle_distance(const Vector3d& p0, const Vector3d& p1, const Triangle& t, double* s_out) {
   // Crossing: the segment's endpoints on opposite sides of the plane and the crossing point inside.
   const Vector3d n = (t.b - t.a).cross(t.c - t.a);
   const double s0 = n.dot(p0 - t.a), s1 = n.dot(p1 - t.a);
@@ -87,13 +90,21 @@ double segment_triangle_distance(const Vector3d& p0, const Vector3d& p1, const T
       const Vector3d x = p0 + (p1 - p0) * (s0 / (s0 - s1));
       const double u = n.dot((t.b - t.a).cross(x - t.a)), v = n.dot((t.c - t.b).cross(x - t.b)),
                    w = n.dot((t.a - t.c).cross(x - t.c));
-      if ((u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0)) return 0.0;
+      if ((u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0)) {
+        if (s_out) *s_out = s0 / (s0 - s1);
+        return 0.0;
+      }
     }
   }
-  double d = std::min((closest_point_on_triangle(p0, t) - p0).norm(), (closest_point_on_triangle(p1, t) - p1).norm());
-  d = std::min(d, segment_segment_distance(p0, p1, t.a, t.b));
-  d = std::min(d, segment_segment_distance(p0, p1, t.b, t.c));
-  d = std::min(d, segment_segment_distance(p0, p1, t.c, t.a));
+  const double d0 = (closest_point_on_triangle(p0, t) - p0).norm(), d1 = (closest_point_on_triangle(p1, t) - p1).norm();
+  double d = d0 <= d1 ? d0 : d1, s = d0 <= d1 ? 0.0 : 1.0;
+  const Vector3d* e[3][2] = {{&t.a, &t.b}, {&t.b, &t.c}, {&t.c, &t.a}};
+  for (const auto& edge : e) {
+    double se = 0;
+    const double de = segment_segment_distance(p0, p1, *edge[0], *edge[1], &se);
+    if (de < d) d = de, s = se;
+  }
+  if (s_out) *s_out = s;
   return d;
 }
 

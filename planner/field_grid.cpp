@@ -67,6 +67,9 @@ double DistanceField::sample(const Vector3d& p, Vector3d* gradient) {
   if (gradient) gradient->setZero();
   if (index_.empty()) return band_;
   const Vector3d g = (p - origin_) / cell_;
+  // Outside the grid (checked in floating point, before any conversion to int): far from every surface.
+  for (int k = 0; k < 3; ++k)
+    if (!(g[k] >= 0.0 && g[k] < static_cast<double>(dims_[k]) * kBrick)) return band_;
   const int ix = static_cast<int>(std::floor(g.x())), iy = static_cast<int>(std::floor(g.y())),
             iz = static_cast<int>(std::floor(g.z()));
   const int bx = ix / kBrick, by = iy / kBrick, bz = iz / kBrick;
@@ -101,8 +104,8 @@ void DistanceField::prefetch(const std::vector<Vector3d>& points, double radius)
     const Vector3d lo = (p - Vector3d::Constant(radius) - origin_) / bs, hi = (p + Vector3d::Constant(radius) - origin_) / bs;
     int a[3], b[3];
     for (int k = 0; k < 3; ++k) {
-      a[k] = std::max(0, static_cast<int>(std::floor(lo[k])));
-      b[k] = std::min(dims_[k] - 1, static_cast<int>(std::floor(hi[k])));
+      a[k] = static_cast<int>(std::clamp(std::floor(lo[k]), 0.0, static_cast<double>(dims_[k])));
+      b[k] = static_cast<int>(std::clamp(std::floor(hi[k]), -1.0, static_cast<double>(dims_[k] - 1)));
     }
     for (int z = a[2]; z <= b[2]; ++z)
       for (int y = a[1]; y <= b[1]; ++y)

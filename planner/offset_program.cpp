@@ -9,11 +9,13 @@
 namespace tf::offset {
 namespace {
 using Eigen::Vector2d;
-constexpr int kDecimals = 6;
+// 8 decimals (10 nm): the printed path stays within 1e-8 mm of the exact one, far inside the 1e-6 mm
+// exactness the geometry keeps, and the interpreter's arc radius check sees consistent numbers.
+constexpr int kDecimals = 8;
 
 std::string num(double v) { return fixed(v, kDecimals); }
 Vector2d rounded(const Vector2d& p) {
-  auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
+  auto r = [](double v) { return std::round(v * 1e8) / 1e8; };
   return {r(p.x()), r(p.y())};
 }
 
@@ -51,8 +53,10 @@ struct Writer {
   bool segment(const Segment& s, const std::string& feed_word) {
     const Vector2d end = rounded(s.b);
     if (end == cur) return false;  // would read as a full circle (G2/G3) or nothing (G1)
-    // Tiny arcs go out as lines: their sagitta is far below the printed resolution.
-    if (!s.is_arc() || (s.b - s.a).norm() < 1e-4 || s.r > 1e5) {
+    // Arcs whose sagitta is below the printed resolution go out as lines (tiny or nearly straight arcs,
+    // which the interpreter's radius check handles badly).
+    const double sagitta = s.is_arc() ? s.r * (1 - std::cos(0.5 * std::min(std::abs(s.sweep), 3.0))) : 0.0;
+    if (!s.is_arc() || (s.b - s.a).norm() < 1e-6 || sagitta < 5e-9) {
       out << "G1 X" << num(s.b.x()) << " Y" << num(s.b.y()) << feed_word << "\n";
     } else {
       out << (s.sweep > 0 ? "G3" : "G2") << " X" << num(s.b.x()) << " Y" << num(s.b.y()) << " I"

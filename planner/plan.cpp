@@ -43,9 +43,16 @@ void axis_metrics(const OrientedPath& path, PlanMetrics& m) {
 }
 
 PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
-                     const PlannerBasics& basics, double feed, const PlanOptions& options, const Progress& progress) {
+                     const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
+                     const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   PlanResult result;
+  auto last = t0;
+  auto stage = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    result.metrics.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - last).count());
+    last = now;
+  };
   const size_t n = path.rows.size();
   PlanContext ctx;
   ctx.path = &path;
@@ -63,8 +70,17 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   }
   report(progress, "plan", 0.0);
   ctx.bvh = TriangleBvh(check_surfaces);
+  stage("bvh");
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
+  if (machine) {
+    bool limited = false;
+    for (char c : machine->rotary_axes()) {
+      const auto it = machine->limits.find(c);
+      limited |= it != machine->limits.end() && (std::isfinite(it->second.min) || std::isfinite(it->second.max));
+    }
+    if (limited) ctx.kinematics.emplace(*machine, tool.length);
+  }
   report(progress, "plan", 0.05);
 
   // How many rows the nominal axis leaves too close (for the report).
@@ -75,6 +91,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
         return acc;
       },
       std::plus<size_t>());
+  stage("nominal_check");
 
   std::vector<Vector3d> axes;
   if (options.method == PlanMethod::Pointwise) {
@@ -111,21 +128,29 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
       for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
       field.prefetch(wanted, rho + field.cell());
     }
+    stage("field");
     report(progress, "plan", 0.1);
     axes = integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
                           dynamics_params(options, tool, basics), progress);
   }
   report(progress, "plan", 0.7);
+  stage("axes");
   std::vector<BodyClearance> clear = all_clearances(ctx, axes);
+  stage("clearance");
   report(progress, "plan", 0.8);
   result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  stage("corrections");
   if (options.smooth) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed) result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+    stage("smoothing");
   }
-  // TODO(kinematics): when planner/kinematics.cpp is on main, reject axes the scene's machine cannot
-  // reach (Kinematics::inverse) like rows beyond max_tilt_deg. Until then only max_tilt_deg is enforced.
-  result.notes.push_back("machine rotary limits are not checked by the planner yet; only max_tilt_deg is enforced");
+  if (!machine)
+    result.notes.push_back("no machine: only max_tilt_deg limits the axis");
+  else if (!ctx.kinematics)
+    result.notes.push_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+  std::vector<char> unreachable(n, 0);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) { unreachable[i] = ctx.reachable(i, axes[i]) ? 0 : 1; });
 
   result.path.rows.resize(n);
   double min_c = std::numeric_limits<double>::infinity();
@@ -139,11 +164,13 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     o.clearance_mm = finite_or(clear[i].distance, kNoObstacle);
     o.feed = path.rows[i].feed;
     min_c = std::min(min_c, o.clearance_mm);
-    if (clear[i].margin < 0) result.uncleared.push_back({i, o.clearance_mm, clear[i].margin});
+    if (clear[i].margin < 0 || unreachable[i])
+      result.uncleared.push_back({i, o.clearance_mm, clear[i].margin, unreachable[i] != 0});
   }
   result.metrics.rows = n;
   result.metrics.min_clearance_mm = n ? min_c : kNoObstacle;
-  result.metrics.rows_below_safety = result.uncleared.size();
+  result.metrics.rows_below_safety = 0;
+  for (const auto& u : result.uncleared) result.metrics.rows_below_safety += u.margin_mm < 0 ? 1 : 0;
   axis_metrics(result.path, result.metrics);
   result.metrics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report(progress, "plan", 1.0);
@@ -153,7 +180,8 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
 PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress) {
   std::vector<const Mesh*> meshes;
   for (const auto& m : scene.check_surfaces) meshes.push_back(&m);
-  return plan_path(scene.path, scene.tool, meshes, scene.planner, scene.feed, options, progress);
+  return plan_path(scene.path, scene.tool, meshes, scene.planner, scene.feed, options,
+                   scene.machine ? &*scene.machine : nullptr, progress);
 }
 
 nlohmann::json plan_report_json(const PlanResult& r) {
@@ -170,8 +198,12 @@ nlohmann::json plan_report_json(const PlanResult& r) {
   j["max_deg_per_mm"] = m.max_deg_per_mm;
   j["rms_second_difference"] = m.rms_second_difference;
   j["seconds"] = m.seconds;
+  nlohmann::json st = nlohmann::json::object();
+  for (const auto& [k, v] : m.stage_seconds) st[k] = v;
+  j["stage_seconds"] = st;
   nlohmann::json un = nlohmann::json::array();
-  for (const auto& u : r.uncleared) un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}});
+  for (const auto& u : r.uncleared)
+    un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}, {"unreachable", u.unreachable}});
   j["uncleared"] = un;
   j["notes"] = r.notes;
   return j;

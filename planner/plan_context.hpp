@@ -1,8 +1,10 @@
 // tiltfield planner (internal): what every stage of one planning job shares.
 #pragma once
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
+#include "tiltfield/kinematics.hpp"
 #include "tiltfield/local_frame.hpp"
 #include "tiltfield/plan.hpp"
 #include "tiltfield/tool_body.hpp"
@@ -23,6 +25,14 @@ struct PlanContext {
   std::vector<BodyPiece> pieces;
   std::vector<double> required;  // per piece, mm
   double cos_max_tilt = 0.5;
+  // Set when the scene's machine has rotary axes with limits: axes must then have a joint solution.
+  std::optional<Kinematics> kinematics;
+
+  bool reachable(size_t row, const Eigen::Vector3d& axis) const {
+    if (!kinematics) return true;
+    const ToolPose pose{path->rows[row].p - tool->cl_height() * axis, axis};
+    return !kinematics->inverse(pose, Joints{}).empty();
+  }
 
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {path->rows[row].p, axis}; }
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis) const {

@@ -32,9 +32,10 @@ std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vec
 bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra, double step,
                             Vector3d& turn) {
   turn.setZero();
-  if (ctx.clears(row, axis, extra)) return true;
+  const bool clear_now = ctx.clears(row, axis, extra);
+  if (clear_now && ctx.reachable(row, axis)) return true;
   // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
-  for (size_t i = 0; i < ctx.pieces.size(); ++i)
+  for (size_t i = 0; i < ctx.pieces.size() && !clear_now; ++i)
     if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0) {
       const double need = ctx.required[i] + extra;
       if (piece_distance(ctx.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
@@ -56,7 +57,7 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
   const double max_angle = 2.0 * std::acos(std::clamp(ctx.cos_max_tilt, -1.0, 1.0)) + step;
   auto ok = [&](const Vector3d& w) {
     const Vector3d a = rotate_axis(axis, w);
-    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.clears(row, a, extra);
+    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.clears(row, a, extra) && ctx.reachable(row, a);
   };
   for (double ang = step; ang <= max_angle; ang += step) {
     int best = -1;
@@ -96,8 +97,10 @@ size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, st
   const double step = 0.5 * std::numbers::pi / 180.0;
   for (int iter = 0; iter < ctx.options.correction_iterations; ++iter) {
     std::vector<size_t> failing;
+    std::vector<char> bad(n, 0);
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) { bad[i] = clear[i].margin < 0 || !ctx.reachable(i, axes[i]); });
     for (size_t i = 0; i < n; ++i)
-      if (clear[i].margin < 0) failing.push_back(i);
+      if (bad[i]) failing.push_back(i);
     if (failing.empty()) break;
     // Later rounds aim a little higher, so rows pulled back by their neighbours' blend converge.
     const double extra = ctx.options.correction_margin_mm * (1 + iter);

@@ -236,22 +236,47 @@ Program post_program(const OrientedPath& path, const PostJob& job, const PostOpt
   Builder b(kin, job, options, tcp, bounds);
   b.start(poses[0], joints[0], feeds[0]);
   std::vector<PosedJoints> pieces;
-  InverseOptions exact;
-  exact.pole_tolerance_deg = 0.0;
   for (size_t i = 1; i < poses.size(); ++i) {
     pieces.clear();
     ToolPose p0 = poses[i - 1];
     Joints j0 = joints[i - 1];
     if (!linearize(kin, p0, j0, poses[i], joints[i], lo, pieces)) {
-      // A discontinuous move (the limits force a change of configuration here): take the previous row
-      // again in the configuration of this one, through a retract.
-      auto other = kin.inverse_nearest(p0, joints[i], exact);
-      if (!other || rotary_distance(*other, j0) < 1e-6 || !linearize(kin, p0, *other, poses[i], joints[i], lo, pieces))
-        throw JobError(segment_failure(i - 1, lo));
-      b.program().warnings.push_back("row " + std::to_string(i - 1) +
-                                     ": change of configuration (retract, turn the rotaries, re-approach)");
-      b.reposition(p0, j0, p0, *other, feeds[i]);
-      j0 = *other;
+      // A discontinuous move (the limits force a change of configuration here). Either take the previous
+      // row again in a configuration that runs on to this one, or finish the move in the present
+      // configuration and change it at this row; either way through a retract.
+      auto by_distance = [](std::vector<Joints> v, const Joints& to) {
+        std::sort(v.begin(), v.end(), [&](const Joints& x, const Joints& y) {
+          return rotary_distance(x, to) < rotary_distance(y, to);
+        });
+        return v;
+      };
+      bool done = false;
+      for (const Joints& other : by_distance(all_solutions(p0, kin, joints[i]), joints[i])) {
+        if (rotary_distance(other, j0) < 1e-6 || !linearize(kin, p0, other, poses[i], joints[i], lo, pieces)) continue;
+        b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration before it (retract, turn, re-approach)");
+        b.reposition(p0, j0, p0, other, feeds[i]);
+        j0 = other;
+        done = true;
+        break;
+      }
+      if (!done) {
+        for (const Joints& same : by_distance(all_solutions(poses[i], kin, j0), j0)) {
+          if (!linearize(kin, p0, j0, poses[i], same, lo, pieces)) continue;
+          for (const PosedJoints& q : pieces) {
+            b.cut(p0, j0, q.pose, q.joints, feeds[i]);
+            p0 = q.pose;
+            j0 = q.joints;
+          }
+          pieces.clear();
+          b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration at it (retract, turn, re-approach)");
+          b.reposition(poses[i], j0, poses[i], joints[i], feeds[i]);
+          p0 = poses[i];
+          j0 = joints[i];
+          done = true;
+          break;
+        }
+      }
+      if (!done) throw JobError(segment_failure(i - 1, lo));
     }
     for (const PosedJoints& q : pieces) {
       b.cut(p0, j0, q.pose, q.joints, feeds[i]);

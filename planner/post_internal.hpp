@@ -15,6 +15,10 @@ namespace tf::post_detail {
 // and the tilt that best matches their axis. Throws PostRowError for a row without any solution.
 std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options);
 
+// Every joint solution of a pose within the limits: both solutions and, for a C axis with limits, each
+// of its turns (continuous axes: the turn nearest `near`).
+std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near);
+
 // Why `pose` has no joint solution on this machine, in plain words (for PostRowError).
 std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, const PostOptions& options);
 

@@ -2,6 +2,7 @@
 // leaves the intended straight segment and the axis the intended great circle; blocks are bisected
 // until both stay within the tolerances.
 #include <cmath>
+#include <limits>
 
 #include "post_internal.hpp"
 
@@ -79,7 +80,21 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
   } else {
     InverseOptions exact;
     exact.pole_tolerance_deg = kin.machine().kinematics == KinematicsType::XYZ ? o.pole_tolerance_deg : 0.0;
-    jm = kin.inverse_nearest(pm, mid, exact);
+    // Stay on the ends' solution branch (sign of the tilt) when they share one: near the pole the
+    // nearest solution can be the mirror one, and a branch change inside the move never converges.
+    const KinematicsType k = kin.machine().kinematics;
+    auto tilt = [k](const Joints& j) {
+      return std::remainder(k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC ? j.a : j.b, 360.0);
+    };
+    const bool same_branch = (tilt(j0) > 0) == (tilt(j1) > 0) && tilt(j0) != 0 && tilt(j1) != 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (const Joints& c : kin.inverse(pm, mid, exact)) {
+      const double d = rotary_distance(c, mid) + (same_branch && (tilt(c) > 0) != (tilt(j0) > 0) ? 1e6 : 0.0);
+      if (d < best) {
+        best = d;
+        jm = c;
+      }
+    }
   }
   if (!jm) return false;
   return refine(kin, p0, j0, pm, *jm, o, depth + 1, out) && refine(kin, pm, *jm, p1, j1, o, depth + 1, out);

@@ -58,7 +58,42 @@ std::vector<Candidate> candidates(const ToolPose& pose, const Kinematics& kin, c
   return out;
 }
 
+// Angle (deg) from the pole +Z to the great-circle arc between unit axes a and b.
+double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double ends = std::min(Kinematics::pole_angle_deg(a), Kinematics::pole_angle_deg(b));
+  const Eigen::Vector3d n = a.cross(b);
+  if (n.norm() < 1e-12) return ends;
+  const Eigen::Vector3d u = n.normalized();
+  const Eigen::Vector3d w = Eigen::Vector3d(-u.z() * u.x(), -u.z() * u.y(), 1.0 - u.z() * u.z());  // ez off the plane
+  if (w.norm() < 1e-12) return ends;                                                             // arc on the equator
+  const Eigen::Vector3d wn = w.normalized();
+  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); };
+  if (std::abs(ang(a, wn) + ang(wn, b) - ang(a, b)) > 1e-9) return ends;  // the nearest point is off the arc
+  return std::asin(std::min(1.0, std::abs(u.z()))) * 180.0 / 3.14159265358979323846;
+}
+
+// A change between the two solutions across one move makes the tilt pass 0, so the joint-linear axis
+// passes the pole itself: fine when the wanted arc passes that close anyway, otherwise the move cannot
+// be linearised and would need a retract. Priced like one, so that it is taken only when forced.
+constexpr double kFlipPenalty = 1e6;
+
 }  // namespace
+
+std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near) {
+  InverseOptions exact;
+  exact.pole_tolerance_deg = 0.0;
+  std::vector<Joints> out;
+  const AxisLimit* c_limit = limit(kin.machine(), 'C');
+  for (const Joints& j : kin.inverse(pose, near, exact)) {
+    if (!c_limit) {
+      out.push_back(j);
+      continue;
+    }
+    for (int turn = -3; turn <= 3; ++turn)
+      if (auto t = kin.inverse_with_c(pose, j.c + 360.0 * turn, j)) out.push_back(*t);
+  }
+  return out;
+}
 
 std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, const PostOptions& options) {
   const MachineSpec& m = kin.machine();
@@ -144,13 +179,16 @@ std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kine
       for (size_t s = 0; s < c.size(); ++s) lc[s] = 1e-3 * (metric.tilt(c[s].tilt, 0) + metric.c(c[s].c, 0));
     } else {
       const bool through_pole = layer_row.back() + 1 != i;
+      const bool flip_is_costly = !through_pole && arc_pole_distance(poses[i - 1].axis, poses[i].axis) >
+                                                       options.axis_tolerance_deg + options.pole_tolerance_deg;
       const auto& pc = cand.back();
       const auto& pcost = cost.back();
       for (size_t s = 0; s < c.size(); ++s) {
         for (size_t p = 0; p < pc.size(); ++p) {
           const double dt = through_pole ? metric.tilt(pc[p].tilt, 0) + metric.tilt(0, c[s].tilt)
                                          : metric.tilt(pc[p].tilt, c[s].tilt);
-          const double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
+          double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
+          if (!through_pole && flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0)) v += kFlipPenalty;
           if (v < lc[s]) {
             lc[s] = v;
             lf[s] = static_cast<int>(p);

@@ -21,13 +21,16 @@ void add_grind_command(CLI::App& app) {
   cmd->add_option("--spacing", args.sections.spacing, "section spacing, mm")->capture_default_str();
   cmd->add_option("--step", args.sections.step, "largest relative motion per increment, mm")->capture_default_str();
   cmd->callback([] {
-    if (!(args.sections.spacing > 0.0)) throw InputError("", 0, "--spacing", "must be positive");
-    if (!(args.sections.step > 0.0)) throw InputError("", 0, "--step", "must be positive");
+    if (!(args.sections.spacing >= 0.001)) throw InputError("", 0, "--spacing", "must be at least 0.001 mm");
+    if (!(args.sections.step >= 0.001)) throw InputError("", 0, "--step", "must be at least 0.001 mm");
     const grind::GrindScene scene = grind::load_grind_scene(args.scene);
+    if (scene.blank.length / args.sections.spacing > 1e6)
+      throw InputError("", 0, "--spacing", "more than a million sections: use a larger spacing");
     const Progress progress = terminal_progress();
     const grind::SectionStack stack = grind::simulate_sections(scene, args.sections, progress);
     grind::TilingStats stats;
     const Mesh mesh = grind::tile_sections(stack, {}, &stats);
+    if (mesh.n_faces() == 0) throw JobError("the program grinds the whole blank away: no tool left");
     if (!is_closed(mesh)) throw JobError("the rebuilt tool surface is not closed (please report this scene)");
     if (!args.svg.empty()) grind::write_sections_svg(stack, args.svg);
     write_mesh(mesh, args.out);

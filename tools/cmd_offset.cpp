@@ -1,6 +1,7 @@
 // `tiltfield offset`: offset-profile trajectory for copy milling or ECM (issue 7, docs/offset.md).
+#include <algorithm>
 #include <memory>
-#include <regex>
+#include <cctype>
 #include <sstream>
 
 #include "cli.hpp"
@@ -24,7 +25,9 @@ void check_positive(double v, const char* field) {
   if (!(v > 0)) throw InputError("", 0, field, "must be positive, got " + fixed(v, 9));
 }
 void check_mcode(const std::string& code, const char* field) {
-  if (!std::regex_match(code, std::regex("M[0-9]{1,3}")))
+  const bool digits = code.size() >= 2 && code.size() <= 4 &&
+                      std::all_of(code.begin() + 1, code.end(), [](unsigned char c) { return std::isdigit(c); });
+  if (code.empty() || code[0] != 'M' || !digits)
     throw InputError("", 0, field, "expected an M-code like M8, got '" + code + "'");
 }
 

@@ -73,7 +73,8 @@ void add_plan_command(CLI::App& app) {
       std::ostringstream msg;
       msg << result.uncleared.size() << " row(s) could not be cleared (row: clearance mm):";
       for (size_t k = 0; k < result.uncleared.size() && k < 10; ++k)
-        msg << (k ? "," : "") << " " << result.uncleared[k].row << ": " << fixed(result.uncleared[k].clearance_mm, 4);
+        msg << (k ? "," : "") << " " << result.uncleared[k].row << ": " << fixed(result.uncleared[k].clearance_mm, 4)
+            << (result.uncleared[k].unreachable ? " (unreachable)" : "");
       if (result.uncleared.size() > 10) msg << ", ... (all in --json)";
       throw JobError(msg.str());
     }

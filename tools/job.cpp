@@ -7,7 +7,6 @@
 #include "tiltfield/error.hpp"
 #include "tiltfield/gcode.hpp"
 #include "tiltfield/io.hpp"
-#include "tiltfield/kinematics.hpp"
 #include "tiltfield/plan.hpp"
 #include "tiltfield/post.hpp"
 #include "tiltfield/replan.hpp"
@@ -62,27 +61,23 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   post_job.part_bounds = scene_bounds(scene);
   post_job.title = "tiltfield run: " + scene.file.filename().string();
   const PostOptions post_options;
-  const Kinematics kinematics(machine, scene.tool.length);
-  const ForwardFn forward = [&kinematics](const Joints& j) { return kinematics.forward(j); };
+  const ForwardFn forward = scene_forward(scene);
   VerifyOptions verify_options;
   verify_options.resolution = options.resolution_mm;
   verify_options.progress = options.progress;
 
   auto post_and_verify = [&](OrientedPath path) {
-    Round r;
-    r.path = std::move(path);
     auto t = std::chrono::steady_clock::now();
-    const Program posted = post_program(r.path, post_job, post_options, options.progress);
+    const Program posted = post_program(path, post_job, post_options, options.progress);
     std::ostringstream text;
     write_gcode(text, posted, post_job, post_options);
-    r.program_text = text.str();
     // Verify the text exactly as it will be written, so collisions name its lines.
-    r.program = parse_gcode(r.program_text, (options.out_dir / "program.ngc").string(), machine);
+    Program read_back = parse_gcode(text.str(), (options.out_dir / "program.ngc").string(), machine);
     summary.seconds.post += seconds_since(t);
     t = std::chrono::steady_clock::now();
-    r.verified = verify_program(scene, r.program, forward, verify_options);
+    VerifyResult verified = verify_program(scene, read_back, forward, verify_options);
     summary.seconds.verify += seconds_since(t);
-    return r;
+    return Round{std::move(path), text.str(), std::move(read_back), std::move(verified)};
   };
 
   Round current = post_and_verify(planned.path);

@@ -65,7 +65,7 @@ struct ImpellerOptions {
   int passes = 9;                 // passes across the channel, >= 1
   double m_start = 0.03;          // first meridional parameter of a pass
   double m_end = 0.97;            // last meridional parameter of a pass
-  double ball_clearance = 0.2;    // least distance of the ball to any blade, mm
+  double ball_clearance = 1.2;    // least distance of the ball to any blade, mm (above the scene's 1.0 mm safety distance, which binds the ball too)
   double feed = 1500.0;           // mm/min
 };
 

@@ -25,7 +25,7 @@ struct PocketOptions {
   double tool_radius = 3.0;      // ball radius, mm
   double step = 0.5;             // cutter-location spacing, mm
   int passes = 9;                // passes across the floor, >= 1
-  double ball_clearance = 0.2;   // least distance of the ball to the walls, mm
+  double ball_clearance = 1.2;   // least distance of the ball to the walls, mm (above the 1.0 mm safety distance)
   double feed = 1500.0;          // mm/min
 };
 

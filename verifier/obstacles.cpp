@@ -17,10 +17,17 @@ RayTable::RayTable(const Mesh& mesh, const Lattice& L) {
     Grid& g = grids_[d];
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
     if (box.isEmpty()) continue;
-    g.u0 = std::clamp(static_cast<int>(std::ceil((box.min()[u] - L.origin[u]) / L.h)), 0, L.n[u]);
-    const int u1 = std::clamp(static_cast<int>(std::floor((box.max()[u] - L.origin[u]) / L.h)) + 1, 0, L.n[u]);
-    g.v0 = std::clamp(static_cast<int>(std::ceil((box.min()[v] - L.origin[v]) / L.h)), 0, L.n[v]);
-    const int v1 = std::clamp(static_cast<int>(std::floor((box.max()[v] - L.origin[v]) / L.h)) + 1, 0, L.n[v]);
+    // Node index ranges of the box, clamped in double before the conversion.
+    auto first = [&](double x, int a) {
+      return static_cast<int>(std::clamp(std::ceil((x - L.origin[a]) / L.h), 0.0, double(L.n[a])));
+    };
+    auto past = [&](double x, int a) {
+      return static_cast<int>(std::clamp(std::floor((x - L.origin[a]) / L.h) + 1.0, 0.0, double(L.n[a])));
+    };
+    g.u0 = first(box.min()[u], u);
+    const int u1 = past(box.max()[u], u);
+    g.v0 = first(box.min()[v], v);
+    const int v1 = past(box.max()[v], v);
     g.nu = std::max(0, u1 - g.u0);
     g.nv = std::max(0, v1 - g.v0);
     g.lo = static_cast<float>(box.min()[d] - L.origin[d]);

@@ -22,7 +22,9 @@ std::string escape(const std::string& s) {
 
 void write_sections_svg(const SectionStack& stack, const std::filesystem::path& file, int panels) {
   static const char* const kPalette[] = {"#555555", "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e",
-                                         "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"};
+                                         "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
+                                         "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173",
+                                         "#3182bd"};
   const int n = static_cast<int>(stack.sections.size());
   const int count = std::max(1, std::min(panels, n));
   const int cols = std::min(count, 6), rows = (count + cols - 1) / cols;
@@ -44,7 +46,7 @@ void write_sections_svg(const SectionStack& stack, const std::filesystem::path& 
         for (size_t i = 0; i < m;) {  // one polyline per run of equal labels
           size_t j = i;
           while (j + 1 < m && c.labels[j + 1] == c.labels[i]) ++j;
-          out << "<polyline fill=\"none\" stroke-width=\"1.2\" stroke=\"" << kPalette[c.labels[i] % 10] << "\" points=\"";
+          out << "<polyline fill=\"none\" stroke-width=\"1.2\" stroke=\"" << kPalette[c.labels[i] % 16] << "\" points=\"";
           for (size_t t = i; t <= j + 1; ++t) {
             const auto& q = c.points[t % m];
             out << fixed(cx + q.x() * scale, 2) << "," << fixed(cy - q.y() * scale, 2) << " ";
@@ -56,7 +58,7 @@ void write_sections_svg(const SectionStack& stack, const std::filesystem::path& 
     }
     for (size_t l = 0; l < stack.op_labels.size(); ++l)
       out << "<text x=\"10\" y=\"" << fixed(rows * cell + 15.0 + 20.0 * static_cast<double>(l), 1) << "\" fill=\""
-          << kPalette[l % 10] << "\">" << l << ": " << escape(stack.op_labels[l]) << "</text>\n";
+          << kPalette[l % 16] << "\">" << l << ": " << escape(stack.op_labels[l]) << "</text>\n";
     out << "</svg>\n";
   });
 }

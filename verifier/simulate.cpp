@@ -372,9 +372,19 @@ class Simulator {
         Eigen::Vector3d o = lattice_.origin;
         o[u] = cu;
         o[v] = cv;
+        // What a part must overlap along this ray to matter: the material, or an obstacle on the ray.
+        const Dexel& ray = stock_.ray(d, iu, iv);
+        float lo = ray.empty() ? kEmptyLo : ray.begin()->lo, hi = ray.empty() ? -kEmptyLo : (ray.end() - 1)->hi;
+        for (const Obstacle& ob : obstacles_)
+          if (ob.table->begin(d, iu, iv) != ob.table->end(d, iu, iv)) {
+            lo = std::min(lo, ob.table->lo(d));
+            hi = std::max(hi, ob.table->hi(d));
+          }
+        if (lo > hi) continue;
         for (int pi : acc.parts) {
           const SweptPart& p = sweep_.parts[pi];
           if (cu < p.box.min()[u] || cu > p.box.max()[u] || cv < p.box.min()[v] || cv > p.box.max()[v]) continue;
+          if (p.box.max()[d] - lattice_.origin[d] < lo || p.box.min()[d] - lattice_.origin[d] > hi) continue;
           double t0, t1;
           if (!ray_interval(p, o, d, t0, t1)) continue;
           acc.hits.push_back({{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});

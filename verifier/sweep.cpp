@@ -187,28 +187,31 @@ struct Region {
   }
 };
 
-bool capsule_interval(const Eigen::Vector3d& o, const Eigen::Vector3d& e, const Eigen::Vector3d& c0,
-                      const Eigen::Vector3d& d, double r, double& t0, double& t1) {
+// Ray o + t e_dir against the capsule of radius r about the segment c0 + s d, s in [0, 1]. The ray is
+// axis-parallel, so every dot product with e is one component.
+bool capsule_interval(const Eigen::Vector3d& o, int dir, const Eigen::Vector3d& c0, const Eigen::Vector3d& d, double r,
+                      double& t0, double& t1) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  auto sphere = [&](const Eigen::Vector3d& c) {
-    const Eigen::Vector3d w = o - c;
-    const double b = w.dot(e), disc = b * b - (w.squaredNorm() - r * r);
+  const double r2 = r * r;
+  const Eigen::Vector3d w = o - c0;
+  const double ww = w.squaredNorm(), we = w[dir];
+  auto sphere = [&](double b, double cc) {
+    const double disc = b * b - cc;
     if (disc <= 0) return;
     const double sq = std::sqrt(disc);
     lo = std::min(lo, -b - sq);
     hi = std::max(hi, -b + sq);
   };
-  sphere(c0);
+  sphere(we, ww - r2);
   const double dd = d.squaredNorm();
   if (dd > 1e-24) {
-    sphere(c0 + d);
+    const Eigen::Vector3d w1 = w - d;
+    sphere(w1[dir], w1.squaredNorm() - r2);
     const double L = std::sqrt(dd);
-    const Eigen::Vector3d dn = d / L, w = o - c0;
-    const double de = dn.dot(e), dw = dn.dot(w);
-    const Eigen::Vector3d pe = e - dn * de, pw = w - dn * dw;
-    const double A = pe.squaredNorm();
+    const double de = d[dir] / L, dw = d.dot(w) / L;
+    const double A = 1.0 - de * de;  // |e - dn de|^2
     if (A > 1e-14) {
-      const double B = pe.dot(pw), C = pw.squaredNorm() - r * r, disc = B * B - A * C;
+      const double B = we - de * dw, C = ww - dw * dw - r2, disc = B * B - A * C;
       if (disc > 0) {
         const double sq = std::sqrt(disc);
         double a = (-B - sq) / A, b = (-B + sq) / A;
@@ -261,9 +264,9 @@ bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
+  if (part.kind == ToolPart::Kind::Sphere) return capsule_interval(o, dir, part.p0, part.d, part.radius, t0, t1);
   Eigen::Vector3d e = Eigen::Vector3d::Zero();
   e[dir] = 1.0;
-  if (part.kind == ToolPart::Kind::Sphere) return capsule_interval(o, e, part.p0, part.d, part.radius, t0, t1);
   return cylinder_interval(part, o, e, t0, t1);
 }
 

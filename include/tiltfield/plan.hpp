@@ -75,6 +75,9 @@ struct PlanMetrics {
   double rms_second_difference = 0;   // RMS of |a[i-1] - 2 a[i] + a[i+1]| (unit axes), rad
   size_t corrected_rows = 0;          // rows changed by the guarantee pass
   double seconds = 0;                 // wall time of the whole plan, preprocessing included
+  // Wall time per stage: "bvh", "nominal_check", "field", "axes" (dynamics or search), "clearance",
+  // "corrections", "smoothing".
+  std::vector<std::pair<std::string, double>> stage_seconds;
   std::string method;
   bool smoothed = false;
 };
@@ -83,6 +86,7 @@ struct UnclearedRow {
   size_t row = 0;          // 0-based row of the path
   double clearance_mm = 0; // smallest distance of the body
   double margin_mm = 0;    // clearance minus the required clearance of the offending component
+  bool unreachable = false;  // the machine has no joint solution for the axis (rotary limits)
 };
 
 struct PlanResult {
@@ -96,9 +100,11 @@ struct PlanResult {
 PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress = {});
 
 // The same on explicit inputs (tests, benchmarks). `feed` is the default feed, mm/min.
+// `machine`: when given and it has rotary axes with limits, every axis must have a joint solution
+// (Kinematics::inverse); rows without one are corrected like colliding rows, or listed.
 PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
                      const PlannerBasics& basics, double feed, const PlanOptions& options,
-                     const Progress& progress = {});
+                     const MachineSpec* machine = nullptr, const Progress& progress = {});
 
 // The PLAN.json object: the metrics and the uncleared rows.
 nlohmann::json plan_report_json(const PlanResult& result);

@@ -19,11 +19,13 @@ struct Triangle {
 
 // Closest point of triangle t to p (Ericson, Real-Time Collision Detection 5.1.5).
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Triangle& t);
-// Smallest distance between segment [p0, p1] and triangle t (0 when they intersect), mm.
-double segment_triangle_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Triangle& t);
-// Smallest distance between segments [p0, p1] and [q0, q1], mm.
+// Smallest distance between segment [p0, p1] and triangle t (0 when they intersect), mm. `s`, when given,
+// receives the parameter in [0, 1] on the segment of a closest point.
+double segment_triangle_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Triangle& t,
+                                 double* s = nullptr);
+// Smallest distance between segments [p0, p1] and [q0, q1], mm; `s` as above for [p0, p1].
 double segment_segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
-                                const Eigen::Vector3d& q1);
+                                const Eigen::Vector3d& q1, double* s = nullptr);
 
 struct ClosestHit {
   double distance = std::numeric_limits<double>::infinity();  // mm; infinity when nothing within the limit

@@ -70,6 +70,7 @@ Lattice lattice_for(const Eigen::AlignedBox3d& box, double h, int pad = 1);
 
 class TriDexel {
  public:
+  TriDexel() = default;  // empty: no rays
   explicit TriDexel(const Lattice& lattice);
   const Lattice& lattice() const { return lat_; }
   // Ray (iu, iv) of grid d: along axis d at node iu of u_axis(d) and iv of v_axis(d).

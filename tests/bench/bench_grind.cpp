@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "grinding/tridexel_bridge.hpp"
 #include "tiltfield/sections.hpp"
 
 namespace {
@@ -64,6 +65,24 @@ void BM_GrindTotal(benchmark::State& state) {
                                                         benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_GrindTotal)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// The tri-dexel cross-check of the whole end-mill program (helical flutes included), with the wheel's corners
+// made sharp in both simulators (the verifier's tools cannot round both edges of a disc). Reports both
+// removed volumes and their relative difference in percent; slow (minutes), hence here and not in the tests.
+void BM_TriDexelCrossCheck(benchmark::State& state) {
+  tf::grind::GrindScene g = scene();
+  g.wheel.edge_radius = 0.0;
+  g.wheel.profile = tf::grind::make_wheel_profile(g.wheel.radius, g.wheel.thickness, 0.0);
+  double sections = 0, dexels = 0;
+  for (auto _ : state) {
+    sections = tf::grind::testing::sections_removed(tf::grind::simulate_sections(g, options(0.05)));
+    dexels = tf::grind::testing::tridexel_report(g, 0.1, 0.01).removed_volume_mm3;
+  }
+  state.counters["removed_sections_mm3"] = sections;
+  state.counters["removed_tridexel_mm3"] = dexels;
+  state.counters["diff_pct"] = 100.0 * (dexels - sections) / sections;
+}
+BENCHMARK(BM_TriDexelCrossCheck)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
 

@@ -5,6 +5,8 @@
 #include "job.hpp"
 #include "scene_writer.hpp"
 #include "test_support.hpp"
+#include "tiltfield/error.hpp"
+#include "tiltfield/io.hpp"
 #include "tiltfield/oriented_path.hpp"
 #include "tiltfield/replan.hpp"
 #include "tiltfield/verify.hpp"

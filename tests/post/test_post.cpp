@@ -234,6 +234,40 @@ std::vector<Joints> joints_at_rows(const tf::Program& prog, const tf::OrientedPa
   return out;
 }
 
+TEST(Post, PassingNearThePoleBeyondTheTolerancesSwingsCAndStaysExact) {
+  // The axis misses the pole by 1 deg, more than axis + pole tolerance: flipping to the mirror solution
+  // would take the axis through the pole (1 deg off), so C has to swing, in linearised steps.
+  for (const char* name : kFiveAxisMachines) {
+    const tf::PostJob job = job_for(name);
+    const Kinematics kin(job.machine, job.tool.length);
+    tf::OrientedPath path;
+    for (int i = 0; i < 9; ++i) {
+      const double t = -4.0 + i;  // deg along the great circle, 1 deg rows
+      tf::OrientedRow r;
+      r.p = {22.0 + 0.05 * i, 27.0 + 0.4 * i, 18.0};
+      r.axis = Eigen::Vector3d(std::sin(t * kDeg), std::sin(1.0 * kDeg), 1.0).normalized();
+      path.rows.push_back(r);
+    }
+    const tf::PostOptions opt;
+    const tf::Program prog = tf::post_program(path, job, opt);
+    EXPECT_GT(c_range(prog), 90.0) << name;
+    double worst_tip = 0, worst_axis = 0;
+    size_t row = 1;
+    for (const Cut& c : cutting_blocks(prog)) {
+      for (int k = 0; k <= 100; ++k) {
+        const ToolPose p = kin.forward(lerp(c.from, c.to, k / 100.0));
+        worst_tip = std::max(worst_tip, distance_to_segment(p.tip, tf::row_tip(path.rows[row - 1], job.tool),
+                                                            tf::row_tip(path.rows[row], job.tool)));
+        worst_axis = std::max(worst_axis, distance_to_arc(p.axis, path.rows[row - 1].axis, path.rows[row].axis));
+      }
+      if ((kin.forward(c.to).tip - tf::row_tip(path.rows[row], job.tool)).norm() < 1e-9) ++row;
+    }
+    EXPECT_EQ(row, path.rows.size()) << name;
+    EXPECT_LE(worst_tip, opt.tip_tolerance_mm) << name;
+    EXPECT_LE(worst_axis, opt.axis_tolerance_deg) << name;
+  }
+}
+
 TEST(Post, PoleModeHoldOrInterpolate) {
   // The axis comes in leaning toward +X, passes the pole and leaves leaning toward +Y: C must turn
   // 90 deg, and the rows inside the pole cone decide how.

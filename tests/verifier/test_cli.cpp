@@ -14,12 +14,12 @@ namespace fs = std::filesystem;
 namespace tf {
 namespace {
 
-struct Run {
+struct CliRun {
   int code;
   std::string err;
 };
 
-Run tiltfield(const std::string& args, const fs::path& dir) {
+CliRun tiltfield(const std::string& args, const fs::path& dir) {
   const fs::path err = dir / "stderr.txt";
   const std::string cmd = std::string(TILTFIELD_EXE) + " --quiet " + args + " 2> " + err.string();
   const int status = std::system(cmd.c_str());
@@ -53,7 +53,7 @@ class VerifyCli : public ::testing::Test {
 
 TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
   write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
-  const Run r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+  const CliRun r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
                               (dir / "v.json").string() + " --blocks " + (dir / "b.csv").string() + " --stock-mesh " +
                               (dir / "s.ply").string() + " --resolution 0.25",
                           dir);
@@ -83,10 +83,10 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
 }
 
 TEST_F(VerifyCli, CollisionsAndFailOnCollision) {
-  write(dir / "p.ngc", "G0 X20 Y15 Z40\nG1 Z-5 F300\nG0 Z40\n");  // the holder face ends 5 mm below the top
+  write(dir / "p.ngc", "G0 X20 Y15 Z40\nG1 Z-15 F300\nG0 Z40\n");  // the holder face (tip + 20) ends 5 mm below the top
   const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
                            (dir / "v.json").string() + " --resolution 0.25";
-  Run r = tiltfield(base, dir);
+  CliRun r = tiltfield(base, dir);
   ASSERT_EQ(r.code, 0) << r.err;
   std::ifstream in(dir / "v.json");
   const auto j = nlohmann::json::parse(in);
@@ -99,7 +99,7 @@ TEST_F(VerifyCli, CollisionsAndFailOnCollision) {
 
 TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
   write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X5 A10 F100\n");
-  Run r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
+  CliRun r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("A10"), std::string::npos) << r.err;

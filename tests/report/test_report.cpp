@@ -1,0 +1,329 @@
+// The HTML report: the page's content, the plots, mesh decimation and packing, the input readers.
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "report_fixture.hpp"
+#include "report_internal.hpp"
+#include "report_mesh.hpp"
+#include "report_svg.hpp"
+#include "test_support.hpp"
+#include "tiltfield/error.hpp"
+
+namespace tf::test {
+namespace {
+
+using namespace tf::reporting;
+
+int count(const std::string& s, const std::string& what) {
+  int n = 0;
+  for (size_t i = s.find(what); i != std::string::npos; i = s.find(what, i + 1)) ++n;
+  return n;
+}
+
+// The JSON the viewer reads, cut out of the page.
+nlohmann::json scene_data(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"tf-scene-data\">";
+  const size_t a = html.find(open);
+  if (a == std::string::npos) return {};
+  const size_t b = html.find("</script>", a);
+  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+std::vector<unsigned char> unbase64(const std::string& s) {
+  std::vector<unsigned char> out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : s) {
+    int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
+            : c == '+' ? 62 : c == '/' ? 63 : -1;
+    if (v < 0) continue;
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+
+const nlohmann::json* layer(const nlohmann::json& data, const std::string& id) {
+  for (const auto& l : data["layers"])
+    if (l["id"] == id) return &l;
+  return nullptr;
+}
+
+TEST(Report, PageHasSummaryPlotsTablesAndViewerData) {
+  auto job = synthetic_job();
+  const std::string html = render_html_report(job->inputs);
+  EXPECT_NE(html.find("synthetic wavy surface"), std::string::npos);
+  EXPECT_NE(html.find("3 collisions left"), std::string::npos);
+  EXPECT_NE(html.find("found 14, fixed 11"), std::string::npos);
+  EXPECT_NE(html.find("123\u2009457"), std::string::npos) << "removed volume with thousands separator";
+  // Six plots, all with lines: nothing in the synthetic job is missing.
+  EXPECT_EQ(count(html, "<svg class=\"plot\""), 6);
+  EXPECT_EQ(count(html, "<text class=\"empty\""), 0);
+  for (const char* id : {"plot-orientation", "plot-clearance", "plot-rotary", "plot-mrr", "plot-area", "plot-angles"})
+    EXPECT_NE(html.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
+  // Rotary plot of a table-table-ac machine: A and C; collision ticks on the per-block plots.
+  EXPECT_NE(html.find("data-label=\"A\""), std::string::npos);
+  EXPECT_NE(html.find("data-label=\"C\""), std::string::npos);
+  EXPECT_EQ(html.find("data-label=\"B\""), std::string::npos);
+  EXPECT_GE(count(html, "class=\"marker\""), 4 * 2) << "at least two distinct collision columns on 4 plots";
+  EXPECT_EQ(count(html, "class=\"band\""), 2 * 2) << "two re-planned windows on the two path plots";
+  // Tables: three collisions, one gouge, with their lines.
+  EXPECT_EQ(count(html, "<td>shank</td>"), 2);
+  EXPECT_EQ(count(html, "<td>holder</td>"), 1);
+  EXPECT_NE(html.find("<tr><td>130</td><td>150</td>"), std::string::npos);
+
+  if (!viewer_built_in()) GTEST_SKIP() << "built without the 3-D viewer";
+  const auto data = scene_data(html);
+  ASSERT_TRUE(data.is_object());
+  for (const char* id : {"stock", "check", "design", "path", "axes", "collisions", "gouges", "tool"})
+    EXPECT_NE(layer(data, id), nullptr) << id;
+  const auto& stock = *layer(data, "stock");
+  EXPECT_EQ(stock["mesh"]["triangles"], job->stock.n_faces()) << "small enough: not decimated";
+  const auto values = unbase64(stock["mesh"]["values"].get<std::string>());
+  ASSERT_EQ(values.size(), job->stock.n_vertices() * sizeof(float));
+  const float* v = reinterpret_cast<const float*>(values.data());
+  EXPECT_NEAR(v[5], job->inputs.stock_deviation_mm[5], 1e-6);
+  // The deviation ramp spans the field (-0.35 .. 0.25 mm) give or take the 1 % tails.
+  EXPECT_NEAR(stock["value_range"][0].get<double>(), -0.35, 0.02);
+  EXPECT_NEAR(stock["value_range"][1].get<double>(), 0.25, 0.02);
+  EXPECT_EQ(layer(data, "collisions")->at("titles").size(), 3u);
+  EXPECT_EQ(unbase64(layer(data, "axes")->at("positions")).size(), 150u * 6 * sizeof(float));
+  EXPECT_NE(html.find("<script>"), std::string::npos);
+  EXPECT_EQ(count(html, "</script"), 2) << "the embedded script and JSON never close their element early";
+}
+
+TEST(Report, MissingStagesSayWhatIsMissing) {
+  auto job = synthetic_job();
+  ReportInputs in;
+  in.scene = &job->scene;
+  in.summary.note = "plan not run <yet>";
+  const std::string html = render_html_report(in);
+  EXPECT_EQ(count(html, "<svg class=\"plot\""), 6);
+  EXPECT_EQ(count(html, "<text class=\"empty\""), 6);
+  EXPECT_NE(html.find("no oriented path"), std::string::npos);
+  EXPECT_NE(html.find("no posted program"), std::string::npos);
+  EXPECT_NE(html.find("no verification data"), std::string::npos);
+  EXPECT_NE(html.find("plan not run &lt;yet&gt;"), std::string::npos) << "text is escaped";
+  EXPECT_NE(html.find("No collisions in the final program."), std::string::npos);
+  if (viewer_built_in()) {
+    const auto data = scene_data(html);
+    EXPECT_NE(layer(data, "raw-stock"), nullptr) << "no machined stock: the raw stock is offered instead";
+    EXPECT_NE(layer(data, "path"), nullptr) << "the input path is drawn when there is no oriented path";
+    EXPECT_EQ(layer(data, "axes"), nullptr);
+  }
+}
+
+TEST(Report, WritesAtomicallyAndRejectsBadInputs) {
+  auto job = synthetic_job();
+  TempDir dir;
+  write_html_report(job->inputs, dir / "report.html");
+  EXPECT_GT(std::filesystem::file_size(dir / "report.html"), 10000u);
+  EXPECT_THROW(write_html_report(job->inputs, dir / "missing-folder" / "report.html"), std::exception);
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing-folder"));
+  ReportInputs none;
+  EXPECT_THROW(render_html_report(none), std::invalid_argument);
+  job->inputs.stock_deviation_mm.pop_back();
+  if (viewer_built_in()) {
+    EXPECT_THROW(write_html_report(job->inputs, dir / "bad.html"), std::invalid_argument);
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.html"));
+  }
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename(), "report.html") << "no temporary left behind";
+}
+
+TEST(Report, LongTablesAreCut) {
+  auto job = synthetic_job();
+  for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back({i, i + 1, "ball", "stock", true, 0.1});
+  ReportOptions opt;
+  opt.max_table_rows = 10;
+  const std::string html = render_html_report(job->inputs, opt);
+  EXPECT_NE(html.find("33 more collisions are listed in verify.json."), std::string::npos);
+  EXPECT_NE(html.find("ball \u2013 stock <b>40</b>"), std::string::npos);
+}
+
+TEST(ReportMesh, DecimationMeetsTheBudgetAndKeepsTheShape) {
+  const Mesh fine = wavy_surface(200, 150);  // 60k triangles
+  IndexedMesh m = to_indexed(fine, nullptr);
+  m.values.resize(m.V.size());
+  for (size_t i = 0; i < m.V.size(); ++i) m.values[i] = m.V[i].x();
+  const IndexedMesh d = decimate_to_budget(m, 6000);
+  EXPECT_LE(d.F.size(), 6000u);
+  EXPECT_GE(d.F.size(), 1500u) << "not far below the budget";
+  ASSERT_EQ(d.values.size(), d.V.size());
+  for (size_t i = 0; i < d.V.size(); ++i) {
+    // Merged vertices are means of grid points on the surface: near it (the cell is ~1 mm), and the value
+    // (here x) is the mean of the merged x, i.e. the merged vertex's own x.
+    EXPECT_NEAR(d.V[i].z(), wave(d.V[i].x(), d.V[i].y()), 0.25);
+    EXPECT_NEAR(d.values[i], d.V[i].x(), 1e-3);
+  }
+  EXPECT_EQ(decimate_to_budget(m, m.F.size()).F.size(), m.F.size()) << "within budget: unchanged";
+}
+
+TEST(ReportMesh, ClusteringKeepsBothSidesOfAThinWall) {
+  Stock s;
+  s.kind = Stock::Kind::Box;
+  s.box = {{0, 0, 0}, {20, 0.2, 10}};  // a 0.2 mm wall, clustered on 2 mm cells
+  const IndexedMesh d = cluster_decimate(to_indexed(stock_to_mesh(s), nullptr), 2.0);
+  int plus = 0, minus = 0;
+  for (const auto& f : d.F) {
+    const Eigen::Vector3f n = (d.V[f[1]] - d.V[f[0]]).cross(d.V[f[2]] - d.V[f[0]]);
+    plus += n.y() > 0.9f * n.norm();
+    minus += n.y() < -0.9f * n.norm();
+  }
+  EXPECT_GT(plus, 0);
+  EXPECT_GT(minus, 0);
+}
+
+TEST(ReportMesh, Base64AndPacking) {
+  EXPECT_EQ(base64("", 0), "");
+  EXPECT_EQ(base64("f", 1), "Zg==");
+  EXPECT_EQ(base64("fo", 2), "Zm8=");
+  EXPECT_EQ(base64("foo", 3), "Zm9v");
+  EXPECT_EQ(base64("foobar", 6), "Zm9vYmFy");
+  const IndexedMesh m = to_indexed(wavy_surface(4, 3), nullptr);
+  const auto j = encode_mesh(m);
+  EXPECT_EQ(j["index_bits"], 16);
+  const auto q = unbase64(j["positions"]);
+  ASSERT_EQ(q.size(), m.V.size() * 3 * 2);
+  const auto* u = reinterpret_cast<const uint16_t*>(q.data());
+  for (size_t i = 0; i < m.V.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      const double back = j["origin"][a].get<double>() + u[3 * i + a] * j["scale"][a].get<double>();
+      EXPECT_NEAR(back, m.V[i][a], 60.0 / 65535.0) << "quantised within half a step of the largest extent";
+    }
+  const auto idx = unbase64(j["indices"]);
+  ASSERT_EQ(idx.size(), m.F.size() * 3 * 2);
+  EXPECT_EQ(reinterpret_cast<const uint16_t*>(idx.data())[5], m.F[1][2]);
+}
+
+TEST(ReportSvg, TicksAreNice) {
+  EXPECT_EQ(nice_ticks(0, 10, 5), (std::vector<double>{0, 2, 4, 6, 8, 10}));
+  const auto t = nice_ticks(-0.3, 0.25, 5);
+  ASSERT_EQ(t.size(), 6u);
+  for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(t[i], -0.3 + 0.1 * double(i), 1e-12);
+  EXPECT_TRUE(nice_ticks(1, 1, 5).empty());
+}
+
+TEST(ReportSvg, DenseSeriesAreReducedButSpikesSurvive) {
+  LinePlot p;
+  p.id = "dense";
+  Series s;
+  s.label = "noise";
+  for (int i = 0; i < 100000; ++i) {
+    s.x.push_back(i);
+    s.y.push_back(i == 61234 ? 10.0 : std::sin(i * 0.001));
+  }
+  p.series.push_back(s);
+  const std::string svg = render_line_plot(p);
+  const std::smatch m = [&] {
+    std::smatch r;
+    std::regex_search(svg, r, std::regex("class=\"series\"[^>]* d=\"([^\"]*)\""));
+    return r;
+  }();
+  ASSERT_TRUE(m.ready() && !m.empty());
+  const std::string d = m[1];
+  const int points = count(d, "L") + count(d, "M");
+  EXPECT_LT(points, 4 * p.width_px);
+  EXPECT_GT(points, p.width_px);
+  // The spike is the series' maximum: it must reach the top of the data range (y px 50 + 6 % padding).
+  double top = 1e9;
+  const std::regex point("[ML][0-9.]+,([0-9.]+)");
+  for (std::sregex_iterator it(d.begin(), d.end(), point), end; it != end; ++it)
+    top = std::min(top, std::stod((*it)[1]));
+  EXPECT_NEAR(top, 50.0 + 0.06 / 1.12 * (p.height_px - 92), 0.2);
+  // NaN breaks the line into two sub-paths.
+  LinePlot gap;
+  gap.series.push_back({"gap", "#000", {0, 1, 2, 3}, {0, 1, std::nan(""), 3}});
+  const std::string g = render_line_plot(gap);
+  EXPECT_EQ(count(g, "M"), count(render_line_plot(LinePlot{}), "M") + 2);
+}
+
+TEST(ReportIo, BlocksCsv) {
+  TempDir dir;
+  write_text(dir / "blocks.csv",
+             "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
+             "0,12,1.5,300,0,90,2.5,0\n1,13,0,0,0,0,0,true\n2,14,1.25,,,,,0\n");
+  const auto rows = read_blocks_csv(dir / "blocks.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_TRUE(std::isnan(rows[2].mrr_mm3_min)) << "empty cell: not computed";
+  EXPECT_DOUBLE_EQ(rows[2].removed_mm3, 1.25);
+  EXPECT_EQ(rows[0].line, 12);
+  EXPECT_DOUBLE_EQ(rows[0].mrr_mm3_min, 300.0);
+  EXPECT_TRUE(rows[1].collision);
+  write_text(dir / "bad.csv", "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
+                              "0,12,1.5,abc,0,90,2.5,0\n");
+  try {
+    read_blocks_csv(dir / "bad.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "mrr_mm3_min");
+  }
+  write_text(dir / "short.csv", "block,line\n0,1\n");
+  EXPECT_THROW(read_blocks_csv(dir / "short.csv"), InputError);
+}
+
+TEST(ReportIo, VerifyJson) {
+  TempDir dir;
+  write_text(dir / "verify.json", R"({"blocks": 3, "removed_volume_mm3": 12.5, "max_gouge_mm": 0.01,
+    "resolution_mm": 0.1, "rays": 100, "seconds": 1.5,
+    "collisions": [{"block": 2, "line": 30, "component": "holder", "with": "check", "rapid": false, "depth_mm": 0.3}],
+    "gouges": [{"block": 1, "line": 29, "depth_mm": 0.01}]})");
+  const auto v = read_verify_json(dir / "verify.json");
+  ASSERT_EQ(v.collisions.size(), 1u);
+  EXPECT_EQ(v.collisions[0].component, "holder");
+  EXPECT_EQ(v.gouges[0].line, 29);
+  EXPECT_DOUBLE_EQ(v.removed_volume_mm3, 12.5);
+  write_text(dir / "bad.json", R"({"collisions": [{"block": 2, "line": 30, "component": "holder", "with": "check"}]})");
+  try {
+    read_verify_json(dir / "bad.json");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "collisions[0].rapid");
+  }
+}
+
+TEST(ReportIo, RunFolder) {
+  auto job = synthetic_job();
+  TempDir dir;
+  write_oriented_csv(job->oriented, dir / "oriented.csv");
+  write_text(dir / "program.ngc", "G21 G90 G94\nG0 X0 Y0 Z50 A0 C0\nG1 X1 Y2 Z40 A10 C20 F1000\nG1 X2 Y2 Z40 A12 C25\nM2\n");
+  write_text(dir / "verify.json", R"({"removed_volume_mm3": 5, "collisions": [{"block": 2, "line": 3,
+    "component": "shank", "with": "check", "rapid": false, "depth_mm": 0.5}], "gouges": []})");
+  write_text(dir / "blocks.csv", "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
+                                 "1,2,0,,,,,0\n2,3,1,60,,,,1\n3,4,1,60,,,,0\n");
+  write_mesh(job->stock, dir / "stock.ply");
+  const auto run = load_run_folder(job->scene, dir.path());
+  const ReportInputs& in = run->inputs;
+  ASSERT_EQ(in.oriented, &run->oriented);
+  EXPECT_EQ(run->oriented.rows.size(), job->oriented.rows.size());
+  ASSERT_EQ(in.axes.size(), 3u);
+  EXPECT_EQ(in.axes[0].block, 1);
+  EXPECT_TRUE(in.axes[0].rapid);
+  EXPECT_EQ(in.axes[1].line, 3);
+  EXPECT_DOUBLE_EQ(in.axes[1].joints.c, 20.0);
+  ASSERT_EQ(in.collisions.size(), 1u);
+  EXPECT_EQ(in.blocks.size(), 3u);
+  ASSERT_EQ(in.stock_deviation_mm.size(), job->stock.n_vertices());
+  // The stock is the design raised by 0.3 sin(x/7) - 0.05: its deviation is that, to the grids' difference.
+  double worst = 0.0;
+  for (auto vh : run->stock.vertices()) {
+    const double x = run->stock.point(vh)[0];
+    worst = std::max(worst, std::abs(in.stock_deviation_mm[size_t(vh.idx())] - (0.3 * std::sin(x / 7.0) - 0.05)));
+  }
+  EXPECT_LT(worst, 0.06);
+  const std::string html = render_html_report(in);
+  EXPECT_NE(html.find("not computed by the verifier"), std::string::npos);
+  EXPECT_NE(html.find("1 collision left"), std::string::npos);
+  // Nothing there: an empty report, not an error.
+  TempDir empty;
+  EXPECT_EQ(load_run_folder(job->scene, empty.path())->inputs.oriented, nullptr);
+}
+
+}  // namespace
+}  // namespace tf::test
