@@ -2,6 +2,7 @@
 // distances to the blade mesh.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "scene_distance.hpp"
@@ -62,8 +63,9 @@ struct Channel {
     const double cos_beta = model.hub_tangent_rz(m).norm() / std::hypot(model.hub_tangent_rz(m).norm(), r * dtheta);
     return (R + target + 0.5 * o.thickness_hub) / (r * cos_beta);
   }
-  // The angle nearest to `to` reachable from `from` with the ball clear by `target`; `from` itself when
-  // nothing is clear in between is not possible (the caller checked `from`).
+  // Walking from `from` (where the ball is clear by `target`, as the caller checked) toward `to` at
+  // fixed m: the last angle before the clearance first drops below `target` (bisected to ~1e-12 rad),
+  // or `to` when it never does.
   double edge(double m, double from, double to) const {
     const int n = 48;
     double good = from;

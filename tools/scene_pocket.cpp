@@ -1,6 +1,7 @@
 #include "scene_pocket.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "scene_distance.hpp"

@@ -19,6 +19,8 @@ struct Variant {
   bool splitters;
 };
 
+void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
+
 class ImpellerVariant : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(ImpellerVariant, IsValidAndTheNominalAxisCollides) {
