@@ -97,14 +97,15 @@ TEST(Replan, RowsOutsideTheWindowsAreUnchangedAndEndsAreSmooth) {
     if (i >= w.first && i <= w.last) continue;
     EXPECT_EQ(r.path.rows[i].axis, planned.path.rows[i].axis) << "row " << i;
   }
-  // C1 at the window ends: the first and last steps inside the window turn the axis no more than the
-  // steps just outside it plus a small fraction of the largest step in the window.
+  // C1 at the window ends: with a smoothstep blend over n rows the first step is about 3/n^2 of the
+  // change and the largest about 1.5/n, so the end steps stay below a fifth of the largest step; a C0
+  // (linear) blend would make them two thirds of it.
   auto step = [&](size_t i) { return std::acos(std::clamp(r.path.rows[i].axis.dot(r.path.rows[i + 1].axis), -1.0, 1.0)); };
   double largest = 0;
   for (size_t i = w.first; i < w.last; ++i) largest = std::max(largest, step(i));
   ASSERT_GT(largest, 0.0);
-  if (w.first > 0) EXPECT_LT(step(w.first), 0.05 * largest + 1e-9);
-  if (w.last + 1 < r.path.rows.size()) EXPECT_LT(step(w.last - 1), 0.05 * largest + 1e-9);
+  if (w.first > 0) EXPECT_LT(step(w.first), 0.2 * largest + 1e-9);
+  if (w.last + 1 < r.path.rows.size()) EXPECT_LT(step(w.last - 1), 0.2 * largest + 1e-9);
 }
 
 TEST(Replan, StockObstacleKeepsOnlyWhatTheCuttingPartCannotReach) {
