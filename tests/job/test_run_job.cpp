@@ -104,8 +104,12 @@ TEST(Replan, RowsOutsideTheWindowsAreUnchangedAndEndsAreSmooth) {
   double largest = 0;
   for (size_t i = w.first; i < w.last; ++i) largest = std::max(largest, step(i));
   ASSERT_GT(largest, 0.0);
-  if (w.first > 0) EXPECT_LT(step(w.first), 0.2 * largest + 1e-9);
-  if (w.last + 1 < r.path.rows.size()) EXPECT_LT(step(w.last - 1), 0.2 * largest + 1e-9);
+  if (w.first > 0) {
+    EXPECT_LT(step(w.first), 0.2 * largest + 1e-9);
+  }
+  if (w.last + 1 < r.path.rows.size()) {
+    EXPECT_LT(step(w.last - 1), 0.2 * largest + 1e-9);
+  }
 }
 
 TEST(Replan, StockObstacleKeepsOnlyWhatTheCuttingPartCannotReach) {
