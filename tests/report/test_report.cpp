@@ -236,21 +236,26 @@ TEST(ReportSvg, DenseSeriesAreReducedButSpikesSurvive) {
   }
   p.series.push_back(s);
   const std::string svg = render_line_plot(p);
-  const std::smatch m = [&] {
-    std::smatch r;
-    std::regex_search(svg, r, std::regex("class=\"series\"[^>]* d=\"([^\"]*)\""));
-    return r;
-  }();
-  ASSERT_TRUE(m.ready() && !m.empty());
-  const std::string d = m[1];
+  // Plain string search: std::regex recurses per character and overflows the stack on a path this long
+  // under ASan.
+  const size_t series = svg.find("class=\"series\"");
+  ASSERT_NE(series, std::string::npos);
+  const size_t d_at = svg.find(" d=\"", series);
+  ASSERT_NE(d_at, std::string::npos);
+  const size_t d_end = svg.find('"', d_at + 4);
+  ASSERT_NE(d_end, std::string::npos);
+  const std::string d = svg.substr(d_at + 4, d_end - d_at - 4);
   const int points = count(d, "L") + count(d, "M");
   EXPECT_LT(points, 4 * p.width_px);
   EXPECT_GT(points, p.width_px);
   // The spike is the series' maximum: it must reach the top of the data range (y px 50 + 6 % padding).
   double top = 1e9;
-  const std::regex point("[ML][0-9.]+,([0-9.]+)");
-  for (std::sregex_iterator it(d.begin(), d.end(), point), end; it != end; ++it)
-    top = std::min(top, std::stod((*it)[1]));
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (d[i] != 'M' && d[i] != 'L') continue;
+    const size_t comma = d.find(',', i);
+    if (comma == std::string::npos) break;
+    top = std::min(top, std::stod(d.substr(comma + 1)));
+  }
   EXPECT_NEAR(top, 50.0 + 0.06 / 1.12 * (p.height_px - 92), 0.2);
   // NaN breaks the line into two sub-paths.
   LinePlot gap;
