@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "tiltfield/error.hpp"
@@ -61,6 +62,15 @@ std::string fixed(double v, int decimals) {
   }
   if (s == "-0") s = "0";
   return s;
+}
+
+std::string read_text_file(const fs::path& file, const std::string& what) {
+  std::error_code ec;
+  std::ifstream in(file, std::ios::binary);
+  if (!in || fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "cannot read the " + what);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(file.string(), 0, "", "cannot read the " + what);
+  return text;
 }
 
 int CsvTable::column(std::string_view name) const {

@@ -1,13 +1,17 @@
 // tiltfield post SCENE ORIENTED.csv -o PROGRAM.ngc: inverse kinematics, linearisation and G-code/APT output.
 #include <iostream>
+#include <sstream>
 
 #include "cli.hpp"
 #include "tiltfield/error.hpp"
+#include "tiltfield/feed_schedule.hpp"
+#include "tiltfield/gcode.hpp"
 #include "tiltfield/io.hpp"
 #include "tiltfield/mesh.hpp"
 #include "tiltfield/oriented_path.hpp"
 #include "tiltfield/post.hpp"
 #include "tiltfield/scene.hpp"
+#include "tiltfield/verify.hpp"
 
 namespace tf::cli {
 namespace {
@@ -16,10 +20,36 @@ struct PostArgs {
   std::string scene, oriented, out;
   std::string dialect, tcp_style, pole_mode = "interpolate";
   PostOptions options;
+  FeedScheduleOptions schedule;  // max_mrr > 0: feeds scheduled on a verification of the posted program
+  double resolution = 0.1;       // mm, of that verification
 };
 
 void positive_option(double v, const char* name) {
   if (!(v > 0.0)) throw InputError("", 0, name, "must be positive");
+}
+
+// --max-mrr: simulates the posted program, read back from its own text so that exactly what is written
+// is measured, on the scene's stock, and rewrites its F words so that no block exceeds the MRR limit (air
+// moves at the air feed, by default the machine's max_feed).
+std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const std::string& text) {
+  FeedScheduleOptions so = a.schedule;
+  if (!(so.air_feed > 0.0)) so.air_feed = scene.machine->max_feed;
+  schedule_feeds(Program{}, VerifyReport{}, so);  // option errors before the simulation
+  positive_option(a.resolution, "--resolution");
+  const Program program = parse_gcode(text, a.out, *scene.machine);
+  VerifyOptions vo;
+  vo.resolution = a.resolution;
+  vo.engagement = false;  // only removed volumes are needed
+  vo.check_gouges = false;
+  vo.progress = terminal_progress();
+  const VerifyResult vr = verify_program(scene, program, scene_forward(scene), vo);
+  const FeedSchedule fs = schedule_feeds(program, vr.report, so);
+  if (!global_options().quiet) {
+    std::cerr << "tiltfield post: feeds scheduled for " << fixed(so.max_mrr, 1) << " mm3/min: " << fs.slowed
+              << " blocks slowed, " << fs.sped_up << " air blocks at " << fixed(so.air_feed, 0) << " mm/min\n";
+    for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
+  }
+  return rewrite_feeds(text, program, fs);
 }
 
 void run_post(PostArgs& a) {
@@ -45,6 +75,8 @@ void run_post(PostArgs& a) {
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);
+  if (dialect == Dialect::Apt && a.schedule.max_mrr != 0.0)
+    throw InputError("", 0, "--max-mrr", "feeds are scheduled on G-code; APT output has no machine program to simulate");
   if (dialect == Dialect::Apt) {
     write_file_atomic(a.out, [&](std::ostream& out) { write_apt(out, path, job, o); });
     return;
@@ -60,6 +92,13 @@ void run_post(PostArgs& a) {
   }
   if (!global_options().quiet)
     for (const std::string& w : program.warnings) std::cerr << "tiltfield post: " << a.oriented << ": " << w << "\n";
+  if (a.schedule.max_mrr != 0.0) {
+    std::ostringstream text;
+    write_gcode(text, program, job, o);
+    const std::string scheduled = schedule_posted_feeds(a, scene, text.str());
+    write_file_atomic(a.out, [&](std::ostream& out) { out << scheduled; });
+    return;
+  }
   write_file_atomic(a.out, [&](std::ostream& out) { write_gcode(out, program, job, o); });
 }
 
@@ -86,6 +125,11 @@ void add_post_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--spindle", a.options.spindle_rpm, "spindle speed, rev/min")->capture_default_str();
   cmd->add_option("--tool-number", a.options.tool_number, "tool number (T and H words)")->capture_default_str();
+  cmd->add_option("--max-mrr", a.schedule.max_mrr,
+                  "simulate the program and lower feeds so that no block removes more than this many mm3/min");
+  cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")->capture_default_str();
+  cmd->add_option("--air-feed", a.schedule.air_feed, "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)");
+  cmd->add_option("--resolution", a.resolution, "with --max-mrr: dexel spacing of the simulation, mm")->capture_default_str();
   cmd->callback([] { run_post(a); });
 }
 

@@ -1,4 +1,5 @@
 #include "tiltfield/gcode.hpp"
+#include "tiltfield/io.hpp"
 
 #include <algorithm>
 #include <array>
@@ -384,11 +385,7 @@ Program parse_gcode(std::string_view text, const std::string& file, const Machin
 }
 
 Program read_gcode(const std::filesystem::path& file, const MachineSpec& machine, const GcodeOptions& options) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), 0, "", "cannot read the G-code file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_gcode(ss.str(), file.string(), machine, options);
+  return parse_gcode(read_text_file(file, "G-code file"), file.string(), machine, options);
 }
 
 }  // namespace tf

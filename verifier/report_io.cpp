@@ -1,5 +1,6 @@
 // The verifier's report files: VERIFY.json and blocks.csv (spec: "Verification report").
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <ostream>
 
 #include "tiltfield/io.hpp"
@@ -59,6 +60,34 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
                  {"max_mm", num(r.excess.max_mm, 4)}};
   j["stopped_at_first_collision"] = r.stopped_early;
   j["memory_mb"] = num(r.memory_bytes / 1048576.0, 1);
+  // Engagement and MRR over the feed blocks (per-block values are in blocks.csv).
+  {
+    size_t engaged = 0, multi = 0;
+    double max_angle = 0.0, max_area = 0.0, max_ap = 0.0, max_ae = 0.0, max_mrr = 0.0, cut_min = 0.0, cut_mm3 = 0.0;
+    for (const BlockResult& b : r.per_block) {
+      const Engagement& e = b.engagement;
+      if (e.engaged()) ++engaged;
+      if (e.max_pairs > 1) ++multi;
+      max_angle = std::max(max_angle, e.angle_deg());
+      max_area = std::max(max_area, e.area_mm2);
+      max_ap = std::max(max_ap, e.axial_depth_mm);
+      max_ae = std::max(max_ae, e.radial_width_mm);
+      if (!b.rapid) max_mrr = std::max(max_mrr, b.mrr());
+      if (!b.rapid && b.removed_mm3 > 0) {
+        cut_min += b.minutes;
+        cut_mm3 += b.removed_mm3;
+      }
+    }
+    j["engagement"] = {{"blocks_engaged", engaged},
+                       {"blocks_with_several_pairs", multi},
+                       {"max_angle_deg", num(max_angle, 3)},
+                       {"max_area_mm2", num(max_area, 4)},
+                       {"max_axial_depth_mm", num(max_ap, 4)},
+                       {"max_radial_width_mm", num(max_ae, 4)},
+                       {"max_mrr_mm3_min", num(max_mrr, 2)},
+                       {"mean_mrr_mm3_min", num(cut_min > 0 ? cut_mm3 / cut_min : 0.0, 2)},
+                       {"cutting_minutes", num(cut_min, 4)}};
+  }
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2);
   write_file_atomic(file, [&](std::ostream& out) { out << text << "\n"; });
@@ -66,14 +95,30 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
 
 void write_blocks_csv(const VerifyReport& r, const std::filesystem::path& file) {
   write_file_atomic(file, [&](std::ostream& out) {
-    out << "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n";
+    out << "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision,axial_depth_mm,"
+           "radial_width_mm,pairs\n";
     for (const BlockResult& b : r.per_block) {
       out << b.block << ',' << b.line << ',' << fixed(b.removed_mm3, 4) << ',';
       // MRR is removed volume over block time; empty when the block takes no time.
-      if (b.minutes > 0) out << fixed(b.removed_mm3 / b.minutes, 2);
-      // Engagement angles and area (issue 6) are not computed yet: empty cells.
-      out << ",,,," << (b.collision ? 1 : 0) << "\n";
+      if (b.minutes > 0) out << fixed(b.mrr(), 2);
+      const Engagement& e = b.engagement;
+      // Angles are empty where nothing is engaged (air moves, rapids): there is no angle to give.
+      out << ',';
+      if (e.engaged()) out << fixed(e.entry_deg, 3) << ',' << fixed(e.exit_deg, 3);
+      else out << ',';
+      out << ',' << fixed(e.area_mm2, 4) << ',' << (b.collision ? 1 : 0) << ',' << fixed(e.axial_depth_mm, 4) << ','
+          << fixed(e.radial_width_mm, 4) << ',' << e.max_pairs << "\n";
     }
+  });
+}
+
+void write_engagement_csv(const VerifyReport& r, const std::filesystem::path& file) {
+  write_file_atomic(file, [&](std::ostream& out) {
+    out << "block,line,height_mm,entry_deg,exit_deg\n";
+    for (const BlockResult& b : r.per_block)
+      for (const EngagementPair& p : b.engagement.pairs)
+        out << b.block << ',' << b.line << ',' << fixed(p.height_mm, 4) << ',' << fixed(p.entry_deg, 3) << ','
+            << fixed(p.exit_deg, 3) << "\n";
   });
 }
 

@@ -288,7 +288,8 @@ class Simulator {
     br.substeps = sweep_.substeps;
     rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
     rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);
-    br.minutes = block_minutes(b, from);
+    br.path_mm = feed_path_mm(b, from);
+    br.minutes = block_minutes(b, br.path_mm);
 
     // Tiles any part can touch.
     ++stamp_value_;
@@ -308,8 +309,18 @@ class Simulator {
             tasks_.push_back({d, tu, tv});
           }
       }
-    for (auto& a : accum_) a.reset();
     const bool rapid = b.motion == Motion::Rapid;
+    br.rapid = rapid;
+    br.feed = b.feed;
+    br.feed_mode = b.feed_mode;
+    // Engagement is measured on the stock before this block removes anything (seed 001: the in-process
+    // workpiece met by the tool at the block's end).
+    if (opt_.engagement && !rapid && !tasks_.empty()) {
+      const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
+      br.engagement = measure_engagement(stock_, scene_.tool, pose_at(1.0 - back), pose_at(1.0),
+                                         opt_.engagement_options);
+    }
+    for (auto& a : accum_) a.reset();
     tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
 
     std::array<double, 3> removed{};
@@ -487,14 +498,18 @@ class Simulator {
     slot = std::max(slot, depth);
   }
 
-  double block_minutes(const Block& b, const Joints& from) const {
+  // The length the block's feed refers to: arcs and TCP moves the tip path; joint moves the XYZ path (the
+  // controller's feed reference), rotary degrees when only rotaries move.
+  double feed_path_mm(const Block& b, const Joints& from) const {
     const double xyz = std::sqrt((b.target.x - from.x) * (b.target.x - from.x) + (b.target.y - from.y) * (b.target.y - from.y) +
                                  (b.target.z - from.z) * (b.target.z - from.z));
-    // Arcs and TCP moves: the tip path; joint moves: the XYZ path (the controller's feed reference),
-    // rotary degrees when only rotaries move.
     double len = b.tcp || b.motion == Motion::ArcCW || b.motion == Motion::ArcCCW ? sweep_.tip_length : xyz;
     if (len < 1e-9)
       len = std::abs(b.target.a - from.a) + std::abs(b.target.b - from.b) + std::abs(b.target.c - from.c);
+    return len;
+  }
+
+  double block_minutes(const Block& b, double len) const {
     if (b.motion == Motion::Rapid) return len / std::max(1.0, scene_.machine ? scene_.machine->rapid_feed : 20000.0);
     if (b.feed_mode == FeedMode::InverseTime) return b.feed > 0 ? 1.0 / b.feed : 0.0;
     return b.feed > 0 ? len / b.feed : 0.0;

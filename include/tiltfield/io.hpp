@@ -18,6 +18,9 @@ void write_file_atomic(const std::filesystem::path& file, const std::function<vo
 void write_path_atomic(const std::filesystem::path& file,
                        const std::function<void(const std::filesystem::path& tmp)>& write);
 
+// The whole file as bytes. Throws InputError(file, 0, "", "cannot read the <what>") when it cannot be read.
+std::string read_text_file(const std::filesystem::path& file, const std::string& what = "file");
+
 // Formats a number in fixed notation with at most `decimals` decimals, trailing zeros and a trailing
 // point removed, "-0" written as "0". Never scientific notation.
 std::string fixed(double v, int decimals);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "tiltfield/engagement.hpp"
 #include "tiltfield/kinematics.hpp"
 #include "tiltfield/program.hpp"
 #include "tiltfield/progress.hpp"
@@ -33,6 +34,8 @@ struct VerifyOptions {
   double collision_tolerance = 0.001;    // overlaps up to this deep (mm) are contact, not collision
   double gouge_tolerance = 0.01;         // over-cuts deeper than this (mm) are listed as gouges
   bool check_gouges = true;              // against the scene's design surface (when it has one)
+  bool engagement = true;                // engagement angles, area and depths per feed block
+  EngagementOptions engagement_options;
   Progress progress;                     // stage "verify"
 };
 
@@ -62,6 +65,13 @@ struct BlockResult {
   double minutes = 0.0;  // block time from its feed (rapids at the machine's rapid feed)
   bool collision = false;
   int substeps = 1;
+  bool rapid = false;
+  FeedMode feed_mode = FeedMode::PerMinute;
+  double feed = 0.0;       // the programmed F in force (mm/min, or 1/min for inverse time)
+  double path_mm = 0.0;    // the length the feed refers to (tip path, XYZ path, or rotary degrees)
+  Engagement engagement;   // at the block's end (feed blocks, VerifyOptions::engagement)
+  // Material removal rate at the programmed feed, mm^3/min (0 when the block takes no time).
+  double mrr() const { return minutes > 0 ? removed_mm3 / minutes : 0.0; }
 };
 
 struct ExcessStats {
@@ -100,9 +110,13 @@ struct VerifyResult {
 VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
                             const VerifyOptions& options = {});
 
-// The spec's VERIFY.json and blocks.csv (written atomically).
+// The spec's VERIFY.json and blocks.csv (written atomically). blocks.csv has the spec's columns, then
+// axial_depth_mm, radial_width_mm and pairs (the most entry/exit pairs at one height).
 void write_verify_json(const VerifyReport& report, const std::filesystem::path& file);
 void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& file);
+// Every entry/exit pair at every height: block,line,height_mm,entry_deg,exit_deg (needs
+// EngagementOptions::keep_pairs).
+void write_engagement_csv(const VerifyReport& report, const std::filesystem::path& file);
 
 // Options for the stock mesh.
 struct StockMeshOptions {

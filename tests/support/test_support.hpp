@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -61,6 +62,30 @@ inline CliResult run_tiltfield(const std::string& args, const std::filesystem::p
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+// Runs a shell command; stdout and stderr merged.
+inline CliResult run_command(const std::string& command) {
+  CliResult r;
+  FILE* p = ::popen((command + " 2>&1 < /dev/null").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// LinuxCNC's interpreter (Debian package linuxcnc-uspace) is an independent reader of our programs.
+// Missing, a test is skipped, unless CI=true, where .ci/run installs it and its absence is a failure.
+#define TF_REQUIRE_RS274()                                                                            \
+  do {                                                                                                \
+    if (::tf::test::run_command("command -v rs274").exit_code != 0) {                                 \
+      const char* ci = std::getenv("CI");                                                             \
+      if (ci && std::string(ci) == "true") FAIL() << "rs274 (linuxcnc-uspace) is missing under CI";   \
+      GTEST_SKIP() << "rs274 not installed (apt-get install --no-install-recommends linuxcnc-uspace)"; \
+    }                                                                                                 \
+  } while (0)
 
 // Counts the lines of text (a trailing newline does not start a new line).
 inline int count_lines(const std::string& s) {

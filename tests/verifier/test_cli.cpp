@@ -69,17 +69,29 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
   std::ifstream csv(dir / "b.csv");
   std::string header, row;
   std::getline(csv, header);
-  EXPECT_EQ(header, "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision");
+  // The spec's columns first, then the extra engagement columns.
+  EXPECT_EQ(header, "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision,axial_depth_mm,"
+                    "radial_width_mm,pairs");
   int rows = 0;
   while (std::getline(csv, row)) {
     ++rows;
     if (rows == 3) {
-      EXPECT_EQ(row.rfind("3,4,", 0), 0u) << row;          // block 3 is line 4
-      EXPECT_NE(row.find(",,,,0"), std::string::npos) << row;  // engagement cells empty, no collision
+      // Block 3 is line 4, a 30 mm ball slot at 3 mm depth, F1200: engaged 0..180 on the front.
+      std::stringstream cells(row);
+      std::vector<std::string> c;
+      for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+      ASSERT_EQ(c.size(), 11u) << row;
+      EXPECT_EQ(c[0], "3");
+      EXPECT_EQ(c[1], "4");
+      EXPECT_NEAR(std::stod(c[4]), 0.0, 1.0) << row;
+      EXPECT_NEAR(std::stod(c[5]), 180.0, 1.0) << row;
+      EXPECT_GT(std::stod(c[6]), 0.0) << row;
+      EXPECT_EQ(c[7], "0");
     }
   }
   EXPECT_EQ(rows, 4);
   EXPECT_GT(fs::file_size(dir / "s.ply"), 1000u);
+  EXPECT_EQ(j["engagement"]["blocks_engaged"], 2);  // the plunge and the slot
 }
 
 TEST_F(VerifyCli, CollisionsAndFailOnCollision) {

@@ -1,0 +1,183 @@
+// Engagement angles, area and depths against closed forms (seed 001): slotting, half immersion on both
+// sides, a ball end at a depth, two pairs where the tool crosses an earlier slot, and a plunge.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tiltfield/gcode.hpp"
+#include "tiltfield/verify.hpp"
+
+namespace tf {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = 180.0 / kPi;
+
+Tool make_tool(Cutter cutter) {
+  Tool t;
+  t.cutter = cutter;
+  t.flute_length = 20.0;
+  t.shank_radius = 5.0;
+  t.length = 40.0;
+  t.holder = {{12.0, 30.0}};
+  return t;
+}
+
+Scene box_scene(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Tool& tool) {
+  Scene s;
+  s.stock.kind = Stock::Kind::Box;
+  s.stock.box = {lo, hi};
+  s.tool = tool;
+  return s;
+}
+
+VerifyReport run(const Scene& scene, const std::string& gcode, double resolution = 0.1, bool keep_pairs = false) {
+  const Program p = parse_gcode(gcode, "test.ngc", MachineSpec{});
+  VerifyOptions o;
+  o.resolution = resolution;
+  o.engagement_options.keep_pairs = keep_pairs;
+  return verify_program(scene, p, forward_xyz, o).report;
+}
+
+// Relative tolerance of the issue: 1 % of the closed form (angles: of the engaged span).
+void expect_within(double value, double expected, double scale, const char* what) {
+  EXPECT_NEAR(value, expected, 0.01 * scale) << what;
+}
+
+constexpr double R = 5.0, ap = 2.0, L = 20.0;
+
+// Box 0..100 x -20..20 x 0..10; the tool enters from x = -10 at tip height 10 - depth and cuts to x = 50.
+std::string slot_program(double y, double depth) {
+  const std::string z = std::to_string(10.0 - depth), ys = std::to_string(y);
+  return "G21 G90 G94\nG0 X-10 Y" + ys + " Z" + z + "\nG1 X30 F600\nG1 X50\nM30\n";
+}
+
+TEST(Engagement, FlatSlotting180) {
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const VerifyReport r = run(s, slot_program(0.0, ap));
+  ASSERT_EQ(r.per_block.size(), 3u);
+  const BlockResult& b = r.per_block.back();
+  const Engagement& e = b.engagement;
+  std::cout << "slot: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << " ap "
+            << e.axial_depth_mm << " ae " << e.radial_width_mm << " removed " << b.removed_mm3 << "\n";
+  expect_within(e.entry_deg, 0.0, 180.0, "entry");
+  expect_within(e.exit_deg, 180.0, 180.0, "exit");
+  expect_within(e.area_mm2, kPi * R * ap, kPi * R * ap, "area (half the cylinder's side)");
+  expect_within(e.axial_depth_mm, ap, ap, "axial depth");
+  expect_within(e.radial_width_mm, 2 * R, 2 * R, "radial width");
+  EXPECT_EQ(e.max_pairs, 1);
+  // Steady state: the block removes a 2R x ap x L box; at F600 the 20 mm take 1/30 min.
+  expect_within(b.removed_mm3, 2 * R * ap * L, 2 * R * ap * L, "removed volume");
+  expect_within(b.mrr(), 2 * R * ap * L * 30.0, 2 * R * ap * L * 30.0, "MRR");
+  // The rapid in air and nothing else engaged.
+  EXPECT_FALSE(r.per_block[0].engagement.engaged());
+}
+
+TEST(Engagement, HalfImmersionConventionalAndClimb) {
+  const Tool tool = make_tool(FlatCutter{R});
+  // Feed +x, axis +z: n = a x f = +y. Material on +y (left of the feed): conventional (up) milling, 0..90.
+  const VerifyReport up = run(box_scene({0, 0, 0}, {100, 20, 10}, tool), slot_program(0.0, ap));
+  // Material on -y (right of the feed): climb (down) milling, 90..180.
+  const VerifyReport down = run(box_scene({0, -20, 0}, {100, 0, 10}, tool), slot_program(0.0, ap));
+  const Engagement& eu = up.per_block.back().engagement;
+  const Engagement& ed = down.per_block.back().engagement;
+  std::cout << "conventional " << eu.entry_deg << ".." << eu.exit_deg << " area " << eu.area_mm2 << "; climb "
+            << ed.entry_deg << ".." << ed.exit_deg << " area " << ed.area_mm2 << "\n";
+  expect_within(eu.entry_deg, 0.0, 90.0, "conventional entry");
+  expect_within(eu.exit_deg, 90.0, 90.0, "conventional exit");
+  expect_within(ed.entry_deg, 90.0, 90.0, "climb entry");
+  expect_within(ed.exit_deg, 180.0, 90.0, "climb exit");
+  for (const Engagement* e : {&eu, &ed}) {
+    expect_within(e->area_mm2, 0.5 * kPi * R * ap, 0.5 * kPi * R * ap, "area");
+    expect_within(e->radial_width_mm, R, R, "radial width");
+    expect_within(e->axial_depth_mm, ap, ap, "axial depth");
+  }
+  expect_within(up.per_block.back().removed_mm3, R * ap * L, R * ap * L, "removed, conventional");
+  expect_within(down.per_block.back().removed_mm3, R * ap * L, R * ap * L, "removed, climb");
+}
+
+TEST(Engagement, BallEndAtDepth) {
+  const double d = 2.0;
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
+  const VerifyReport r = run(s, slot_program(0.0, d));
+  const BlockResult& b = r.per_block.back();
+  const Engagement& e = b.engagement;
+  const double area = kPi * R * d;  // the front half of the spherical zone of height d
+  const double width = 2.0 * std::sqrt(2 * R * d - d * d);
+  const double segment = R * R * std::acos((R - d) / R) - (R - d) * std::sqrt(2 * R * d - d * d);
+  std::cout << "ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << " (" << area
+            << ") ap " << e.axial_depth_mm << " ae " << e.radial_width_mm << " (" << width << ") removed "
+            << b.removed_mm3 << " (" << segment * L << ")\n";
+  expect_within(e.entry_deg, 0.0, 180.0, "entry");
+  expect_within(e.exit_deg, 180.0, 180.0, "exit");
+  expect_within(e.area_mm2, area, area, "area");
+  expect_within(e.axial_depth_mm, d, d, "axial depth");
+  expect_within(e.radial_width_mm, width, width, "radial width");
+  expect_within(b.removed_mm3, segment * L, segment * L, "removed volume");
+}
+
+TEST(Engagement, CrossingAnEarlierSlotGivesTwoPairs) {
+  // A slot along y at x 33..43, 3 mm deep; the 2 mm deep x-slot ends at x = 30, where its front arc
+  // x = 30 + R sin(phi) is in the earlier slot for sin(phi) >= 0.6.
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const std::string g =
+      "G21 G90 G94\nG0 X38 Y-30 Z7\nG1 Y30 F600\nG0 Z20\nG0 X-10 Y0\nG0 Z8\nG1 X30 F600\nM30\n";
+  const VerifyReport r = run(s, g, 0.1, true);
+  const Engagement& e = r.per_block.back().engagement;
+  const double gap0 = std::asin(0.6) * kDeg, gap1 = 180.0 - gap0;
+  std::cout << "two pairs: max_pairs " << e.max_pairs << ", entry " << e.entry_deg << " exit " << e.exit_deg
+            << " area " << e.area_mm2 << "\n";
+  EXPECT_EQ(e.max_pairs, 2);
+  int heights = 0;
+  for (size_t k = 0; k + 1 < e.pairs.size(); ++k) {
+    EngagementPair p = e.pairs[k], q = e.pairs[k + 1];
+    if (p.height_mm != q.height_mm) continue;  // the two pairs of one height are consecutive
+    if (p.entry_deg > q.entry_deg) std::swap(p, q);
+    ++heights;
+    expect_within(p.entry_deg, 0.0, gap0, "first pair entry");
+    expect_within(p.exit_deg, gap0, gap0, "first pair exit");
+    expect_within(q.entry_deg, gap1, gap0, "second pair entry");
+    expect_within(q.exit_deg, 180.0, gap0, "second pair exit");
+  }
+  EXPECT_GT(heights, 10);  // every sampled height over the 2 mm depth
+  expect_within(e.entry_deg, 0.0, 180.0, "summary entry");
+  expect_within(e.exit_deg, 180.0, 180.0, "summary exit");
+  const double area = R * ap * 2.0 * gap0 / kDeg;
+  expect_within(e.area_mm2, area, area, "area of the two pairs");
+}
+
+TEST(Engagement, PlungeEngagesTheWholeEndFace) {
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const VerifyReport r = run(s, "G21 G90 G94\nG0 X50 Y0 Z12\nG1 Z8 F100\nM30\n");
+  const Engagement& e = r.per_block.back().engagement;
+  std::cout << "plunge: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";
+  EXPECT_NEAR(e.angle_deg(), 360.0, 1e-9);
+  expect_within(e.area_mm2, kPi * R * R, kPi * R * R, "end face");
+  expect_within(r.per_block.back().removed_mm3, kPi * R * R * ap, kPi * R * R * ap, "removed");
+}
+
+TEST(Engagement, InverseTimeMrr) {
+  // G93: F is 1 / block minutes, so the MRR of the 20 mm slot block is its volume times F.
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const VerifyReport r = run(s, "G21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F600\nG93 G1 X50 F12\nM30\n");
+  const BlockResult& b = r.per_block.back();
+  EXPECT_EQ(b.feed_mode, FeedMode::InverseTime);
+  expect_within(b.mrr(), b.removed_mm3 * 12.0, b.removed_mm3 * 12.0, "G93 MRR");
+  expect_within(b.removed_mm3, 2 * R * ap * L, 2 * R * ap * L, "removed volume");
+}
+
+TEST(Engagement, ResolutionDoesNotMoveTheAngles) {
+  // Refinement makes the angles independent of the lattice: a 30 deg oblique slot at two resolutions.
+  const Scene s = box_scene({0, -20, 0}, {100, 40, 10}, make_tool(FlatCutter{R}));
+  const std::string g = "G21 G90 G94\nG0 X-10 Y-5 Z8\nG1 X20 Y12.3205 F600\nG1 X40 Y23.8675\nM30\n";
+  const Engagement a = run(s, g, 0.1).per_block.back().engagement;
+  const Engagement b = run(s, g, 0.2).per_block.back().engagement;
+  EXPECT_NEAR(a.entry_deg, 0.0, 0.5);
+  EXPECT_NEAR(a.exit_deg, 180.0, 0.5);
+  EXPECT_NEAR(a.exit_deg, b.exit_deg, 0.5);
+  EXPECT_NEAR(a.area_mm2, b.area_mm2, 0.01 * a.area_mm2);
+}
+
+}  // namespace
+}  // namespace tf
