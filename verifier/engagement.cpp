@@ -133,9 +133,10 @@ class Sampler {
 
   const Profile& profile() const { return profile_; }
 
-  bool engaged(double s, double phi) const {
-    const ProfilePoint pp = profile_.at(s);
-    const double c = std::cos(phi), sn = std::sin(phi);
+  bool engaged(double s, double phi) const { return engaged(profile_.at(s), std::cos(phi), std::sin(phi)); }
+
+  // The same at a profile point and the angle's cosine and sine (the sampling grid precomputes both).
+  bool engaged(const ProfilePoint& pp, double c, double sn) const {
     const Eigen::Vector3d x = end_.point(pp.r, pp.z, c, sn);
     const Eigen::Vector3d v = x - before_.point(pp.r, pp.z, c, sn);
     const double vn = v.norm();
@@ -198,13 +199,13 @@ bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) {
 }
 
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
-                              const EngagementOptions& opt) {
+                              const EngagementOptions& opt, const MaterialCull& cull) {
   Engagement out;
   const Sampler sampler(stock, tool, before, end);
   const Profile& prof = sampler.profile();
   const double S = prof.length();
   const double h = stock.lattice().h;
-  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : 0.5 * h;
+  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
   const int nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
   const double ds = S / nr;
   const int na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
@@ -214,8 +215,27 @@ Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const Too
 
   // The sample grid.
   std::vector<uint8_t> state(size_t(nr) * na);
+  std::vector<double> cos_phi(na), sin_phi(na);
+  for (int j = 0; j < na; ++j) {
+    cos_phi[j] = std::cos(phi_of(j));
+    sin_phi[j] = std::sin(phi_of(j));
+  }
+  const Eigen::Vector3d axis = end.axis.normalized();
+  // A circle of radius r about axis a spans r sqrt(1 - a_k^2) along axis k.
+  const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
   tbb::parallel_for(0, nr, [&](int i) {
-    for (int j = 0; j < na; ++j) state[size_t(i) * na + j] = sampler.engaged(s_of(i), phi_of(j));
+    if (cull) {
+      // The band of ring i (to the neighbouring rings, which its refinement may reach).
+      Eigen::AlignedBox3d box;
+      for (const double s : {std::max(0.0, s_of(i - 1)), std::min(S, s_of(i + 1))}) {
+        const Eigen::Vector3d c = end.tip + sampler.height(s) * axis, e = sampler.radius(s) * span;
+        box.extend(c - e);
+        box.extend(c + e);
+      }
+      if (!cull(box)) return;  // state stays 0
+    }
+    const ProfilePoint pp = prof.at(s_of(i));
+    for (int j = 0; j < na; ++j) state[size_t(i) * na + j] = sampler.engaged(pp, cos_phi[j], sin_phi[j]);
   });
   auto st = [&](int i, int j) { return state[size_t(i) * na + ((j % na) + na) % na] != 0; };
 
@@ -245,8 +265,22 @@ Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const Too
       const double entry = refine(phi_of(j - 1), phi_of(j - 1) + dphi, false, opt.refine_steps, test);
       const double exit = refine(phi_of(e), phi_of(e) + dphi, true, opt.refine_steps, test);
       rr.arcs.push_back({entry, exit});
-      rr.angle += exit - entry;
     }
+    // Gaps shorter than the lattice spacing along the ring are below what the stock model resolves
+    // (classification near a boundary the rays run along): the arcs on both sides are one.
+    const double min_gap = h / std::max(sampler.radius(s), 1e-9);
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& arc : rr.arcs) {
+      if (!merged.empty() && arc.first - merged.back().second < min_gap) merged.back().second = arc.second;
+      else merged.push_back(arc);
+    }
+    if (merged.size() > 1 && merged.front().first + 2.0 * kPi - merged.back().second < min_gap) {
+      merged.back().second = merged.front().second + 2.0 * kPi;
+      merged.erase(merged.begin());
+    }
+    if (merged.size() == 1 && merged.front().second - merged.front().first >= 2.0 * kPi - min_gap) merged.front() = {0.0, 2.0 * kPi};
+    rr.arcs = std::move(merged);
+    for (const auto& [a, b] : rr.arcs) rr.angle += b - a;
   });
 
   // Area: each ring's band times its engaged fraction, plus, where the state changes between rings along

@@ -41,7 +41,9 @@ RayMesh::RayMesh(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     const Eigen::Vector3d n = (m.V[m.F[f][1]] - m.V[m.F[f][0]]).cross(m.V[m.F[f][2]] - m.V[m.F[f][0]]);
     m.normals[f] = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
   }
-  m.device = rtcNewDevice("threads=1");
+  // No "threads=N" here: Debian's Embree schedules with TBB, and a thread count becomes a process-wide
+  // tbb::global_control for the device's lifetime, which serialised every TBB loop of the verifier.
+  m.device = rtcNewDevice(nullptr);
   if (!m.device) throw std::runtime_error("Embree: cannot create a device");
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);

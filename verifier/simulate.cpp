@@ -140,8 +140,8 @@ class Simulator {
   Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
       : scene_(scene), program_(program), forward_(forward), opt_(options),
         lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
-    for (const Mesh& m : scene.fixtures) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture});
-    for (const Mesh& m : scene.check_surfaces) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Check});
+    for (const Mesh& m : scene.fixtures) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture, {}});
+    for (const Mesh& m : scene.check_surfaces) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Check, {}});
     if (options.check_gouges && scene.design.n_faces() > 0) {
       design_ = std::make_unique<RayTable>(scene.design, lattice_);
       design_mesh_ = std::make_unique<RayMesh>(scene.design);
@@ -161,6 +161,7 @@ class Simulator {
       for (int tv = 0; tv < tiles_v_[d]; ++tv)
         for (int tu = 0; tu < tiles_u_[d]; ++tu) update_tile(d, tu, tv);
     }
+    for (Obstacle& o : obstacles_) obstacle_tiles(o);
   }
 
   VerifyResult run() {
@@ -214,7 +215,32 @@ class Simulator {
   struct Obstacle {
     std::unique_ptr<RayTable> table;
     HitWith with;
+    std::array<std::vector<Interval>, 3> tile_ext;  // per tile: the extent of its rays' crossings (see ray_range)
   };
+
+  // The stretch of ray (iu, iv) of grid d where an obstacle can be met: between its first and last
+  // crossing, open-ended where the ray starts or ends inside a solid. Empty (lo > hi) without crossings.
+  static Interval obstacle_range(const RayTable& t, int d, int iu, int iv) {
+    const Crossing *b = t.begin(d, iu, iv), *e = t.end(d, iu, iv);
+    if (b == e) return {kEmptyLo, -kEmptyLo};
+    const float inf = std::numeric_limits<float>::infinity();
+    return {t.solid() && b->cos > 0 ? -inf : b->t, t.solid() && (e - 1)->cos < 0 ? inf : (e - 1)->t};
+  }
+
+  void obstacle_tiles(Obstacle& o) const {
+    for (int d = 0; d < 3; ++d) {
+      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+      o.tile_ext[d].assign(size_t(tiles_u_[d]) * tiles_v_[d], {kEmptyLo, -kEmptyLo});
+      for (int iv = 0; iv < lattice_.n[v]; ++iv)
+        for (int iu = 0; iu < lattice_.n[u]; ++iu) {
+          const Interval r = obstacle_range(*o.table, d, iu, iv);
+          if (r.lo > r.hi) continue;
+          Interval& x = o.tile_ext[d][size_t(iv / kTile) * tiles_u_[d] + iu / kTile];
+          x.lo = std::min(x.lo, r.lo);
+          x.hi = std::max(x.hi, r.hi);
+        }
+    }
+  }
 
   static Lattice make_lattice(const Scene& scene, double h) {
     if (!(h > 0.0) || !std::isfinite(h)) throw InputError("", 0, "resolution", "must be a positive number of mm");
@@ -263,10 +289,13 @@ class Simulator {
     if (p.box.max()[u] < u_lo || p.box.min()[u] > u_hi || p.box.max()[v] < v_lo || p.box.min()[v] > v_hi) return false;
     const float a = static_cast<float>(p.box.min()[d] - lattice_.origin[d]);
     const float b = static_cast<float>(p.box.max()[d] - lattice_.origin[d]);
-    const Interval& ext = tile_ext_[d][size_t(tv) * tiles_u_[d] + tu];
+    const size_t tile = size_t(tv) * tiles_u_[d] + tu;
+    const Interval& ext = tile_ext_[d][tile];
     if (b >= ext.lo && a <= ext.hi) return true;
-    for (const Obstacle& o : obstacles_)
-      if (b >= o.table->lo(d) && a <= o.table->hi(d)) return true;
+    for (const Obstacle& o : obstacles_) {
+      const Interval& oe = o.tile_ext[d][tile];
+      if (b >= oe.lo && a <= oe.hi) return true;
+    }
     return false;
   }
 
@@ -318,7 +347,7 @@ class Simulator {
     if (opt_.engagement && !rapid && !tasks_.empty()) {
       const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
       br.engagement = measure_engagement(stock_, scene_.tool, pose_at(1.0 - back), pose_at(1.0),
-                                         opt_.engagement_options);
+                                         opt_.engagement_options, [this](const Eigen::AlignedBox3d& box) { return may_hold_material(box); });
     }
     for (auto& a : accum_) a.reset();
     tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
@@ -355,6 +384,23 @@ class Simulator {
     return br;
   }
 
+  // False only when no ray of any grid holds material inside `box` (the tiles' material extents).
+  bool may_hold_material(const Eigen::AlignedBox3d& box) const {
+    const Eigen::AlignedBox3d b(box.min().array() - lattice_.h, box.max().array() + lattice_.h);
+    for (int d = 0; d < 3; ++d) {
+      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+      int tu0, tu1, tv0, tv1;
+      if (!tile_range(b.min()[u], b.max()[u], u, tu0, tu1) || !tile_range(b.min()[v], b.max()[v], v, tv0, tv1)) continue;
+      const float lo = static_cast<float>(b.min()[d] - lattice_.origin[d]), hi = static_cast<float>(b.max()[d] - lattice_.origin[d]);
+      for (int tv = tv0; tv <= tv1; ++tv)
+        for (int tu = tu0; tu <= tu1; ++tu) {
+          const Interval& ext = tile_ext_[d][size_t(tv) * tiles_u_[d] + tu];
+          if (hi >= ext.lo && lo <= ext.hi) return true;
+        }
+    }
+    return false;
+  }
+
   // Tiles along lattice axis `axis` whose nodes lie in [lo, hi]; false when none.
   bool tile_range(double lo, double hi, int axis, int& t0, int& t1) const {
     const double big = lattice_.n[axis] + 1.0;
@@ -386,11 +432,11 @@ class Simulator {
         // What a part must overlap along this ray to matter: the material, or an obstacle on the ray.
         const Dexel& ray = stock_.ray(d, iu, iv);
         float lo = ray.empty() ? kEmptyLo : ray.begin()->lo, hi = ray.empty() ? -kEmptyLo : (ray.end() - 1)->hi;
-        for (const Obstacle& ob : obstacles_)
-          if (ob.table->begin(d, iu, iv) != ob.table->end(d, iu, iv)) {
-            lo = std::min(lo, ob.table->lo(d));
-            hi = std::max(hi, ob.table->hi(d));
-          }
+        for (const Obstacle& ob : obstacles_) {
+          const Interval r = obstacle_range(*ob.table, d, iu, iv);
+          lo = std::min(lo, r.lo);
+          hi = std::max(hi, r.hi);
+        }
         if (lo > hi) continue;
         for (int pi : acc.parts) {
           const SweptPart& p = sweep_.parts[pi];

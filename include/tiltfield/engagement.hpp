@@ -24,6 +24,8 @@
 // only (a plunge), f is the part's x axis projected normal to a (its y axis when a is along x).
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -34,10 +36,10 @@
 namespace tf {
 
 struct EngagementOptions {
-  double angle_step_deg = 2.0;  // sample spacing around the axis before refinement, deg
-  double axial_step_mm = 0.0;   // ring spacing along the profile before refinement; 0: half the lattice spacing
+  double angle_step_deg = 3.0;  // sample spacing around the axis before refinement, deg
+  double axial_step_mm = 0.0;   // ring spacing along the profile before refinement; 0: the lattice spacing
   int max_rings = 400;          // cap on the ring count (a long flute is sampled more coarsely)
-  int refine_steps = 12;        // bisection steps per state change (2 deg / 4096 ~ 0.0005 deg)
+  int refine_steps = 12;        // bisection steps per state change (3 deg / 4096 ~ 0.0007 deg)
   bool keep_pairs = false;      // keep every pair at every height (Engagement::pairs)
 };
 
@@ -65,9 +67,13 @@ struct Engagement {
 // True when p lies in the stock's material (see the classification above).
 bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p);
 
+// Answers false only when no material of the stock can lie in the box (a conservative cull).
+using MaterialCull = std::function<bool(const Eigen::AlignedBox3d& box)>;
+
 // The engagement of `tool` at pose `end`, reached from `before` (the pose a short time earlier: it gives
-// the velocity of every surface point). `stock` is the in-process stock before the block.
+// the velocity of every surface point). `stock` is the in-process stock before the block. `cull`, when
+// given, lets rings of samples that surely meet no material be skipped.
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
-                              const EngagementOptions& options = {});
+                              const EngagementOptions& options = {}, const MaterialCull& cull = {});
 
 }  // namespace tf

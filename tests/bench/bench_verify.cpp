@@ -1,17 +1,21 @@
 // Verifier throughput: moves per second and peak memory.
 //  (a) a 3-axis freeform finishing raster of >= 500k moves on a 100 x 100 x 50 mm block at 0.05 mm
-//      (BM_FreeformFinishing/500: 500 lines x 1000 moves; /50 is a quick tenth of it);
-//  (b) the bundled impeller's posted program at 0.05 mm, when build/scenes/impeller/program.ngc exists
-//      (`tiltfield run` or plan + post write it; skipped otherwise).
+//      (BM_FreeformFinishing/500/x: 500 lines x 1000 moves; /5 and /50 are quick fractions of it), with
+//      and without the engagement measurement;
+//  (b) the bundled impeller, planned and posted in process, at 0.05 mm; at 0.1 mm with and without the
+//      engagement measurement (its cost, issue 6).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
 #include "tiltfield/gcode.hpp"
+#include "tiltfield/plan.hpp"
+#include "tiltfield/post.hpp"
 #include "tiltfield/scene.hpp"
 #include "tiltfield/verify.hpp"
 
@@ -65,6 +69,7 @@ void BM_FreeformFinishing(benchmark::State& state) {
   const tf::Program program = raster(static_cast<int>(state.range(0)), 1000);
   tf::VerifyOptions opt;
   opt.resolution = 0.05;
+  opt.engagement = state.range(1) != 0;
   opt.check_gouges = false;
   double seconds = 0.0;
   size_t rays = 0;
@@ -80,32 +85,77 @@ void BM_FreeformFinishing(benchmark::State& state) {
   state.counters["rays"] = static_cast<double>(rays);
   state.counters["peak_MB"] = peak_rss_mb();
 }
-BENCHMARK(BM_FreeformFinishing)->Arg(1)->Arg(5)->Arg(50)->Arg(500)->Iterations(1)->Unit(benchmark::kSecond);
+// Arguments: raster lines (1000 moves each), engagement off (0) or on (1).
+BENCHMARK(BM_FreeformFinishing)
+    ->Args({5, 0})
+    ->Args({5, 1})
+    ->Args({50, 0})
+    ->Args({500, 0})
+    ->Args({500, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 
+// The bundled impeller, planned and posted in process (the same steps as `tiltfield run`), read back
+// from its G-code text.
+struct ImpellerJob {
+  tf::Scene scene;
+  tf::Program program;
+};
+
+const ImpellerJob* impeller_job() {
+  static const std::unique_ptr<ImpellerJob> job = []() -> std::unique_ptr<ImpellerJob> {
+    const std::filesystem::path file = std::filesystem::path(TILTFIELD_BINARY_DIR) / "scenes" / "impeller" / "scene.json";
+    if (!std::filesystem::exists(file)) return nullptr;
+    auto j = std::make_unique<ImpellerJob>();
+    j->scene = tf::load_scene(file);
+    const tf::PlanResult planned = tf::plan(
+        j->scene, tf::parse_plan_options(j->scene.planner_json, file.string(), j->scene.tool, j->scene.planner, j->scene.feed));
+    tf::PostJob post;
+    post.machine = *j->scene.machine;
+    post.tool = j->scene.tool;
+    post.feed = j->scene.feed;
+    post.part_bounds = tf::scene_bounds(j->scene);
+    const tf::PostOptions po;
+    std::ostringstream text;
+    tf::write_gcode(text, tf::post_program(planned.path, post, po), post, po);
+    j->program = tf::parse_gcode(text.str(), "impeller.ngc", post.machine);
+    return j;
+  }();
+  return job.get();
+}
+
+// Arguments: resolution in 1/100 mm, engagement on (1) or off (0).
 void BM_Impeller(benchmark::State& state) {
-  const std::filesystem::path dir = std::filesystem::path(TILTFIELD_BINARY_DIR) / "scenes" / "impeller";
-  const std::filesystem::path program_file = dir / "program.ngc";
-  if (!std::filesystem::exists(program_file) || !std::filesystem::exists(dir / "scene.json")) {
-    state.SkipWithError("no posted impeller program (run `tiltfield run` into build/scenes/impeller first)");
+  const ImpellerJob* job = impeller_job();
+  if (!job) {
+    state.SkipWithError("build/scenes/impeller/scene.json is missing (the build generates it)");
     return;
   }
-  const tf::Scene scene = tf::load_scene(dir / "scene.json");
-  const tf::Program program = tf::read_gcode(program_file, scene.machine.value_or(tf::MachineSpec{}));
   tf::VerifyOptions opt;
-  opt.resolution = 0.05;
-  double seconds = 0.0;
-  size_t collisions = 0;
+  opt.resolution = state.range(0) / 100.0;
+  opt.engagement = state.range(1) != 0;
+  double seconds = 0.0, balance = 0.0;
+  size_t collisions = 0, engaged = 0;
   for (auto _ : state) {
-    const tf::VerifyResult r = tf::verify_program(scene, program, tf::scene_forward(scene), opt);
+    const tf::VerifyResult r = tf::verify_program(job->scene, job->program, tf::scene_forward(job->scene), opt);
     seconds = r.report.seconds;
     collisions = r.report.collisions.size();
+    engaged = 0;
+    for (const tf::BlockResult& b : r.report.per_block) engaged += b.engagement.engaged();
+    // Removed volume summed over blocks against the stock before minus after (issue 6), percent.
+    const double gone = r.report.stock_volume_start_mm3 - r.report.stock_volume_end_mm3;
+    balance = 100.0 * (r.report.removed_volume_mm3 - gone) / std::max(gone, 1e-9);
   }
-  state.counters["moves"] = static_cast<double>(program.blocks.size());
-  state.counters["moves_per_s"] = program.blocks.size() / std::max(seconds, 1e-9);
+  state.counters["moves"] = static_cast<double>(job->program.blocks.size());
+  state.counters["moves_per_s"] = job->program.blocks.size() / std::max(seconds, 1e-9);
+  state.counters["sim_seconds"] = seconds;
   state.counters["collisions"] = static_cast<double>(collisions);
+  state.counters["engaged_blocks"] = static_cast<double>(engaged);
+  state.counters["volume_balance_pct"] = balance;
   state.counters["peak_MB"] = peak_rss_mb();
 }
-BENCHMARK(BM_Impeller)->Iterations(1)->Unit(benchmark::kSecond);
+// Engagement cost: /10/0 against /10/1 (issue 6). Issue 5 (b): /5/1, the impeller at 0.05 mm.
+BENCHMARK(BM_Impeller)->Args({10, 0})->Args({10, 1})->Args({5, 1})->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace
 
