@@ -86,7 +86,8 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
                        {"max_radial_width_mm", num(max_ae, 4)},
                        {"max_mrr_mm3_min", num(max_mrr, 2)},
                        {"mean_mrr_mm3_min", num(cut_min > 0 ? cut_mm3 / cut_min : 0.0, 2)},
-                       {"cutting_minutes", num(cut_min, 4)}};
+                       {"cutting_minutes", num(cut_min, 4)},
+                       {"seconds", num(r.engagement_seconds, 3)}};
   }
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2);

@@ -345,9 +345,11 @@ class Simulator {
     // Engagement is measured on the stock before this block removes anything (seed 001: the in-process
     // workpiece met by the tool at the block's end).
     if (opt_.engagement && !rapid && !tasks_.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
       const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
       br.engagement = measure_engagement(stock_, scene_.tool, pose_at(1.0 - back), pose_at(1.0),
                                          opt_.engagement_options, [this](const Eigen::AlignedBox3d& box) { return may_hold_material(box); });
+      rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     for (auto& a : accum_) a.reset();
     tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });

@@ -90,6 +90,7 @@ struct VerifyReport {
   size_t rays = 0;           // rays of the three grids
   size_t material_rays = 0;  // of which carrying stock at the start
   double seconds = 0.0;
+  double engagement_seconds = 0.0;     // of `seconds`, spent measuring engagement
   double sweep_error_mm = 0.0;         // largest sub-step error bound of the cutting parts
   double holder_sweep_error_mm = 0.0;  // the same for shank and holder
   size_t memory_bytes = 0;             // tri-dexel stock at the end

@@ -140,7 +140,7 @@ TEST(Engagement, CrossingAnEarlierSlotGivesTwoPairs) {
     expect_within(q.entry_deg, gap1, gap0, "second pair entry");
     expect_within(q.exit_deg, 180.0, gap0, "second pair exit");
   }
-  EXPECT_GT(heights, 10);  // every sampled height over the 2 mm depth
+  EXPECT_GE(heights, 5);  // every sampled height over the 2 mm depth (rings about 0.26 mm apart)
   expect_within(e.entry_deg, 0.0, 180.0, "summary entry");
   expect_within(e.exit_deg, 180.0, 180.0, "summary exit");
   const double area = R * ap * 2.0 * gap0 / kDeg;

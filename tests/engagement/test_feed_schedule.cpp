@@ -2,7 +2,9 @@
 // `post --max-mrr`) never exceed the MRR limit when verified again, and LinuxCNC's interpreter reads them.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 
 #include "test_support.hpp"
@@ -174,6 +176,63 @@ TEST_F(ScheduleCli, PostMaxMrr) {
   TF_REQUIRE_RS274();
   const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
+}
+
+}  // namespace
+}  // namespace tf
+
+namespace tf {
+namespace {
+
+// Mutated programs: whatever reads, the rewrite of its F words reads back to the same blocks with the
+// scheduled feeds; nothing else changes.
+TEST(FeedSchedule, RewriteFuzz) {
+  const std::string base =
+      "%\nO100 (fuzz)\nN10 G21 G90 G94 (F in a comment)\nN20 G0 X-10 Y0 Z8\nN30 G1 X30 F600 ; F7\n"
+      "N40 G2 X40 Y10 I5 J5 F450\nN50 G1 Z12\nN60 G93 G1 X20 F12.5\nN70 G1 Y-4 F3\nN80 G94 G1 X0 F800\nM30\n%\n";
+  const std::string alphabet = "GXYZFIJKRN0123456789.-+ ();%/\n";
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (int k = 0; k < 600; ++k) {
+    std::string text = base;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0: text.erase(at, 1); break;
+        case 1: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+        default: text[at] = alphabet[rng() % alphabet.size()];
+      }
+    }
+    Program p;
+    try {
+      p = parse_gcode(text, "fuzz.ngc", MachineSpec{});
+    } catch (const InputError&) {
+      continue;
+    }
+    FeedSchedule fs;
+    fs.feed.resize(p.blocks.size());
+    std::map<int, int> per_line;
+    for (size_t i = 0; i < p.blocks.size(); ++i) {
+      fs.feed[i] = p.blocks[i].motion == Motion::Rapid ? 0.0 : 1.0 + double(rng() % 5000) / 4.0;
+      ++per_line[p.blocks[i].line];
+    }
+    const std::string out = rewrite_feeds(text, p, fs);
+    Program q;
+    ASSERT_NO_THROW(q = parse_gcode(out, "fuzz.ngc", MachineSpec{})) << text << "\n---\n" << out;
+    ASSERT_EQ(q.blocks.size(), p.blocks.size()) << text << "\n---\n" << out;
+    for (size_t i = 0; i < p.blocks.size(); ++i) {
+      EXPECT_EQ(q.blocks[i].motion, p.blocks[i].motion);
+      EXPECT_NEAR(q.blocks[i].target.x, p.blocks[i].target.x, 1e-9);
+      EXPECT_NEAR(q.blocks[i].target.y, p.blocks[i].target.y, 1e-9);
+      // A line holding one block gets exactly its feed (lines with several take their smallest).
+      if (fs.feed[i] > 0 && per_line[p.blocks[i].line] == 1) {
+        EXPECT_NEAR(q.blocks[i].feed, fs.feed[i], 0.005) << out;
+      }
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
 }
 
 }  // namespace

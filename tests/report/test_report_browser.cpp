@@ -19,19 +19,6 @@ bool on_ci() {
   return ci && std::string(ci) == "true";
 }
 
-// Output of a shell command with its exit code.
-CliResult run_shell(const std::string& cmd) {
-  CliResult r;
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
 TEST(ReportBrowser, PlotsAndWebGlCanvasRenderInHeadlessChromium) {
   const std::string chromium = std::getenv("CHROMIUM") ? std::getenv("CHROMIUM") : "/usr/bin/chromium";
   const std::filesystem::path node_modules = std::filesystem::path(TILTFIELD_BINARY_DIR) / "report_npm" / "node_modules";
@@ -39,7 +26,7 @@ TEST(ReportBrowser, PlotsAndWebGlCanvasRenderInHeadlessChromium) {
   if (!reporting::viewer_built_in()) missing = "this build has no 3-D viewer (TILTFIELD_REPORT_VIEWER=OFF)";
   else if (!std::filesystem::exists(chromium)) missing = chromium + " not found (apt-get install chromium chromium-driver)";
   else if (!std::filesystem::exists(node_modules / "playwright-core")) missing = "playwright-core not installed in " + node_modules.string();
-  else if (run_shell("node --version").exit_code != 0) missing = "node not found";
+  else if (run_command("node --version").exit_code != 0) missing = "node not found";
   if (!missing.empty()) {
     if (on_ci()) FAIL() << "CI=true and " << missing;
     GTEST_SKIP() << missing;
@@ -54,7 +41,7 @@ TEST(ReportBrowser, PlotsAndWebGlCanvasRenderInHeadlessChromium) {
   const std::string cmd = "TILTFIELD_NODE_MODULES='" + node_modules.string() + "' CHROMIUM='" + chromium + "' node '" +
                           TILTFIELD_SOURCE_DIR + "/tests/report/check_report.mjs' '" + (dir / "report.html").string() +
                           "' '" + (dir / "screenshot.png").string() + "' --min-plots=6";
-  const CliResult r = run_shell(cmd);
+  const CliResult r = run_command(cmd);
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("\"viewer\":\"ready\""), std::string::npos) << r.out;
   EXPECT_TRUE(std::filesystem::exists(dir / "screenshot.png"));

@@ -47,23 +47,7 @@ struct CliResult {
   std::string out;  // stdout and stderr, merged
 };
 
-// Runs the built binary with `args` (a shell-quoted argument string), in `cwd` when given.
-inline CliResult run_tiltfield(const std::string& args, const std::filesystem::path& cwd = {}) {
-  std::string cmd;
-  if (!cwd.empty()) cmd = "cd '" + cwd.string() + "' && ";
-  cmd += std::string("'") + TILTFIELD_EXE + "' --quiet " + args + " 2>&1";
-  CliResult r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-// Runs a shell command; stdout and stderr merged.
+// Runs a shell command; stdout and stderr merged, stdin empty.
 inline CliResult run_command(const std::string& command) {
   CliResult r;
   FILE* p = ::popen((command + " 2>&1 < /dev/null").c_str(), "r");
@@ -74,6 +58,13 @@ inline CliResult run_command(const std::string& command) {
   const int status = ::pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// Runs the built binary with `args` (a shell-quoted argument string), in `cwd` when given.
+inline CliResult run_tiltfield(const std::string& args, const std::filesystem::path& cwd = {}) {
+  std::string cmd;
+  if (!cwd.empty()) cmd = "cd '" + cwd.string() + "' && ";
+  return run_command(cmd + "'" + TILTFIELD_EXE + "' --quiet " + args);
 }
 
 // LinuxCNC's interpreter (Debian package linuxcnc-uspace) is an independent reader of our programs.
