@@ -38,7 +38,7 @@ namespace tf {
 struct EngagementOptions {
   double angle_step_deg = 3.0;  // sample spacing around the axis before refinement, deg
   double axial_step_mm = 0.0;   // ring spacing along the profile before refinement; 0: the lattice spacing
-  int max_rings = 96;           // cap on the ring count (a long profile is sampled more coarsely; the
+  int max_rings = 160;          // cap on the ring count (a long profile is sampled more coarsely; the
                                 // refinement still finds every boundary between rings)
   int refine_steps = 12;        // bisection steps per state change (3 deg / 4096 ~ 0.0007 deg)
   bool keep_pairs = false;      // keep every pair at every height (Engagement::pairs)

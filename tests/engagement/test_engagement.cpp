@@ -181,3 +181,36 @@ TEST(Engagement, ResolutionDoesNotMoveTheAngles) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
+  // A ball end with its axis leaning 30 deg back in the feed plane (a lead angle) cuts the same
+  // spherical cap as an upright one: the front half of a zone of height d, area pi R d. The cap lies in
+  // the ball's lower hemisphere in the tilted tool frame too (its rim is 4 mm from the centre's vertical).
+  const double d = 2.0;
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
+  const Program p = parse_gcode(slot_program(0.0, d), "test.ngc", MachineSpec{});
+  const double lean = 30.0 * kPi / 180.0;
+  // Joint values -> pose: tip at X Y Z (the ball's centre stays above it at R along the tilted axis, so
+  // lift the tip to keep the ball's lowest point at the programmed Z).
+  const ForwardFn tilted = [&](const Joints& j) {
+    const Eigen::Vector3d axis(-std::sin(lean), 0.0, std::cos(lean));
+    const Eigen::Vector3d centre(j.x, j.y, j.z + R);
+    return ToolPose{centre - R * axis, axis};
+  };
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyReport r = verify_program(s, p, tilted, o).report;
+  const Engagement& e = r.per_block.back().engagement;
+  std::cout << "tilted ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";
+  expect_within(e.area_mm2, kPi * R * d, kPi * R * d, "area");
+  const double segment = R * R * std::acos((R - d) / R) - (R - d) * std::sqrt(2 * R * d - d * d);
+  expect_within(r.per_block.back().removed_mm3, segment * L, segment * L, "removed volume");
+  // Angles are in the tilted tool frame, where the cap's rim leaves the 0..180 half: a wider arc.
+  EXPECT_GT(e.angle_deg(), 180.0);
+}
+
+}  // namespace
+}  // namespace tf
