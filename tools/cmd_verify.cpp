@@ -40,30 +40,15 @@ void run_verify(const VerifyArgs& a) {
   opt.engagement_options.keep_pairs = !a.pairs.empty();
   opt.progress = terminal_progress();
   const bool scheduling = a.schedule_mrr != 0.0;
+  FeedScheduleOptions so = a.schedule;
+  so.max_mrr = a.schedule_mrr;
+  if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
   if (scheduling) {
+    if (!(a.schedule_mrr > 0.0)) throw InputError("", 0, "--schedule-feed", "must be a positive number of mm3/min");
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
-    FeedScheduleOptions probe = a.schedule;
-    probe.max_mrr = a.schedule_mrr;
-    schedule_feeds(Program{}, VerifyReport{}, probe);  // option errors before the long simulation
+    schedule_feeds(Program{}, VerifyReport{}, so);  // option errors before the long simulation
   }
   const VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
-  if (scheduling) {
-    FeedScheduleOptions so = a.schedule;
-    so.max_mrr = a.schedule_mrr;
-    if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
-    const FeedSchedule fs = schedule_feeds(program, result.report, so);
-    const std::string text = read_text_file(a.program, "G-code file");
-    write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
-    if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
-    if (!a.pairs.empty()) write_engagement_csv(result.report, a.pairs);
-    if (!a.report.empty()) write_verify_json(result.report, a.report);
-    if (!global_options().quiet) {
-      std::cerr << "verify: feeds scheduled for " << fixed(so.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
-                << fs.sped_up << " air blocks at " << fixed(so.air_feed, 0) << " mm/min\n";
-      for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
-    }
-    return;
-  }
   // Every output is written to a temporary name and renamed; the mesh first (slowest), the report last.
   if (!a.stock_mesh.empty()) {
     StockMeshOptions mo;
@@ -72,7 +57,20 @@ void run_verify(const VerifyArgs& a) {
   }
   if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
   if (!a.pairs.empty()) write_engagement_csv(result.report, a.pairs);
-  write_verify_json(result.report, a.out);
+  if (scheduling) {
+    // -o is the rewritten program here (the issue's `verify --schedule-feed V -o PROGRAM2.ngc`).
+    const FeedSchedule fs = schedule_feeds(program, result.report, so);
+    const std::string text = read_text_file(a.program, "G-code file");
+    if (!a.report.empty()) write_verify_json(result.report, a.report);
+    write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
+    if (!global_options().quiet) {
+      std::cerr << "verify: feeds scheduled for " << fixed(so.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
+                << fs.sped_up << " air blocks at " << fixed(so.air_feed, 0) << " mm/min\n";
+      for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
+    }
+  } else {
+    write_verify_json(result.report, a.out);
+  }
   const VerifyReport& r = result.report;
   if (!global_options().quiet) {
     std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "

@@ -119,7 +119,14 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
     EXPECT_LE(p2.blocks[i].feed, p1.blocks[i].feed) << "block " << i + 1;
     EXPECT_GE(p2.blocks[i].feed, 10.0) << "block " << i + 1;
   }
-  EXPECT_DOUBLE_EQ(p2.blocks[4].feed, 5000.0);  // the retract and the move back cut nothing: the machine's max feed
+  EXPECT_DOUBLE_EQ(p2.blocks[4].feed, 5000.0);
+  // A limit that is not positive: exit 2 naming the option, no program.
+  const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                                 " --schedule-feed -3 -o " + (dir / "p3.ngc").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--schedule-feed"), std::string::npos) << bad.out;
+  EXPECT_EQ(test::count_lines(bad.out), 1) << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));  // the retract and the move back cut nothing: the machine's max feed
   EXPECT_DOUBLE_EQ(p2.blocks.back().feed, 5000.0);  // the air move at the machine's max feed
   const double after = max_mrr((dir / "p2.ngc").string());
   std::cout << "max MRR " << before << " -> " << after << " mm3/min (limit 6000)\n";
