@@ -113,7 +113,7 @@ struct ChunkCache {
 
 class Repulsion {
  public:
-  Repulsion(const TriangleBvh& bvh, DistanceField& field, const BodySamples& s, const DynamicsParams& p)
+  Repulsion(const ClearanceBvh& bvh, DistanceField& field, const BodySamples& s, const DynamicsParams& p)
       : bvh_(bvh), field_(field), s_(s), p_(p) {
     cache_.centre.assign(s.chunks.size(), Vector3d::Constant(std::numeric_limits<double>::infinity()));
     cache_.bound.assign(s.chunks.size(), -1.0);
@@ -171,7 +171,7 @@ class Repulsion {
   }
 
  private:
-  const TriangleBvh& bvh_;
+  const ClearanceBvh& bvh_;
   DistanceField& field_;
   const BodySamples& s_;
   const DynamicsParams& p_;
@@ -244,7 +244,7 @@ Body advance(Body b, const PathState& s0, const PathState& s1, double T, Repulsi
 
 std::vector<Vector3d> integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
                                      const std::vector<Vector3d>& nominal, const std::vector<double>& feed,
-                                     const TriangleBvh& bvh, DistanceField& field, const BodySamples& samples,
+                                     const ClearanceBvh& bvh, DistanceField& field, const BodySamples& samples,
                                      const DynamicsParams& p, const Progress& progress) {
   const size_t n = path.rows.size();
   std::vector<Vector3d> axes(n);

@@ -48,7 +48,7 @@ DynamicsParams dynamics_params(const PlanOptions& options, const Tool& tool, con
 // Integrates the axis along the path (one axis per row). `feed` per row in mm/min.
 std::vector<Eigen::Vector3d> integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
                                             const std::vector<Eigen::Vector3d>& nominal,
-                                            const std::vector<double>& feed, const TriangleBvh& bvh,
+                                            const std::vector<double>& feed, const ClearanceBvh& bvh,
                                             DistanceField& field, const BodySamples& samples,
                                             const DynamicsParams& params, const Progress& progress);
 

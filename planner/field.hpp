@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tiltfield/triangle_bvh.hpp"
+#include "tiltfield/plan_bvh.hpp"
 
 namespace tf {
 
@@ -20,7 +20,7 @@ class DistanceField {
   static constexpr int kBrick = 8;
 
   // cell: grid step, mm; band: distances at or beyond it are reported as `band`, mm.
-  DistanceField(const TriangleBvh& bvh, double cell, double band);
+  DistanceField(const ClearanceBvh& bvh, double cell, double band);
 
   double band() const { return band_; }
   double cell() const { return cell_; }
@@ -44,7 +44,7 @@ class DistanceField {
   bool compute_brick(int bx, int by, int bz, float* out) const;
   int32_t ensure(int bx, int by, int bz);
 
-  const TriangleBvh& bvh_;
+  const ClearanceBvh& bvh_;
   double cell_, band_;
   Eigen::Vector3d origin_;
   int dims_[3] = {0, 0, 0};       // bricks per axis

@@ -9,7 +9,7 @@
 namespace tf {
 using Eigen::Vector3d;
 
-DistanceField::DistanceField(const TriangleBvh& bvh, double cell, double band) : bvh_(bvh), cell_(cell), band_(band) {
+DistanceField::DistanceField(const ClearanceBvh& bvh, double cell, double band) : bvh_(bvh), cell_(cell), band_(band) {
   if (bvh.empty()) return;
   const auto box = bvh.bounds();
   const Vector3d pad = Vector3d::Constant(band + 2 * cell);

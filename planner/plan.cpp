@@ -69,7 +69,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     ctx.feed[i] = std::isfinite(path.rows[i].feed) ? path.rows[i].feed : feed;
   }
   report(progress, "plan", 0.0);
-  ctx.bvh = TriangleBvh(check_surfaces);
+  ctx.bvh = ClearanceBvh(check_surfaces);
   stage("bvh");
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
@@ -87,7 +87,8 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   result.metrics.rows_nominal_colliding = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, n, 64), size_t{0},
       [&](const tbb::blocked_range<size_t>& r, size_t acc) {
-        for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0) ? 0 : 1;
+        std::vector<int> hints;
+        for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
         return acc;
       },
       std::plus<size_t>());
