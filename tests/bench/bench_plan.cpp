@@ -4,9 +4,12 @@
 // then split 1:4 at its edge midpoints (same geometry, 1.64M triangles: the generator's channel-width
 // checks do not allow enough blades to get there otherwise with the default tool).
 // Options: TILTFIELD_BENCH_ROWS (default 100000), TILTFIELD_BENCH_TOLERANCE (hub, default 0.0005 mm),
-// TILTFIELD_BENCH_BLADE_TOLERANCE (blades, default 0.002 mm).
+// TILTFIELD_BENCH_BLADE_TOLERANCE (blades, default 0.002 mm), TILTFIELD_BENCH_REPEAT (default 1: plans
+// this many times and reports the fastest, for a machine shared with other jobs; the rate counter then
+// counts every run).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -88,16 +91,21 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
   tf::PlanOptions o = tf::derive_plan_options(s.bundle.tool, s.bundle.planner, s.bundle.feed);
   o.method = method;
   tf::PlanResult r;
+  const int repeat = std::max(1, static_cast<int>(env_or("TILTFIELD_BENCH_REPEAT", 1)));
   for (auto _ : state) {
-    r = tf::plan_path(path, s.bundle.tool, meshes, s.bundle.planner, s.bundle.feed, o);
+    for (int k = 0; k < repeat; ++k) {  // on a shared machine: keep the fastest of `repeat` plans
+      tf::PlanResult x = tf::plan_path(path, s.bundle.tool, meshes, s.bundle.planner, s.bundle.feed, o);
+      if (k == 0 || x.metrics.seconds < r.metrics.seconds) r = std::move(x);
+    }
     benchmark::DoNotOptimize(r);
   }
   state.counters["rows"] = static_cast<double>(path.rows.size());
   state.counters["check_triangles"] = static_cast<double>(s.triangles);
   state.counters["cl_points_per_s"] =
-      benchmark::Counter(static_cast<double>(path.rows.size()) * static_cast<double>(state.iterations()),
+      benchmark::Counter(static_cast<double>(path.rows.size()) * repeat * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate);
   state.counters["plan_seconds"] = r.metrics.seconds;
+  state.counters["cl_points_per_plan_s"] = static_cast<double>(path.rows.size()) / r.metrics.seconds;
   state.counters["rows_nominal_colliding"] = static_cast<double>(r.metrics.rows_nominal_colliding);
   state.counters["rows_below_safety"] = static_cast<double>(r.metrics.rows_below_safety);
   state.counters["rms_second_difference"] = r.metrics.rms_second_difference;
