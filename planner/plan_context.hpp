@@ -45,6 +45,9 @@ struct PlanContext {
 
 // Exact clearances of all rows, in parallel.
 std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes);
+// The same for rows [begin, end) into out (sized to the rows), in parallel.
+void clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes, size_t begin, size_t end,
+                std::vector<BodyClearance>& out);
 
 // The guarantee pass: turns rows below their clearance by the smallest rotation that clears them,
 // spread smoothly over the correction window. Updates axes and clear; returns the rows it changed.

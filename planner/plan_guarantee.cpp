@@ -23,12 +23,18 @@ bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, std::ve
   return true;
 }
 
-std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes) {
-  std::vector<BodyClearance> out(axes.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, axes.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+void clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes, size_t begin, size_t end,
+                std::vector<BodyClearance>& out) {
+  if (begin >= end) return;
+  tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<int> hints;  // consecutive rows are close: each row's nearest triangles seed the next
     for (size_t i = r.begin(); i != r.end(); ++i) out[i] = ctx.clearance(i, axes[i], &hints);
   });
+}
+
+std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes) {
+  std::vector<BodyClearance> out(axes.size());
+  clearances(ctx, axes, 0, axes.size(), out);
   return out;
 }
 
