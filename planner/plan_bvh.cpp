@@ -37,10 +37,15 @@ int subtree_nodes(int n, std::map<int, int>& memo) {
   return c;
 }
 
+// A triangle's centroid (single precision: it only steers the splits) and index, moved as one so that
+// the splits read memory in order.
+struct Centroid {
+  float c[3];
+  int32_t index;
+};
+
 struct Builder {
-  const std::vector<Triangle>& tris;
-  const std::vector<Vector3d>& centroid;
-  std::vector<int>& perm;
+  std::vector<Centroid>& items;
   std::vector<ClearanceBvh::Node>& nodes;
   std::vector<std::pair<int, int>>& range;
   const std::map<int, int>& memo;
@@ -55,18 +60,20 @@ struct Builder {
       nd.count = end - begin;
       return;
     }
-    Vector3d clo = Vector3d::Constant(std::numeric_limits<double>::infinity()), chi = -clo;
+    float clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = begin; i < end; ++i) {
-      const Vector3d& c = centroid[static_cast<size_t>(perm[static_cast<size_t>(i)])];
-      clo = clo.cwiseMin(c);
-      chi = chi.cwiseMax(c);
+      const float* c = items[static_cast<size_t>(i)].c;
+      for (int k = 0; k < 3; ++k) {
+        clo[k] = std::min(clo[k], c[k]);
+        chi[k] = std::max(chi[k], c[k]);
+      }
     }
     int axis = 0;
-    (chi - clo).maxCoeff(&axis);
+    for (int k = 1; k < 3; ++k)
+      if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
     const int mid = begin + (end - begin) / 2;
-    std::nth_element(perm.begin() + begin, perm.begin() + mid, perm.begin() + end, [&](int x, int y) {
-      return centroid[static_cast<size_t>(x)][axis] < centroid[static_cast<size_t>(y)][axis];
-    });
+    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                     [axis](const Centroid& x, const Centroid& y) { return x.c[axis] < y.c[axis]; });
     const int left = index + 1, right = index + 1 + count(mid - begin);
     if (end - begin > kParallelGrain)
       tbb::parallel_invoke([&] { run(begin, mid, left); }, [&] { run(mid, end, right); });
@@ -213,19 +220,20 @@ void ClearanceBvh::build() {
   nodes_.clear();
   if (tris_.empty()) return;
   const int n = static_cast<int>(tris_.size());
-  std::vector<Vector3d> centroid(tris_.size());
-  tbb::parallel_for(size_t{0}, tris_.size(), [&](size_t i) { centroid[i] = (tris_[i].a + tris_[i].b + tris_[i].c) / 3.0; });
-  std::vector<int> perm(tris_.size());
-  std::iota(perm.begin(), perm.end(), 0);
+  std::vector<Centroid> items(tris_.size());
+  tbb::parallel_for(size_t{0}, tris_.size(), [&](size_t i) {
+    const Vector3d c = (tris_[i].a + tris_[i].b + tris_[i].c) / 3.0;
+    items[i] = {{static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())}, static_cast<int32_t>(i)};
+  });
   std::map<int, int> memo;
   const int total = subtree_nodes(n, memo);
   nodes_.assign(static_cast<size_t>(total), Node{});
   std::vector<std::pair<int, int>> range(static_cast<size_t>(total));
-  Builder{tris_, centroid, perm, nodes_, range, memo}.run(0, n, 0);
+  Builder{items, nodes_, range, memo}.run(0, n, 0);
   // Leaves address contiguous ranges of the permuted order: store the triangles in that order.
   {
     std::vector<Triangle> sorted(tris_.size());
-    tbb::parallel_for(size_t{0}, perm.size(), [&](size_t i) { sorted[i] = tris_[static_cast<size_t>(perm[i])]; });
+    tbb::parallel_for(size_t{0}, items.size(), [&](size_t i) { sorted[i] = tris_[static_cast<size_t>(items[i].index)]; });
     tris_ = std::move(sorted);
   }
   std::vector<Aabb> box(static_cast<size_t>(total));

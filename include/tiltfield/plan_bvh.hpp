@@ -67,14 +67,14 @@ class ClearanceBvh {
 };
 
 // Lower bound of the squared distance from p to every triangle of a node (the box's exact one), mm^2.
-inline double point_node_bound_squared(const ClearanceBvh::Node& nd, const Eigen::Vector3d& p) {
+[[gnu::always_inline]] inline double point_node_bound_squared(const ClearanceBvh::Node& nd, const Eigen::Vector3d& p) {
   const Eigen::Vector3d l = nd.axes * (p - nd.centre);
   return (l.cwiseAbs() - nd.half).cwiseMax(0.0).squaredNorm();
 }
 
 // Lower bound of the distance from segment [p0, p1] to every triangle of a node, mm (0 when they may
 // touch): the largest gap along a few separating directions, in the box's frame (centre at the origin).
-inline double segment_node_bound(const ClearanceBvh::Node& nd, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1) {
+[[gnu::always_inline]] inline double segment_node_bound(const ClearanceBvh::Node& nd, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1) {
   const Eigen::Vector3d l0 = nd.axes * (p0 - nd.centre), l1 = nd.axes * (p1 - nd.centre);
   // The box axes: gap between the segment's interval and [-half, half],
   const Eigen::Vector3d lmin = l0.cwiseMin(l1), lmax = l0.cwiseMax(l1);
