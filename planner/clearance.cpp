@@ -190,6 +190,23 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
 }
 
 
+void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& required) {
+  std::vector<BodyPiece> p;
+  std::vector<double> r;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const BodyPiece& q = pieces[i];
+    if (!p.empty() && !p.back().sphere && !q.sphere && p.back().radius == q.radius && r.back() == required[i] &&
+        std::abs(p.back().h1 - q.h0) <= 1e-12 * (1 + std::abs(q.h0))) {
+      p.back().h1 = q.h1;
+      continue;
+    }
+    p.push_back(q);
+    r.push_back(required[i]);
+  }
+  pieces = std::move(p);
+  required = std::move(r);
+}
+
 size_t piece_query_order(const std::vector<BodyPiece>& pieces, size_t k) {
   const size_t n = pieces.size();
   return pieces[0].sphere ? (k == 0 ? 0 : n - k) : n - 1 - k;

@@ -76,6 +76,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   stage("bvh");
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
+  merge_coaxial_pieces(ctx.pieces, ctx.required);
   if (machine) {
     bool limited = false;
     for (char c : machine->rotary_axes()) {

@@ -97,6 +97,12 @@ class ClearanceBvh {
 // tree at once. Hints only speed the search up; results do not depend on them.
 double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
                       bool first_below = false, int* hint = nullptr);
+// Joins adjacent coaxial cylinders of the same radius that must keep the same clearance into one longer
+// cylinder (a usual end mill's flutes and shank): they are exactly that cylinder, so the body's
+// distance and margin stay the same, and one query replaces two. `required` follows the pieces. The
+// joined piece keeps the lower one's component.
+void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& required);
+
 // The order in which to query the pieces of body_pieces() (k-th query -> piece index). Results do not
 // depend on it, only the pruning: the ball first, then the cylinders from the top down. A capsule
 // encloses its cylinder with a hemisphere at each end; the upper one lies inside the next piece up

@@ -125,22 +125,36 @@ TEST(ClearanceBvh, BodyClearanceMatchesThePlainHierarchy) {
   const auto tris = test_triangles(0.4, rng);
   const ClearanceBvh bvh(tris);
   const TriangleBvh plain(tris);
-  // A ball-end tool body: ball, flutes, shank, two holder segments; different clearances per part.
+  // A ball-end tool body: ball, flutes, shank, two holder segments.
   const std::vector<BodyPiece> pieces = {{ToolComponent::Ball, -1, true, 0, 0, 3},
                                          {ToolComponent::Flute, -1, false, 0, 9, 3},
                                          {ToolComponent::Shank, -1, false, 9, 30, 3},
                                          {ToolComponent::Holder, 0, false, 30, 45, 8},
                                          {ToolComponent::Holder, 1, false, 45, 60, 12}};
-  const std::vector<double> required = {1.0, 1.0, 1.5, 2.0, 2.0};
-  std::vector<int> hints;
-  std::uniform_real_distribution<double> U(-10, 10), ang(-0.8, 0.8);
-  for (int k = 0; k < 150; ++k) {
-    const Vector3d c(U(rng), U(rng), 4.5 + 0.2 * U(rng));
-    const Vector3d axis = Vector3d(std::sin(ang(rng)), std::sin(ang(rng)), 1).normalized();
-    const BodyClearance a = body_clearance(bvh, pieces, required, {c, axis}, &hints);
-    const BodyClearance b = body_clearance(plain, pieces, required, {c, axis});
-    EXPECT_NEAR(a.distance, b.distance, 2e-6) << k;
-    EXPECT_NEAR(a.margin, b.margin, 2e-6) << k;
+  // Per part clearances: the shank its own (nothing joins), or the flutes' (flutes and shank join).
+  for (const std::vector<double>& required : {std::vector<double>{1.0, 1.0, 1.5, 2.0, 2.0},
+                                              std::vector<double>{1.0, 1.0, 1.0, 2.0, 2.0}}) {
+    std::vector<BodyPiece> merged = pieces;
+    std::vector<double> merged_required = required;
+    merge_coaxial_pieces(merged, merged_required);
+    ASSERT_EQ(merged.size(), required[2] == required[1] ? pieces.size() - 1 : pieces.size());
+    if (merged.size() < pieces.size()) {
+      EXPECT_EQ(merged[1].h0, 0);
+      EXPECT_EQ(merged[1].h1, 30);
+    }
+    std::vector<int> hints, merged_hints;
+    std::uniform_real_distribution<double> U(-10, 10), ang(-0.8, 0.8);
+    for (int k = 0; k < 150; ++k) {
+      const Vector3d c(U(rng), U(rng), 4.5 + 0.2 * U(rng));
+      const Vector3d axis = Vector3d(std::sin(ang(rng)), std::sin(ang(rng)), 1).normalized();
+      const BodyClearance want = body_clearance(plain, pieces, required, {c, axis});
+      const BodyClearance a = body_clearance(bvh, pieces, required, {c, axis}, &hints);
+      const BodyClearance m = body_clearance(bvh, merged, merged_required, {c, axis}, &merged_hints);
+      EXPECT_NEAR(a.distance, want.distance, 2e-6) << k;
+      EXPECT_NEAR(a.margin, want.margin, 2e-6) << k;
+      EXPECT_NEAR(m.distance, want.distance, 2e-6) << k;
+      EXPECT_NEAR(m.margin, want.margin, 2e-6) << k;
+    }
   }
 }
 
