@@ -169,12 +169,32 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
         cleared.store(next, std::memory_order_release);
       }
     });
-    integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
-                   dynamics_params(options, tool, basics), progress, axes, &published);
-    report(progress, "plan", 0.7);
-    stage("axes");
-    stop.store(true, std::memory_order_release);
-    background.wait();
+    {
+      // Whatever way the integration ends (a progress callback may throw), the background stops first.
+      struct Join {
+        std::atomic<bool>& stop;
+        tbb::task_group& group;
+        bool waited = false;
+        void wait() {
+          stop.store(true, std::memory_order_release);
+          waited = true;
+          group.wait();
+        }
+        ~Join() {
+          if (waited) return;
+          stop.store(true, std::memory_order_release);
+          try {
+            group.wait();
+          } catch (...) {
+          }
+        }
+      } join{stop, background};
+      integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+                     dynamics_params(options, tool, basics), progress, axes, &published);
+      report(progress, "plan", 0.7);
+      stage("axes");
+      join.wait();
+    }
     clearances(ctx, axes, cleared.load(std::memory_order_acquire), n, clear);
     stage("clearance");
     // Ran alongside "axes" (and is part of it in wall time).
