@@ -24,10 +24,10 @@ namespace tf {
 
 class ClearanceBvh {
  public:
-  // A node bounds its triangles by an oriented box: axes from the principal directions of its vertices
-  // (the first is then the surface normal of a flat or gently curved patch), or the coordinate axes when
-  // those give the smaller box. Nodes of many triangles (whose patches curve too much for either to be
-  // tight) keep the axis-aligned box.
+  // A node bounds its triangles by an oriented box: the first axis their area-weighted normal, the second
+  // the principal direction of their vertices in that plane; or the coordinate axes when those give the
+  // smaller box, when the normals largely cancel (both faces of a thin blade), or for nodes of many
+  // triangles (whose patches curve too much for either box to be tight).
   struct Node {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // rows: orthonormal axes
