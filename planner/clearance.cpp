@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "tiltfield/plan_bvh.hpp"
 #include "tiltfield/tool_body.hpp"
 
 namespace tf {
@@ -138,6 +139,23 @@ double triangle_cylinder_distance(const Triangle& t, const Vector3d& p0, const V
   return v.norm();
 }
 
+namespace {
+
+// Exact distance from the cylinder [p0, p1] of radius R to triangle t, or a value >= best (a lower bound)
+// when it cannot beat `best`.
+double cylinder_leaf(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double R, double best) {
+  double s = 0;
+  const double capsule = segment_triangle_distance(p0, p1, t, &s) - R;  // the capsule encloses the cylinder
+  if (capsule >= best) return capsule;
+  // A closest axis point strictly inside the segment means the capsule's nearest point is on the
+  // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the capsule
+  // distance is the cylinder's, exactly. Only cap-side contacts need GJK.
+  if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
+  return triangle_cylinder_distance(t, p0, p1, R);
+}
+
+}  // namespace
+
 double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
                       bool first_below) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -166,19 +184,92 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
         const Vector3d c = 0.5 * (lo + hi);
         return seg_point_distance(c) - 0.5 * (hi - lo).norm() - R;
       },
-      [&](int i, double best) {
-        const Triangle& t = bvh.triangle(i);
-        double s = 0;
-        const double capsule = segment_triangle_distance(p0, p1, t, &s) - R;  // the capsule encloses the cylinder
-        if (capsule >= best) return capsule;
-        // A closest axis point strictly inside the segment means the capsule's nearest point is on the
-        // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the
-        // capsule distance is the cylinder's, exactly. Only cap-side contacts need GJK.
-        if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
-        return triangle_cylinder_distance(t, p0, p1, R);
-      },
+      [&](int i, double best) { return cylinder_leaf(bvh.triangle(i), p0, p1, R, best); },
       limit, first_below ? limit : -inf);
   return std::max(0.0, d);
+}
+
+
+void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& required) {
+  std::vector<BodyPiece> p;
+  std::vector<double> r;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const BodyPiece& q = pieces[i];
+    if (!p.empty() && !p.back().sphere && !q.sphere && p.back().radius == q.radius && r.back() == required[i] &&
+        std::abs(p.back().h1 - q.h0) <= 1e-12 * (1 + std::abs(q.h0))) {
+      p.back().h1 = q.h1;
+      continue;
+    }
+    p.push_back(q);
+    r.push_back(required[i]);
+  }
+  pieces = std::move(p);
+  required = std::move(r);
+}
+
+size_t piece_query_order(const std::vector<BodyPiece>& pieces, size_t k) {
+  const size_t n = pieces.size();
+  return pieces[0].sphere ? (k == 0 ? 0 : n - k) : n - 1 - k;
+}
+
+double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below, int* hint) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const int seed = hint && *hint >= 0 && *hint < static_cast<int>(bvh.size()) ? *hint : -1;
+  int arg = -1;
+  if (piece.sphere) {
+    const Vector3d c = pose.c + piece.h0 * pose.axis;
+    const double R = piece.radius;
+    const double lim = limit + R, lim2 = lim * lim;
+    auto leaf = [&](int i, double best) {
+      const double d2 = (closest_point_on_triangle(c, bvh.triangle(i)) - c).squaredNorm();
+      if (d2 < best) arg = i;
+      return d2;
+    };
+    double start = lim2;
+    if (seed >= 0) start = std::min(start, leaf(seed, start));
+    double d2 = start;
+    if (!(first_below && start < lim2))
+      d2 = bvh.minimum([&](const ClearanceBvh::Node& nd) { return point_node_bound_squared(nd, c); }, leaf, start,
+                       first_below ? lim2 : -inf);
+    if (hint && arg >= 0) *hint = arg;
+    if (d2 >= lim2) return limit;  // nothing nearer than the limit (exactly, not up to rounding)
+    return std::max(0.0, std::sqrt(d2) - R);
+  }
+  const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
+  const double R = piece.radius;
+  auto leaf = [&](int i, double best) {
+    const double d = cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+    if (d < best) arg = i;
+    return d;
+  };
+  double start = limit;
+  if (seed >= 0) start = std::min(start, leaf(seed, start));
+  double d = start;
+  if (!(first_below && start < limit))
+    d = bvh.minimum([&](const ClearanceBvh::Node& nd) { return segment_node_bound(nd, p0, p1) - R; }, leaf, start,
+                    first_below ? limit : -inf);
+  if (hint && arg >= 0) *hint = arg;
+  return std::max(0.0, d);
+}
+
+BodyClearance body_clearance(const ClearanceBvh& bvh, const std::vector<BodyPiece>& pieces,
+                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints) {
+  if (hints && hints->size() != pieces.size()) hints->assign(pieces.size(), -1);
+  BodyClearance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  out.margin = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const size_t i = piece_query_order(pieces, k);
+    const double limit = std::max(out.distance, out.margin + required[i]);
+    const double d = piece_distance(bvh, pieces[i], pose, limit, false, hints ? &(*hints)[i] : nullptr);
+    out.distance = std::min(out.distance, d);
+    if (d - required[i] < out.margin) {
+      out.margin = d - required[i];
+      out.piece = static_cast<int>(i);
+    }
+  }
+  return out;
 }
 
 BodyClearance body_clearance(const TriangleBvh& bvh, const std::vector<BodyPiece>& pieces,

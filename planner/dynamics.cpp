@@ -113,7 +113,7 @@ struct ChunkCache {
 
 class Repulsion {
  public:
-  Repulsion(const TriangleBvh& bvh, DistanceField& field, const BodySamples& s, const DynamicsParams& p)
+  Repulsion(const ClearanceBvh& bvh, DistanceField& field, const BodySamples& s, const DynamicsParams& p)
       : bvh_(bvh), field_(field), s_(s), p_(p) {
     cache_.centre.assign(s.chunks.size(), Vector3d::Constant(std::numeric_limits<double>::infinity()));
     cache_.bound.assign(s.chunks.size(), -1.0);
@@ -171,7 +171,7 @@ class Repulsion {
   }
 
  private:
-  const TriangleBvh& bvh_;
+  const ClearanceBvh& bvh_;
   DistanceField& field_;
   const BodySamples& s_;
   const DynamicsParams& p_;
@@ -242,13 +242,13 @@ Body advance(Body b, const PathState& s0, const PathState& s1, double T, Repulsi
 
 }  // namespace
 
-std::vector<Vector3d> integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
-                                     const std::vector<Vector3d>& nominal, const std::vector<double>& feed,
-                                     const TriangleBvh& bvh, DistanceField& field, const BodySamples& samples,
-                                     const DynamicsParams& p, const Progress& progress) {
+void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames, const std::vector<Vector3d>& nominal,
+                    const std::vector<double>& feed, const ClearanceBvh& bvh, DistanceField& field,
+                    const BodySamples& samples, const DynamicsParams& p, const Progress& progress,
+                    std::vector<Vector3d>& axes, std::atomic<size_t>* published) {
   const size_t n = path.rows.size();
-  std::vector<Vector3d> axes(n);
-  if (n == 0) return axes;
+  axes.resize(n);
+  if (n == 0) return;
   Repulsion rep(bvh, field, samples, p);
   auto state = [&](size_t i) {
     return PathState{path.rows[i].p, frames[i].f, frames[i].n, frames[i].t, nominal[i]};
@@ -268,9 +268,10 @@ std::vector<Vector3d> integrate_axes(const ToolPath& path, const std::vector<Loc
     const double v = std::max(feed[i], 1e-6) / 60.0;  // mm/s
     if (ds > 1e-12) b = advance(b, state(i - 1), state(i), ds / v, rep, p);
     axes[i] = b.axis;
+    if ((i & 255) == 0 && published) published->store(i + 1, std::memory_order_release);
     if ((i & 1023) == 0) report(progress, "plan", 0.1 + 0.6 * static_cast<double>(i) / static_cast<double>(n));
   }
-  return axes;
+  if (published) published->store(n, std::memory_order_release);
 }
 
 }  // namespace tf

@@ -1,6 +1,7 @@
 // tiltfield planner (internal): the rigid-body tool model and its integrator along the path.
 #pragma once
 #include <Eigen/Core>
+#include <atomic>
 #include <vector>
 
 #include "field.hpp"
@@ -45,12 +46,14 @@ struct DynamicsParams {
 };
 DynamicsParams dynamics_params(const PlanOptions& options, const Tool& tool, const PlannerBasics& basics);
 
-// Integrates the axis along the path (one axis per row). `feed` per row in mm/min.
-std::vector<Eigen::Vector3d> integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
-                                            const std::vector<Eigen::Vector3d>& nominal,
-                                            const std::vector<double>& feed, const TriangleBvh& bvh,
-                                            DistanceField& field, const BodySamples& samples,
-                                            const DynamicsParams& params, const Progress& progress);
+// Integrates the axis along the path into `axes` (one per row, resized to the path). `feed` per row in
+// mm/min. `published`, when given, is raised (release order) as rows get their final axis, so another
+// thread can work on them while the integration goes on.
+void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
+                    const std::vector<Eigen::Vector3d>& nominal, const std::vector<double>& feed,
+                    const ClearanceBvh& bvh, DistanceField& field, const BodySamples& samples,
+                    const DynamicsParams& params, const Progress& progress, std::vector<Eigen::Vector3d>& axes,
+                    std::atomic<size_t>* published = nullptr);
 
 // Axis `a` turned by the rotation vector w (rad), Rodrigues.
 Eigen::Vector3d rotate_axis(const Eigen::Vector3d& a, const Eigen::Vector3d& w);

@@ -9,7 +9,7 @@
 namespace tf {
 using Eigen::Vector3d;
 
-DistanceField::DistanceField(const TriangleBvh& bvh, double cell, double band) : bvh_(bvh), cell_(cell), band_(band) {
+DistanceField::DistanceField(const ClearanceBvh& bvh, double cell, double band) : bvh_(bvh), cell_(cell), band_(band) {
   if (bvh.empty()) return;
   const auto box = bvh.bounds();
   const Vector3d pad = Vector3d::Constant(band + 2 * cell);
@@ -61,39 +61,6 @@ int32_t DistanceField::ensure(int bx, int by, int bz) {
   const size_t off = values_.size();
   values_.insert(values_.end(), tmp, tmp + kNodes);
   return index_[id] = static_cast<int32_t>(off / kNodes);
-}
-
-double DistanceField::sample(const Vector3d& p, Vector3d* gradient) {
-  if (gradient) gradient->setZero();
-  if (index_.empty()) return band_;
-  const Vector3d g = (p - origin_) / cell_;
-  // Outside the grid (checked in floating point, before any conversion to int): far from every surface.
-  for (int k = 0; k < 3; ++k)
-    if (!(g[k] >= 0.0 && g[k] < static_cast<double>(dims_[k]) * kBrick)) return band_;
-  const int ix = static_cast<int>(std::floor(g.x())), iy = static_cast<int>(std::floor(g.y())),
-            iz = static_cast<int>(std::floor(g.z()));
-  const int bx = ix / kBrick, by = iy / kBrick, bz = iz / kBrick;
-  if (ix < 0 || iy < 0 || iz < 0 || bx >= dims_[0] || by >= dims_[1] || bz >= dims_[2]) return band_;
-  const int32_t b = ensure(bx, by, bz);
-  if (b < 0) return band_;
-  const float* v = values_.data() + static_cast<size_t>(b) * kNodes;
-  const int lx = ix - bx * kBrick, ly = iy - by * kBrick, lz = iz - bz * kBrick;
-  const double fx = g.x() - ix, fy = g.y() - iy, fz = g.z() - iz;
-  constexpr int sy = kBrick + 1, sz = (kBrick + 1) * (kBrick + 1);
-  const int base = lz * sz + ly * sy + lx;
-  const double c000 = v[base], c100 = v[base + 1], c010 = v[base + sy], c110 = v[base + sy + 1];
-  const double c001 = v[base + sz], c101 = v[base + sz + 1], c011 = v[base + sz + sy], c111 = v[base + sz + sy + 1];
-  const double c00 = c000 + fx * (c100 - c000), c10 = c010 + fx * (c110 - c010);
-  const double c01 = c001 + fx * (c101 - c001), c11 = c011 + fx * (c111 - c011);
-  const double c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
-  const double d = c0 + fz * (c1 - c0);
-  if (gradient) {
-    const double dx0 = (c100 - c000) + fy * ((c110 - c010) - (c100 - c000));
-    const double dx1 = (c101 - c001) + fy * ((c111 - c011) - (c101 - c001));
-    const double dy0 = c10 - c00, dy1 = c11 - c01;
-    *gradient = Vector3d(dx0 + fz * (dx1 - dx0), dy0 + fz * (dy1 - dy0), c1 - c0) / cell_;
-  }
-  return d;
 }
 
 void DistanceField::prefetch(const std::vector<Vector3d>& points, double radius) {

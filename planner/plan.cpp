@@ -3,11 +3,14 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 #include "dynamics.hpp"
 #include "plan_context.hpp"
@@ -69,10 +72,11 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     ctx.feed[i] = std::isfinite(path.rows[i].feed) ? path.rows[i].feed : feed;
   }
   report(progress, "plan", 0.0);
-  ctx.bvh = TriangleBvh(check_surfaces);
+  ctx.bvh = ClearanceBvh(check_surfaces);
   stage("bvh");
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
+  merge_coaxial_pieces(ctx.pieces, ctx.required);
   if (machine) {
     bool limited = false;
     for (char c : machine->rotary_axes()) {
@@ -84,19 +88,28 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   report(progress, "plan", 0.05);
 
   // How many rows the nominal axis leaves too close (for the report).
-  result.metrics.rows_nominal_colliding = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, n, 64), size_t{0},
-      [&](const tbb::blocked_range<size_t>& r, size_t acc) {
-        for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0) ? 0 : 1;
-        return acc;
-      },
-      std::plus<size_t>());
-  stage("nominal_check");
+  auto nominal_colliding = [&] {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, n, 64), size_t{0},
+        [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+          std::vector<int> hints;
+          for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
+          return acc;
+        },
+        std::plus<size_t>());
+  };
 
   std::vector<Vector3d> axes;
+  std::vector<BodyClearance> clear;
   if (options.method == PlanMethod::Pointwise) {
+    result.metrics.rows_nominal_colliding = nominal_colliding();
+    stage("nominal_check");
     result.metrics.method = "pointwise";
     axes = pointwise_axes(ctx, progress);
+    report(progress, "plan", 0.7);
+    stage("axes");
+    clear = all_clearances(ctx, axes);
+    stage("clearance");
   } else {
     result.metrics.method = "dynamic";
     const BodySamples samples = make_body_samples(tool, basics, options.sample_spacing_mm);
@@ -130,13 +143,63 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     }
     stage("field");
     report(progress, "plan", 0.1);
-    axes = integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
-                          dynamics_params(options, tool, basics), progress);
+    // The dynamics are sequential along the path. Meanwhile another thread counts the nominal
+    // collisions, then computes the exact clearances of the rows the integration has finished, a block
+    // at a time; what it has not reached when the dynamics end is done in parallel afterwards.
+    axes.resize(n);
+    clear.resize(n);
+    std::atomic<size_t> published{0}, cleared{0};
+    std::atomic<bool> stop{false};
+    double nominal_seconds = 0;
+    tbb::task_group background;
+    background.run([&] {
+      const auto t = std::chrono::steady_clock::now();
+      result.metrics.rows_nominal_colliding = nominal_colliding();
+      nominal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+      constexpr size_t kBlock = 256;
+      std::vector<int> hints;
+      size_t next = 0;
+      while (!stop.load(std::memory_order_acquire)) {
+        if (published.load(std::memory_order_acquire) < next + kBlock) {
+          std::this_thread::sleep_for(std::chrono::microseconds(100));
+          continue;
+        }
+        for (size_t i = next; i < next + kBlock; ++i) clear[i] = ctx.clearance(i, axes[i], &hints);
+        next += kBlock;
+        cleared.store(next, std::memory_order_release);
+      }
+    });
+    {
+      // Whatever way the integration ends (a progress callback may throw), the background stops first.
+      struct Join {
+        std::atomic<bool>& stop;
+        tbb::task_group& group;
+        bool waited = false;
+        void wait() {
+          stop.store(true, std::memory_order_release);
+          waited = true;
+          group.wait();
+        }
+        ~Join() {
+          if (waited) return;
+          stop.store(true, std::memory_order_release);
+          try {
+            group.wait();
+          } catch (...) {
+          }
+        }
+      } join{stop, background};
+      integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+                     dynamics_params(options, tool, basics), progress, axes, &published);
+      report(progress, "plan", 0.7);
+      stage("axes");
+      join.wait();
+    }
+    clearances(ctx, axes, cleared.load(std::memory_order_acquire), n, clear);
+    stage("clearance");
+    // Ran alongside "axes" (and is part of it in wall time).
+    result.metrics.stage_seconds.emplace_back("nominal_check", nominal_seconds);
   }
-  report(progress, "plan", 0.7);
-  stage("axes");
-  std::vector<BodyClearance> clear = all_clearances(ctx, axes);
-  stage("clearance");
   report(progress, "plan", 0.8);
   result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
   stage("corrections");

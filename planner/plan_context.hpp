@@ -8,7 +8,7 @@
 #include "tiltfield/local_frame.hpp"
 #include "tiltfield/plan.hpp"
 #include "tiltfield/tool_body.hpp"
-#include "tiltfield/triangle_bvh.hpp"
+#include "tiltfield/plan_bvh.hpp"
 
 namespace tf {
 
@@ -21,7 +21,7 @@ struct PlanContext {
   std::vector<Eigen::Vector3d> nominal;  // nominal axis per row
   std::vector<double> feed;              // mm/min per row
   std::vector<double> arc;               // cumulative arc length, mm
-  TriangleBvh bvh;
+  ClearanceBvh bvh;
   std::vector<BodyPiece> pieces;
   std::vector<double> required;  // per piece, mm
   double cos_max_tilt = 0.5;
@@ -35,15 +35,19 @@ struct PlanContext {
   }
 
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {path->rows[row].p, axis}; }
-  BodyClearance clearance(size_t row, const Eigen::Vector3d& axis) const {
-    return body_clearance(bvh, pieces, required, pose(row, axis));
+  // `hints` (one triangle per piece, see piece_distance) speed up runs of queries at nearby poses.
+  BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, std::vector<int>* hints = nullptr) const {
+    return body_clearance(bvh, pieces, required, pose(row, axis), hints);
   }
   // True when every piece keeps its required clearance plus `extra` (early exit, cheap when far).
-  bool clears(size_t row, const Eigen::Vector3d& axis, double extra) const;
+  bool clears(size_t row, const Eigen::Vector3d& axis, double extra, std::vector<int>* hints = nullptr) const;
 };
 
 // Exact clearances of all rows, in parallel.
 std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes);
+// The same for rows [begin, end) into out (sized to the rows), in parallel.
+void clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes, size_t begin, size_t end,
+                std::vector<BodyClearance>& out);
 
 // The guarantee pass: turns rows below their clearance by the smallest rotation that clears them,
 // spread smoothly over the correction window. Updates axes and clear; returns the rows it changed.

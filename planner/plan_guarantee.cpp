@@ -12,27 +12,37 @@
 namespace tf {
 using Eigen::Vector3d;
 
-bool PlanContext::clears(size_t row, const Vector3d& axis, double extra) const {
+bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, std::vector<int>* hints) const {
+  if (hints && hints->size() != pieces.size()) hints->assign(pieces.size(), -1);
   const Pose p = pose(row, axis);
-  for (size_t i = 0; i < pieces.size(); ++i) {
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const size_t i = piece_query_order(pieces, k);
     const double need = required[i] + extra;
-    if (piece_distance(bvh, pieces[i], p, need, true) < need) return false;
+    if (piece_distance(bvh, pieces[i], p, need, true, hints ? &(*hints)[i] : nullptr) < need) return false;
   }
   return true;
 }
 
+void clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes, size_t begin, size_t end,
+                std::vector<BodyClearance>& out) {
+  if (begin >= end) return;
+  tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<int> hints;  // consecutive rows are close: each row's nearest triangles seed the next
+    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = ctx.clearance(i, axes[i], &hints);
+  });
+}
+
 std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes) {
   std::vector<BodyClearance> out(axes.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, axes.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = ctx.clearance(i, axes[i]);
-  });
+  clearances(ctx, axes, 0, axes.size(), out);
   return out;
 }
 
 bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra, double step,
                             Vector3d& turn) {
   turn.setZero();
-  const bool clear_now = ctx.clears(row, axis, extra);
+  std::vector<int> hints;  // every query below is at this row, at nearby axes
+  const bool clear_now = ctx.clears(row, axis, extra, &hints);
   if (clear_now && ctx.reachable(row, axis)) return true;
   // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
   for (size_t i = 0; i < ctx.pieces.size() && !clear_now; ++i)
@@ -45,9 +55,9 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
   std::vector<Vector3d> dirs;
   {
     const double eps = 0.2 * std::numbers::pi / 180.0;
-    const double m0 = ctx.clearance(row, axis).margin;
-    const double gf = ctx.clearance(row, rotate_axis(axis, eps * fr.f)).margin - m0;
-    const double gt = ctx.clearance(row, rotate_axis(axis, eps * fr.t)).margin - m0;
+    const double m0 = ctx.clearance(row, axis, &hints).margin;
+    const double gf = ctx.clearance(row, rotate_axis(axis, eps * fr.f), &hints).margin - m0;
+    const double gt = ctx.clearance(row, rotate_axis(axis, eps * fr.t), &hints).margin - m0;
     if (std::hypot(gf, gt) > 1e-9) dirs.push_back((gf * fr.f + gt * fr.t).normalized());
   }
   for (int k = 0; k < 16; ++k) {
@@ -57,14 +67,14 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
   const double max_angle = 2.0 * std::acos(std::clamp(ctx.cos_max_tilt, -1.0, 1.0)) + step;
   auto ok = [&](const Vector3d& w) {
     const Vector3d a = rotate_axis(axis, w);
-    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.clears(row, a, extra) && ctx.reachable(row, a);
+    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.clears(row, a, extra, &hints) && ctx.reachable(row, a);
   };
   for (double ang = step; ang <= max_angle; ang += step) {
     int best = -1;
     double best_margin = -std::numeric_limits<double>::infinity();
     for (size_t d = 0; d < dirs.size(); ++d) {
       if (!ok(ang * dirs[d])) continue;
-      const double m = ctx.clearance(row, rotate_axis(axis, ang * dirs[d])).margin;
+      const double m = ctx.clearance(row, rotate_axis(axis, ang * dirs[d]), &hints).margin;
       if (m > best_margin) best_margin = m, best = static_cast<int>(d);
       if (d == 0 && dirs.size() == 17) break;  // the ascent direction wins ties: keep it
     }

@@ -1,11 +1,15 @@
 // Planner throughput: cutter locations per second on a 100k-point impeller hub path with >= 1M check
 // triangles, preprocessing (BVH, distance field) included. The point-by-point baseline runs on the same
-// scene: 8 blades at the generator's finest chordal tolerance (0.0005 mm, about 290k blade triangles),
-// each triangle then split 1:4 at its edge midpoints (same geometry, 1.15M triangles: the generator's
-// channel-width checks do not allow enough blades to get there otherwise with the default tool).
-// Options: TILTFIELD_BENCH_ROWS (default 100000), TILTFIELD_BENCH_TOLERANCE (default 0.0005 mm).
+// scene: 8 blades at a blade chordal tolerance of 0.002 mm (about 409k blade triangles), each triangle
+// then split 1:4 at its edge midpoints (same geometry, 1.64M triangles: the generator's channel-width
+// checks do not allow enough blades to get there otherwise with the default tool).
+// Options: TILTFIELD_BENCH_ROWS (default 100000), TILTFIELD_BENCH_TOLERANCE (hub, default 0.0005 mm),
+// TILTFIELD_BENCH_BLADE_TOLERANCE (blades, default 0.002 mm), TILTFIELD_BENCH_REPEAT (default 1: plans
+// this many times and reports the fastest, for a machine shared with other jobs; the rate counter then
+// counts every run).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -54,7 +58,10 @@ const BenchScene& scene() {
   if (s) return *s;
   s = std::make_unique<BenchScene>();
   tf::scenes::ImpellerOptions o;
+  // The blades are the check surfaces: their own chordal tolerance sets the triangle count (the hub, the
+  // design surface, only carries the path).
   o.tolerance = env_or("TILTFIELD_BENCH_TOLERANCE", 0.0005);
+  o.blade_tolerance = env_or("TILTFIELD_BENCH_BLADE_TOLERANCE", 0.002);
   o.blades = 8;
   o.ball_clearance = 1.2;
   // Enough passes and a fine step for the wanted number of rows: first a probe of the path length.
@@ -84,16 +91,21 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
   tf::PlanOptions o = tf::derive_plan_options(s.bundle.tool, s.bundle.planner, s.bundle.feed);
   o.method = method;
   tf::PlanResult r;
+  const int repeat = std::max(1, static_cast<int>(env_or("TILTFIELD_BENCH_REPEAT", 1)));
   for (auto _ : state) {
-    r = tf::plan_path(path, s.bundle.tool, meshes, s.bundle.planner, s.bundle.feed, o);
+    for (int k = 0; k < repeat; ++k) {  // on a shared machine: keep the fastest of `repeat` plans
+      tf::PlanResult x = tf::plan_path(path, s.bundle.tool, meshes, s.bundle.planner, s.bundle.feed, o);
+      if (k == 0 || x.metrics.seconds < r.metrics.seconds) r = std::move(x);
+    }
     benchmark::DoNotOptimize(r);
   }
   state.counters["rows"] = static_cast<double>(path.rows.size());
   state.counters["check_triangles"] = static_cast<double>(s.triangles);
   state.counters["cl_points_per_s"] =
-      benchmark::Counter(static_cast<double>(path.rows.size()) * static_cast<double>(state.iterations()),
+      benchmark::Counter(static_cast<double>(path.rows.size()) * repeat * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate);
   state.counters["plan_seconds"] = r.metrics.seconds;
+  state.counters["cl_points_per_plan_s"] = static_cast<double>(path.rows.size()) / r.metrics.seconds;
   state.counters["rows_nominal_colliding"] = static_cast<double>(r.metrics.rows_nominal_colliding);
   state.counters["rows_below_safety"] = static_cast<double>(r.metrics.rows_below_safety);
   state.counters["rms_second_difference"] = r.metrics.rms_second_difference;
@@ -101,9 +113,8 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
 }
 
 void BM_PlanDynamic(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX); }
-// The baseline searches every colliding row independently; on the full path it takes minutes, so it
-// runs on the first 10k rows (its figure is per row all the same).
-void BM_PlanPointwise(benchmark::State& state) { run(state, tf::PlanMethod::Pointwise, 10000); }
+// The baseline searches every colliding row independently, on the same path.
+void BM_PlanPointwise(benchmark::State& state) { run(state, tf::PlanMethod::Pointwise, SIZE_MAX); }
 
 BENCHMARK(BM_PlanDynamic)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_PlanPointwise)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
