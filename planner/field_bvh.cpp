@@ -108,10 +108,11 @@ double segment_triangle_distance(const Vector3d& p0, const Vector3d& p1, const T
   return d;
 }
 
-TriangleBvh::TriangleBvh(const std::vector<const Mesh*>& meshes) {
+std::vector<Triangle> mesh_triangles(const std::vector<const Mesh*>& meshes) {
+  std::vector<Triangle> tris;
   size_t n = 0;
   for (const Mesh* m : meshes) n += m->n_faces();
-  tris_.reserve(n);
+  tris.reserve(n);
   for (const Mesh* m : meshes) {
     for (auto f : m->faces()) {
       Vector3d v[3];
@@ -120,11 +121,13 @@ TriangleBvh::TriangleBvh(const std::vector<const Mesh*>& meshes) {
         if (k < 3) v[k] = to_eigen(m->point(vh));
         ++k;
       }
-      if (k == 3) tris_.push_back({v[0], v[1], v[2]});
+      if (k == 3) tris.push_back({v[0], v[1], v[2]});
     }
   }
-  build();
+  return tris;
 }
+
+TriangleBvh::TriangleBvh(const std::vector<const Mesh*>& meshes) : TriangleBvh(mesh_triangles(meshes)) {}
 
 TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) : tris_(std::move(triangles)) { build(); }
 

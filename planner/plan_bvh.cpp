@@ -194,23 +194,7 @@ struct Fitter {
 
 }  // namespace
 
-ClearanceBvh::ClearanceBvh(const std::vector<const Mesh*>& meshes) {
-  size_t n = 0;
-  for (const Mesh* m : meshes) n += m->n_faces();
-  tris_.reserve(n);
-  for (const Mesh* m : meshes) {
-    for (auto f : m->faces()) {
-      Vector3d v[3];
-      int k = 0;
-      for (auto vh : m->fv_range(f)) {
-        if (k < 3) v[k] = to_eigen(m->point(vh));
-        ++k;
-      }
-      if (k == 3) tris_.push_back({v[0], v[1], v[2]});
-    }
-  }
-  build();
-}
+ClearanceBvh::ClearanceBvh(const std::vector<const Mesh*>& meshes) : ClearanceBvh(mesh_triangles(meshes)) {}
 
 ClearanceBvh::ClearanceBvh(std::vector<Triangle> triangles) : tris_(std::move(triangles)) { build(); }
 
