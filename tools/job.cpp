@@ -55,7 +55,12 @@ void write_job_report(const Scene& scene, const OrientedPath& first_plan, const 
     row.block = b.block;
     row.line = b.line;
     row.removed_mm3 = b.removed_mm3;
-    if (b.minutes > 0) row.mrr_mm3_min = b.removed_mm3 / b.minutes;
+    if (b.minutes > 0) row.mrr_mm3_min = b.mrr();
+    if (b.engagement.engaged()) {
+      row.entry_deg = b.engagement.entry_deg;
+      row.exit_deg = b.engagement.exit_deg;
+    }
+    row.engaged_area_mm2 = b.engagement.area_mm2;
     row.collision = b.collision;
     in.blocks.push_back(row);
   }
