@@ -8,12 +8,15 @@
 
 #include "tiltfield/mesh.hpp"
 #include "tiltfield/tool.hpp"
+#include "tiltfield/triangle_bvh.hpp"
 
 namespace tf::scenes {
 
-// Closest point on the triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                          const Eigen::Vector3d& c);
+// Closest point on the triangle (a, b, c) to p (the planner's tf::closest_point_on_triangle).
+inline Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                                 const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return tf::closest_point_on_triangle(p, Triangle{a, b, c});
+}
 
 class MeshDistance {
  public:

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "tiltfield/triangle_bvh.hpp"
+
 namespace tf {
 
 struct RayMesh::Impl {
@@ -101,27 +103,6 @@ void RayMesh::hits(const Eigen::Vector3d& o, const Eigen::Vector3d& e, double t0
 }
 
 namespace {
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 struct ClosestQuery {
   const RayMesh::Impl* mesh;
@@ -134,7 +115,7 @@ struct ClosestQuery {
 bool closest_callback(RTCPointQueryFunctionArguments* args) {
   auto* q = static_cast<ClosestQuery*>(args->userPtr);
   const auto& f = q->mesh->F[args->primID];
-  const Eigen::Vector3d c = closest_on_triangle(q->p, q->mesh->V[f[0]], q->mesh->V[f[1]], q->mesh->V[f[2]]);
+  const Eigen::Vector3d c = closest_point_on_triangle(q->p, Triangle{q->mesh->V[f[0]], q->mesh->V[f[1]], q->mesh->V[f[2]]});
   const double d = (c - q->p).norm();
   if (d < q->best) {
     q->best = d;

@@ -17,10 +17,10 @@ struct Triangle {
   Eigen::Vector3d a, b, c;
 };
 
-// Closest point of triangle t to p (Ericson, Real-Time Collision Detection 5.1.5).
 // Every triangle of every mesh, in order (faces with more than three vertices are skipped).
 std::vector<Triangle> mesh_triangles(const std::vector<const Mesh*>& meshes);
 
+// Closest point of triangle t to p (Ericson, Real-Time Collision Detection 5.1.5).
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Triangle& t);
 // Smallest distance between segment [p0, p1] and triangle t (0 when they intersect), mm. `s`, when given,
 // receives the parameter in [0, 1] on the segment of a closest point.
