@@ -214,3 +214,29 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+TEST(Engagement, BullEndSlot) {
+  // Bull R5 / r1, 2 mm deep: the front half of the torus corner, pi r ((R - r) pi/2 + r), plus the front
+  // half of the flutes up to the top, pi R (ap - r); the bottom face only rubs the floor.
+  const double rc = 1.0;
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BullCutter{R, rc}));
+  const VerifyReport r = run(s, slot_program(0.0, ap));
+  const BlockResult& b = r.per_block.back();
+  const Engagement& e = b.engagement;
+  const double area = kPi * rc * ((R - rc) * kPi / 2 + rc) + kPi * R * (ap - rc);
+  const double section = 2 * R * ap - 2 * (rc * rc - kPi * rc * rc / 4);
+  std::cout << "bull: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << " (" << area
+            << ") removed " << b.removed_mm3 << " (" << section * L << ")\n";
+  expect_within(e.entry_deg, 0.0, 180.0, "entry");
+  expect_within(e.exit_deg, 180.0, 180.0, "exit");
+  expect_within(e.area_mm2, area, area, "area");
+  expect_within(e.axial_depth_mm, ap, ap, "axial depth");
+  expect_within(e.radial_width_mm, 2 * R, 2 * R, "radial width");
+  expect_within(b.removed_mm3, section * L, section * L, "removed volume");
+}
+
+}  // namespace
+}  // namespace tf
