@@ -61,6 +61,17 @@ SweptPart sweep_part(const ToolPart& part, const Eigen::Vector3d& tip, const Eig
     s.p0 = tip + part.h0 * axis + part.offset * side;
     const Eigen::Vector3d r = Eigen::Vector3d::Constant(part.radius);
     s.box = Eigen::AlignedBox3d(s.p0 - r, s.p0 + r);
+    const double dd = d.squaredNorm();
+    if (dd > 1e-24) {
+      s.len = std::sqrt(dd);
+      s.inv_len = 1.0 / s.len;
+      for (int k = 0; k < 3; ++k) {
+        const double de = d[k] * s.inv_len, a = 1.0 - de * de;
+        s.dir_cos[k] = de;
+        s.inv_sin2[k] = a > 1e-14 ? 1.0 / a : 0.0;
+        s.inv_cos[k] = std::abs(de) > 1e-14 ? 1.0 / de : 0.0;
+      }
+    }
     s.box.extend(s.p0 + d - r);
     s.box.extend(s.p0 + d + r);
   } else {
@@ -189,11 +200,10 @@ struct Region {
 
 // Ray o + t e_dir against the capsule of radius r about the segment c0 + s d, s in [0, 1]. The ray is
 // axis-parallel, so every dot product with e is one component.
-bool capsule_interval(const Eigen::Vector3d& o, int dir, const Eigen::Vector3d& c0, const Eigen::Vector3d& d, double r,
-                      double& t0, double& t1) {
+bool capsule_interval(const SweptPart& p, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const double r2 = r * r;
-  const Eigen::Vector3d w = o - c0;
+  const double r2 = p.radius * p.radius;
+  const Eigen::Vector3d w = o - p.p0;
   const double ww = w.squaredNorm(), we = w[dir];
   auto sphere = [&](double b, double cc) {
     const double disc = b * b - cc;
@@ -203,21 +213,20 @@ bool capsule_interval(const Eigen::Vector3d& o, int dir, const Eigen::Vector3d& 
     hi = std::max(hi, -b + sq);
   };
   sphere(we, ww - r2);
-  const double dd = d.squaredNorm();
-  if (dd > 1e-24) {
-    const Eigen::Vector3d w1 = w - d;
+  if (p.len > 0.0) {
+    const Eigen::Vector3d w1 = w - p.d;
     sphere(w1[dir], w1.squaredNorm() - r2);
-    const double L = std::sqrt(dd);
-    const double de = d[dir] / L, dw = d.dot(w) / L;
-    const double A = 1.0 - de * de;  // |e - dn de|^2
-    if (A > 1e-14) {
+    const double L = p.len, de = p.dir_cos[dir], dw = p.d.dot(w) * p.inv_len;
+    const double inv_a = p.inv_sin2[dir];  // 1 / |e - dn de|^2; 0: the ray runs along the motion
+    if (inv_a > 0.0) {
+      const double A = 1.0 - de * de;
       const double B = we - de * dw, C = ww - dw * dw - r2, disc = B * B - A * C;
       if (disc > 0) {
         const double sq = std::sqrt(disc);
-        double a = (-B - sq) / A, b = (-B + sq) / A;
+        double a = (-B - sq) * inv_a, b = (-B + sq) * inv_a;
         bool ok = true;
-        if (std::abs(de) > 1e-14) {
-          double s0 = -dw / de, s1 = (L - dw) / de;
+        if (p.inv_cos[dir] != 0.0) {
+          double s0 = -dw * p.inv_cos[dir], s1 = (L - dw) * p.inv_cos[dir];
           if (s0 > s1) std::swap(s0, s1);
           a = std::max(a, s0);
           b = std::min(b, s1);
@@ -264,7 +273,7 @@ bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
-  if (part.kind == ToolPart::Kind::Sphere) return capsule_interval(o, dir, part.p0, part.d, part.radius, t0, t1);
+  if (part.kind == ToolPart::Kind::Sphere) return capsule_interval(part, o, dir, t0, t1);
   Eigen::Vector3d e = Eigen::Vector3d::Zero();
   e[dir] = 1.0;
   return cylinder_interval(part, o, e, t0, t1);

@@ -60,6 +60,11 @@ struct SweptPart {
   Eigen::AlignedBox3d box;                         // bounds of the swept part
   ToolComponent component = ToolComponent::Ball;
   bool cutting = true;
+  // Sphere sweeps: constants of the per-ray test for each grid direction k, set by sweep_part (they are
+  // the same for every ray of a grid): |d|, 1/|d|, d_k/|d|, 1/(1 - (d_k/|d|)^2) and |d|/d_k (0 where
+  // the division has no meaning).
+  double len = 0.0, inv_len = 0.0;
+  Eigen::Vector3d dir_cos = Eigen::Vector3d::Zero(), inv_sin2 = Eigen::Vector3d::Zero(), inv_cos = Eigen::Vector3d::Zero();
 };
 
 // Places `part` at the pose (tip, axis) and sweeps it by d. `ref` is a unit vector perpendicular to axis
