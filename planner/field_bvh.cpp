@@ -186,27 +186,9 @@ int TriangleBvh::build_range(int begin, int end, std::vector<int>& perm, const s
 }
 
 ClosestHit TriangleBvh::closest(const Vector3d& p, double max_distance, int hint) const {
-  ClosestHit hit;
-  double best2 = max_distance * max_distance;
-  if (std::isinf(max_distance)) best2 = std::numeric_limits<double>::infinity();
-  if (hint >= 0 && hint < static_cast<int>(tris_.size())) {
-    const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(hint)]);
-    const double d2 = (q - p).squaredNorm();
-    if (d2 < best2) {
-      best2 = d2;
-      hit = {std::sqrt(d2), hint, q};
-    }
-  }
-  minimum([&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(p, lo, hi); },
-          [&](int i, double best) {
-            const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(i)]);
-            const double d2 = (q - p).squaredNorm();
-            if (d2 < best) hit = {0.0, i, q}, best2 = d2;
-            return d2;
-          },
-          best2);
-  if (hit.triangle >= 0) hit.distance = std::sqrt(best2);
-  return hit;
+  return closest_triangle_point(tris_, p, max_distance, hint, [&](const auto& leaf, double start) {
+    minimum([&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(p, lo, hi); }, leaf, start);
+  });
 }
 
 }  // namespace tf

@@ -226,26 +226,9 @@ void ClearanceBvh::build() {
 }
 
 ClosestHit ClearanceBvh::closest(const Vector3d& p, double max_distance, int hint) const {
-  ClosestHit hit;
-  double best2 = std::isinf(max_distance) ? std::numeric_limits<double>::infinity() : max_distance * max_distance;
-  if (hint >= 0 && hint < static_cast<int>(tris_.size())) {
-    const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(hint)]);
-    const double d2 = (q - p).squaredNorm();
-    if (d2 < best2) {
-      best2 = d2;
-      hit = {std::sqrt(d2), hint, q};
-    }
-  }
-  minimum([&](const Node& nd) { return point_node_bound_squared(nd, p); },
-          [&](int i, double best) {
-            const Vector3d q = closest_point_on_triangle(p, tris_[static_cast<size_t>(i)]);
-            const double d2 = (q - p).squaredNorm();
-            if (d2 < best) hit = {0.0, i, q}, best2 = d2;
-            return d2;
-          },
-          best2);
-  if (hit.triangle >= 0) hit.distance = std::sqrt(best2);
-  return hit;
+  return closest_triangle_point(tris_, p, max_distance, hint, [&](const auto& leaf, double start) {
+    minimum([&](const Node& nd) { return point_node_bound_squared(nd, p); }, leaf, start);
+  });
 }
 
 }  // namespace tf

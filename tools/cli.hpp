@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "tiltfield/feed_schedule.hpp"
 #include "tiltfield/progress.hpp"
 
 namespace tf::cli {
@@ -21,6 +22,9 @@ GlobalOptions& global_options();
 
 // A progress callback that draws a bar on stderr when stderr is a terminal and --quiet is off.
 Progress terminal_progress();
+
+// One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
+void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);
 
 // The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.

@@ -5,6 +5,7 @@
 
 #include "cli.hpp"
 #include "tiltfield/error.hpp"
+#include "tiltfield/io.hpp"
 
 namespace tf::cli {
 namespace fs = std::filesystem;
@@ -12,6 +13,13 @@ namespace fs = std::filesystem;
 GlobalOptions& global_options() {
   static GlobalOptions options;  // the process' command line: one per process by nature
   return options;
+}
+
+void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, const FeedSchedule& fs) {
+  if (global_options().quiet) return;
+  std::cerr << who << ": feeds scheduled for " << fixed(o.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
+            << fs.sped_up << " air blocks at " << fixed(o.air_feed, 0) << " mm/min\n";
+  for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
 }
 
 Progress terminal_progress() {

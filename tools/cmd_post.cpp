@@ -34,7 +34,7 @@ void positive_option(double v, const char* name) {
 std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const std::string& text) {
   FeedScheduleOptions so = a.schedule;
   if (!(so.air_feed > 0.0)) so.air_feed = scene.machine->max_feed;
-  schedule_feeds(Program{}, VerifyReport{}, so);  // option errors before the simulation
+  check_feed_schedule_options(so);  // before the simulation
   positive_option(a.resolution, "--resolution");
   const Program program = parse_gcode(text, a.out, *scene.machine);
   VerifyOptions vo;
@@ -44,11 +44,7 @@ std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const s
   vo.progress = terminal_progress();
   const VerifyResult vr = verify_program(scene, program, scene_forward(scene), vo);
   const FeedSchedule fs = schedule_feeds(program, vr.report, so);
-  if (!global_options().quiet) {
-    std::cerr << "tiltfield post: feeds scheduled for " << fixed(so.max_mrr, 1) << " mm3/min: " << fs.slowed
-              << " blocks slowed, " << fs.sped_up << " air blocks at " << fixed(so.air_feed, 0) << " mm/min\n";
-    for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
-  }
+  print_feed_schedule("tiltfield post", so, fs);
   return rewrite_feeds(text, program, fs);
 }
 

@@ -44,9 +44,8 @@ void run_verify(const VerifyArgs& a) {
   so.max_mrr = a.schedule_mrr;
   if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
   if (scheduling) {
-    if (!(a.schedule_mrr > 0.0)) throw InputError("", 0, "--schedule-feed", "must be a positive number of mm3/min");
+    check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
-    schedule_feeds(Program{}, VerifyReport{}, so);  // option errors before the long simulation
   }
   const VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
   // Every output is written to a temporary name and renamed; the mesh first (slowest), the report last.
@@ -63,11 +62,7 @@ void run_verify(const VerifyArgs& a) {
     const std::string text = read_text_file(a.program, "G-code file");
     if (!a.report.empty()) write_verify_json(result.report, a.report);
     write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
-    if (!global_options().quiet) {
-      std::cerr << "verify: feeds scheduled for " << fixed(so.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
-                << fs.sped_up << " air blocks at " << fixed(so.air_feed, 0) << " mm/min\n";
-      for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
-    }
+    print_feed_schedule("verify", so, fs);
   } else {
     write_verify_json(result.report, a.out);
   }

@@ -11,9 +11,14 @@
 
 namespace tf {
 
+void check_feed_schedule_options(const FeedScheduleOptions& o, const std::string& limit_option) {
+  if (!(o.max_mrr > 0.0) || !std::isfinite(o.max_mrr))
+    throw InputError("", 0, limit_option, "must be a positive number of mm3/min");
+  if (!(o.min_feed > 0.0) || !std::isfinite(o.min_feed)) throw InputError("", 0, "--min-feed", "must be a positive number of mm/min");
+}
+
 FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, const FeedScheduleOptions& o) {
-  if (!(o.max_mrr > 0.0) || !std::isfinite(o.max_mrr)) throw InputError("", 0, "--max-mrr", "must be a positive number of mm3/min");
-  if (!(o.min_feed > 0.0)) throw InputError("", 0, "--min-feed", "must be a positive number of mm/min");
+  check_feed_schedule_options(o);
   if (report.per_block.size() != program.blocks.size())
     throw InputError("", 0, "--max-mrr",
                      "the verification covered " + std::to_string(report.per_block.size()) + " of " +

@@ -31,6 +31,10 @@ struct FeedSchedule {
   std::vector<std::string> warnings;  // blocks above the limit even at the minimum feed
 };
 
+// Throws InputError naming `limit_option` (the command's name for max_mrr) or "--min-feed" when an
+// option is out of range; commands call it before their simulation.
+void check_feed_schedule_options(const FeedScheduleOptions& options, const std::string& limit_option = "--max-mrr");
+
 // The schedule for `program` from its verification `report` (one BlockResult per block, in order).
 // Throws InputError ("--max-mrr", ...) for a limit that is not positive, and when the report does not
 // cover every block (a verification stopped at a collision).

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -35,6 +36,33 @@ struct ClosestHit {
   int triangle = -1;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // closest point on the surface
 };
+
+// The nearest-point query both triangle hierarchies share: triangle `hint` (or -1) seeds the bound, then
+// `search(leaf, best2)` runs the hierarchy's best-first minimum over squared distances with `leaf(i, best)`.
+template <class Search>
+ClosestHit closest_triangle_point(const std::vector<Triangle>& tris, const Eigen::Vector3d& p, double max_distance,
+                                  int hint, const Search& search) {
+  ClosestHit hit;
+  double best2 = std::isinf(max_distance) ? std::numeric_limits<double>::infinity() : max_distance * max_distance;
+  if (hint >= 0 && hint < static_cast<int>(tris.size())) {
+    const Eigen::Vector3d q = closest_point_on_triangle(p, tris[static_cast<size_t>(hint)]);
+    const double d2 = (q - p).squaredNorm();
+    if (d2 < best2) {
+      best2 = d2;
+      hit = {std::sqrt(d2), hint, q};
+    }
+  }
+  search(
+      [&](int i, double best) {
+        const Eigen::Vector3d q = closest_point_on_triangle(p, tris[static_cast<size_t>(i)]);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best) hit = {0.0, i, q}, best2 = d2;
+        return d2;
+      },
+      best2);
+  if (hit.triangle >= 0) hit.distance = std::sqrt(best2);
+  return hit;
+}
 
 class TriangleBvh {
  public:
