@@ -13,6 +13,8 @@
 #include <optional>
 
 #include "obstacles.hpp"
+#include "ray_depths.hpp"
+#include "ray_extents.hpp"
 #include "raycast.hpp"
 #include "tiltfield/error.hpp"
 #include "tiltfield/verify.hpp"
@@ -32,13 +34,17 @@ std::string_view to_string(HitWith w) {
 
 namespace {
 
-constexpr int kTile = 16;
-constexpr float kEmptyLo = std::numeric_limits<float>::infinity();
 
 struct Hit {
   Interval iv;
   uint8_t component;
   bool cutting;
+};
+
+// A part meeting rays first..last of a tile row; its intervals are at t0/t1[offset + iu].
+struct RowPart {
+  int part, first, last;
+  std::ptrdiff_t offset;
 };
 
 // Per thread, per block.
@@ -50,6 +56,8 @@ struct Accum {
   std::vector<Hit> hits;
   std::vector<Interval> cut, mat, removed_pieces;
   std::vector<int> parts;
+  std::vector<double> t0, t1;  // per part of the tile and ray of the row: its interval (see process_tile)
+  std::vector<RowPart> row;
   void reset() {
     removed = {};
     for (auto& a : depth)
@@ -63,78 +71,6 @@ struct Task {
   int d, tu, tv;
 };
 
-// Overlap of the interval [a, b] with an obstacle's crossings on one ray: solid obstacles by their inside
-// spans (winding), open surfaces by the distance from a crossing to the nearer end of [a, b].
-float obstacle_depth(const Crossing* c, const Crossing* e, bool solid, float a, float b) {
-  float best = 0.f;
-  if (!c) return 0.f;
-  if (solid) {
-    int w = 0;
-    float start = -std::numeric_limits<float>::infinity();
-    for (; c != e; ++c) {
-      const int before = w;
-      w += c->cos < 0 ? 1 : -1;
-      if (before == 0 && w > 0) start = c->t;
-      if (before > 0 && w == 0) best = std::max(best, std::min(b, c->t) - std::max(a, start));
-    }
-    return std::max(best, 0.f);
-  }
-  for (; c != e; ++c)
-    if (c->t > a && c->t < b) best = std::max(best, std::min(c->t - a, b - c->t));
-  return best;
-}
-
-// Deepest over-cut (normal to the design) of the removed pieces on one ray. The part side lies between an
-// entering crossing (cos < 0) and the next exiting one; depth at x is the distance to the nearer crossing
-// times |cos| there (a planar estimate; crossings more grazing than |cos| < 0.3 are left to other grids).
-double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Interval>& removed, double* where) {
-  if (!c || c == e || removed.empty()) return 0.0;
-  constexpr double kMinCos = 0.3;
-  const double inf = std::numeric_limits<double>::infinity();
-  double best = 0.0;
-  auto span = [&](double t_in, double c_in, double t_out, double c_out) {
-    const bool vin = std::isfinite(t_in) && c_in >= kMinCos, vout = std::isfinite(t_out) && c_out >= kMinCos;
-    if (!vin && !vout) return;
-    auto depth = [&](double x) {
-      double d = inf;
-      if (vin) d = std::min(d, (x - t_in) * c_in);
-      if (vout) d = std::min(d, (t_out - x) * c_out);
-      return d;
-    };
-    auto take = [&](double x) {
-      const double v = depth(x);
-      if (v > best) {
-        best = v;
-        *where = x;
-      }
-    };
-    for (const Interval& r : removed) {
-      const double p0 = std::max<double>(r.lo, t_in), p1 = std::min<double>(r.hi, t_out);
-      if (!(p1 > p0)) continue;
-      take(p0);
-      take(p1);
-      if (vin && vout) {
-        const double x = (t_in * c_in + t_out * c_out) / (c_in + c_out);
-        if (x > p0 && x < p1) take(x);
-      }
-    }
-  };
-  double t_in = -inf, c_in = 0.0;
-  bool inside = c->cos > 0;  // the first crossing exits: the ray starts on the part side
-  for (; c != e; ++c) {
-    if (c->cos < 0) {
-      t_in = c->t;
-      c_in = -c->cos;
-      inside = true;
-    } else {
-      if (inside) span(t_in, c_in, c->t, c->cos);
-      inside = false;
-    }
-  }
-  if (inside) span(t_in, c_in, inf, 0.0);
-  return best;
-}
-
 class Simulator {
  public:
   Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
@@ -142,6 +78,10 @@ class Simulator {
         lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
     for (const Mesh& m : scene.fixtures) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture, {}});
     for (const Mesh& m : scene.check_surfaces) obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Check, {}});
+    for (Obstacle& o : obstacles_) {
+      o.ext = RayExtents(lattice_);
+      o.ext.refresh_all([&](int d, int iu, int iv) { return obstacle_range(*o.table, d, iu, iv); });
+    }
     if (options.check_gouges && scene.design.n_faces() > 0) {
       design_ = std::make_unique<RayTable>(scene.design, lattice_);
       design_mesh_ = std::make_unique<RayMesh>(scene.design);
@@ -152,16 +92,10 @@ class Simulator {
       reach_all_ = std::max(reach_all_, reach);
       if (p.cutting) reach_cut_ = std::max(reach_cut_, reach);
     }
-    for (int d = 0; d < 3; ++d) {
-      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-      tiles_u_[d] = (lattice_.n[u] + kTile - 1) / kTile;
-      tiles_v_[d] = (lattice_.n[v] + kTile - 1) / kTile;
-      tile_ext_[d].assign(size_t(tiles_u_[d]) * tiles_v_[d], {kEmptyLo, -kEmptyLo});
-      stamp_[d].assign(tile_ext_[d].size(), 0);
-      for (int tv = 0; tv < tiles_v_[d]; ++tv)
-        for (int tu = 0; tu < tiles_u_[d]; ++tu) update_tile(d, tu, tv);
-    }
-    for (Obstacle& o : obstacles_) obstacle_tiles(o);
+    inv_h_ = 1.0 / lattice_.h;
+    ext_ = RayExtents(lattice_);
+    ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
+    for (int d = 0; d < 3; ++d) stamp_[d].assign(size_t(ext_.tiles_u(d)) * ext_.tiles_v(d), 0);
   }
 
   VerifyResult run() {
@@ -215,31 +149,23 @@ class Simulator {
   struct Obstacle {
     std::unique_ptr<RayTable> table;
     HitWith with;
-    std::array<std::vector<Interval>, 3> tile_ext;  // per tile: the extent of its rays' crossings (see ray_range)
+    RayExtents ext;  // where along the rays the obstacle can be met (obstacle_range)
+  };
+
+  // Where a swept part is in ray indices for grid d: rays u0..u1 of rows v0..v1 (empty when u1 < u0 or
+  // v1 < v0), between lo and hi along the rays (relative to the lattice origin).
+  struct PartSpan {
+    int u0, u1, v0, v1;
+    float lo, hi;
   };
 
   // The stretch of ray (iu, iv) of grid d where an obstacle can be met: between its first and last
   // crossing, open-ended where the ray starts or ends inside a solid. Empty (lo > hi) without crossings.
   static Interval obstacle_range(const RayTable& t, int d, int iu, int iv) {
     const Crossing *b = t.begin(d, iu, iv), *e = t.end(d, iu, iv);
-    if (b == e) return {kEmptyLo, -kEmptyLo};
+    if (b == e) return kNoExtent;
     const float inf = std::numeric_limits<float>::infinity();
     return {t.solid() && b->cos > 0 ? -inf : b->t, t.solid() && (e - 1)->cos < 0 ? inf : (e - 1)->t};
-  }
-
-  void obstacle_tiles(Obstacle& o) const {
-    for (int d = 0; d < 3; ++d) {
-      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-      o.tile_ext[d].assign(size_t(tiles_u_[d]) * tiles_v_[d], {kEmptyLo, -kEmptyLo});
-      for (int iv = 0; iv < lattice_.n[v]; ++iv)
-        for (int iu = 0; iu < lattice_.n[u]; ++iu) {
-          const Interval r = obstacle_range(*o.table, d, iu, iv);
-          if (r.lo > r.hi) continue;
-          Interval& x = o.tile_ext[d][size_t(iv / kTile) * tiles_u_[d] + iu / kTile];
-          x.lo = std::min(x.lo, r.lo);
-          x.hi = std::max(x.hi, r.hi);
-        }
-    }
   }
 
   static Lattice make_lattice(const Scene& scene, double h) {
@@ -267,35 +193,43 @@ class Simulator {
     return lattice_for(box, h, 2);
   }
 
-  void update_tile(int d, int tu, int tv) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    Interval ext{kEmptyLo, -kEmptyLo};
-    for (int iv = tv * kTile; iv < std::min(lattice_.n[v], (tv + 1) * kTile); ++iv)
-      for (int iu = tu * kTile; iu < std::min(lattice_.n[u], (tu + 1) * kTile); ++iu) {
-        const Dexel& r = stock_.ray(d, iu, iv);
-        if (r.empty()) continue;
-        ext.lo = std::min(ext.lo, r.begin()->lo);
-        ext.hi = std::max(ext.hi, (r.end() - 1)->hi);
-      }
-    tile_ext_[d][size_t(tv) * tiles_u_[d] + tu] = ext;
+  static Interval material_range(const Dexel& ray) {
+    return ray.empty() ? kNoExtent : Interval{ray.begin()->lo, (ray.end() - 1)->hi};
   }
 
-  // Can part p touch material or an obstacle in tile (tu, tv) of grid d?
-  bool relevant(const SweptPart& p, int d, int tu, int tv) const {
+  // ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
+  // from a mistyped coordinate) are clamped first, well inside int.
+  static int ceil_index(double x) {
+    x = std::clamp(x, -1e9, 1e9);
+    const int k = static_cast<int>(x);
+    return k < x ? k + 1 : k;
+  }
+  static int floor_index(double x) {
+    x = std::clamp(x, -1e9, 1e9);
+    const int k = static_cast<int>(x);
+    return k > x ? k - 1 : k;
+  }
+
+  PartSpan part_span(const SweptPart& p, int d) const {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    const double h = lattice_.h;
-    const double u_lo = lattice_.origin[u] + h * tu * kTile, u_hi = u_lo + h * (kTile - 1);
-    const double v_lo = lattice_.origin[v] + h * tv * kTile, v_hi = v_lo + h * (kTile - 1);
-    if (p.box.max()[u] < u_lo || p.box.min()[u] > u_hi || p.box.max()[v] < v_lo || p.box.min()[v] > v_hi) return false;
-    const float a = static_cast<float>(p.box.min()[d] - lattice_.origin[d]);
-    const float b = static_cast<float>(p.box.max()[d] - lattice_.origin[d]);
-    const size_t tile = size_t(tv) * tiles_u_[d] + tu;
-    const Interval& ext = tile_ext_[d][tile];
-    if (b >= ext.lo && a <= ext.hi) return true;
-    for (const Obstacle& o : obstacles_) {
-      const Interval& oe = o.tile_ext[d][tile];
-      if (b >= oe.lo && a <= oe.hi) return true;
-    }
+    auto first = [&](double x, int axis) {
+      return static_cast<int>(std::clamp(std::ceil((x - lattice_.origin[axis]) / lattice_.h), 0.0, lattice_.n[axis] + 1.0));
+    };
+    auto last = [&](double x, int axis) {
+      return static_cast<int>(std::clamp(std::floor((x - lattice_.origin[axis]) / lattice_.h), -1.0, lattice_.n[axis] - 1.0));
+    };
+    return {first(p.box.min()[u], u), last(p.box.max()[u], u), first(p.box.min()[v], v), last(p.box.max()[v], v),
+            static_cast<float>(p.box.min()[d] - lattice_.origin[d]), static_cast<float>(p.box.max()[d] - lattice_.origin[d])};
+  }
+  const PartSpan& span(int part, int d) const { return spans_[size_t(part) * 3 + d]; }
+
+  // Can part `part` touch material or an obstacle in tile (tu, tv) of grid d?
+  bool relevant(int part, int d, int tu, int tv) const {
+    const PartSpan& s = span(part, d);
+    if (s.u1 < tu * kTile || s.u0 >= (tu + 1) * kTile || s.v1 < tv * kTile || s.v0 >= (tv + 1) * kTile) return false;
+    if (meets(ext_.tile(d, tu, tv), s.lo, s.hi)) return true;
+    for (const Obstacle& o : obstacles_)
+      if (meets(o.ext.tile(d, tu, tv), s.lo, s.hi)) return true;
     return false;
   }
 
@@ -323,17 +257,21 @@ class Simulator {
     // Tiles any part can touch.
     ++stamp_value_;
     tasks_.clear();
-    for (const SweptPart& p : sweep_.parts)
+    spans_.resize(sweep_.parts.size() * 3);
+    shadows_.resize(sweep_.parts.size() * 3);
+    for (size_t i = 0; i < sweep_.parts.size(); ++i)
       for (int d = 0; d < 3; ++d) {
-        const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-        int tu0, tu1, tv0, tv1;
-        if (!tile_range(p.box.min()[u], p.box.max()[u], u, tu0, tu1) ||
-            !tile_range(p.box.min()[v], p.box.max()[v], v, tv0, tv1))
-          continue;
-        for (int tv = tv0; tv <= tv1; ++tv)
-          for (int tu = tu0; tu <= tu1; ++tu) {
-            uint32_t& s = stamp_[d][size_t(tv) * tiles_u_[d] + tu];
-            if (s == stamp_value_ || !relevant(p, d, tu, tv)) continue;
+        spans_[i * 3 + d] = part_span(sweep_.parts[i], d);
+        shadows_[i * 3 + d] = make_shadow(sweep_.parts[i], d, Lattice::u_axis(d));
+      }
+    for (size_t i = 0; i < sweep_.parts.size(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        const PartSpan& sp = span(static_cast<int>(i), d);
+        if (sp.u1 < sp.u0 || sp.v1 < sp.v0) continue;
+        for (int tv = sp.v0 / kTile; tv <= sp.v1 / kTile; ++tv)
+          for (int tu = sp.u0 / kTile; tu <= sp.u1 / kTile; ++tu) {
+            uint32_t& s = stamp_[d][size_t(tv) * ext_.tiles_u(d) + tu];
+            if (s == stamp_value_ || !relevant(static_cast<int>(i), d, tu, tv)) continue;
             s = stamp_value_;
             tasks_.push_back({d, tu, tv});
           }
@@ -396,8 +334,7 @@ class Simulator {
       const float lo = static_cast<float>(b.min()[d] - lattice_.origin[d]), hi = static_cast<float>(b.max()[d] - lattice_.origin[d]);
       for (int tv = tv0; tv <= tv1; ++tv)
         for (int tu = tu0; tu <= tu1; ++tu) {
-          const Interval& ext = tile_ext_[d][size_t(tv) * tiles_u_[d] + tu];
-          if (hi >= ext.lo && lo <= ext.hi) return true;
+          if (meets(ext_.tile(d, tu, tv), lo, hi)) return true;
         }
     }
     return false;
@@ -415,48 +352,103 @@ class Simulator {
   }
 
   void process_tile(const Task& task, bool rapid, Accum& acc) {
-    const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
     acc.parts.clear();
     for (size_t i = 0; i < sweep_.parts.size(); ++i)
-      if (relevant(sweep_.parts[i], d, task.tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
+      if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
     if (acc.parts.empty()) return;
     bool changed = false;
     const double h = lattice_.h;
-    const int iu_end = std::min(lattice_.n[u], (task.tu + 1) * kTile), iv_end = std::min(lattice_.n[v], (task.tv + 1) * kTile);
+    const int iu0 = tu * kTile, iu_end = std::min(lattice_.n[u], iu0 + kTile);
+    const int iv_end = std::min(lattice_.n[v], (task.tv + 1) * kTile);
+    acc.t0.resize(acc.parts.size() * kTile);
+    acc.t1.resize(acc.parts.size() * kTile);
+    std::array<Interval, kTile> range;
     for (int iv = task.tv * kTile; iv < iv_end; ++iv) {
+      // Where along this row's rays a part must be to matter: the material, or an obstacle.
+      Interval row = ext_.row(d, tu, iv);
+      for (const Obstacle& ob : obstacles_) row = hull(row, ob.ext.row(d, tu, iv));
+      if (row.lo > row.hi) continue;
       const double cv = lattice_.origin[v] + h * iv;
-      for (int iu = task.tu * kTile; iu < iu_end; ++iu) {
-        const double cu = lattice_.origin[u] + h * iu;
-        acc.hits.clear();
-        Eigen::Vector3d o = lattice_.origin;
-        o[u] = cu;
-        o[v] = cv;
-        // What a part must overlap along this ray to matter: the material, or an obstacle on the ray.
-        const Dexel& ray = stock_.ray(d, iu, iv);
-        float lo = ray.empty() ? kEmptyLo : ray.begin()->lo, hi = ray.empty() ? -kEmptyLo : (ray.end() - 1)->hi;
-        for (const Obstacle& ob : obstacles_) {
-          const Interval r = obstacle_range(*ob.table, d, iu, iv);
-          lo = std::min(lo, r.lo);
-          hi = std::max(hi, r.hi);
+      // The rays of this row under each part's shadow (its box where the shadow has no closed form).
+      acc.row.clear();
+      int first = iu_end, last = iu0 - 1;
+      for (size_t j = 0; j < acc.parts.size(); ++j) {
+        const int pi = acc.parts[j];
+        const PartSpan& sp = span(pi, d);
+        if (iv < sp.v0 || iv > sp.v1 || !meets(row, sp.lo, sp.hi)) continue;
+        int a = std::max(iu0, sp.u0), b = std::min(iu_end - 1, sp.u1);
+        if (const Shadow& sh = shadows_[size_t(pi) * 3 + d]; sh.known) {
+          double lo, hi;
+          if (!shadow_row(sh, cv, lo, hi)) continue;
+          a = std::max(a, ceil_index((lo - lattice_.origin[u]) * inv_h_));
+          b = std::min(b, floor_index((hi - lattice_.origin[u]) * inv_h_));
         }
-        if (lo > hi) continue;
-        for (int pi : acc.parts) {
-          const SweptPart& p = sweep_.parts[pi];
-          if (cu < p.box.min()[u] || cu > p.box.max()[u] || cv < p.box.min()[v] || cv > p.box.max()[v]) continue;
-          if (p.box.max()[d] - lattice_.origin[d] < lo || p.box.min()[d] - lattice_.origin[d] > hi) continue;
-          double t0, t1;
-          if (!ray_interval(p, o, d, t0, t1)) continue;
+        if (b < a) continue;
+        acc.row.push_back({pi, a, b, static_cast<std::ptrdiff_t>(j * kTile) - iu0});
+        first = std::min(first, a);
+        last = std::max(last, b);
+      }
+      // Where each of those rays holds material or meets an obstacle.
+      for (int iu = first; iu <= last; ++iu) {
+        Interval& r = range[iu - iu0];
+        r = material_range(stock_.ray(d, iu, iv));
+        for (const Obstacle& ob : obstacles_) r = hull(r, obstacle_range(*ob.table, d, iu, iv));
+      }
+      // The parts' intervals on them: spheres in one batch per row, the costlier cylinders ray by ray
+      // and only where the part's extent meets the ray's.
+      for (const RowPart& rp : acc.row) {
+        const SweptPart& p = sweep_.parts[rp.part];
+        Eigen::Vector3d o = lattice_.origin;
+        o[u] += h * rp.first;
+        o[v] = cv;
+        if (p.kind == ToolPart::Kind::Sphere) {
+          ray_intervals(p, o, d, u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first], &acc.t1[rp.offset + rp.first]);
+          continue;
+        }
+        const PartSpan& sp = span(rp.part, d);
+        for (int iu = rp.first; iu <= rp.last; ++iu) {
+          o[u] = lattice_.origin[u] + h * iu;
+          double& t0 = acc.t0[rp.offset + iu];
+          double& t1 = acc.t1[rp.offset + iu];
+          if (!meets(range[iu - iu0], sp.lo, sp.hi) || !ray_interval(p, o, d, t0, t1)) {
+            t0 = std::numeric_limits<double>::infinity();
+            t1 = -t0;
+          }
+        }
+      }
+      bool row_changed = false;
+      for (int iu = first; iu <= last; ++iu) {
+        const Interval r = range[iu - iu0];
+        if (r.lo > r.hi) continue;
+        acc.hits.clear();
+        for (const RowPart& rp : acc.row) {
+          if (iu < rp.first || iu > rp.last) continue;
+          const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+          if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
+          const SweptPart& p = sweep_.parts[rp.part];
           acc.hits.push_back({{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
         }
-        if (acc.hits.empty()) continue;
-        changed |= process_ray(d, iu, iv, rapid, acc);
+        if (!acc.hits.empty() && process_ray(d, iu, iv, rapid, acc)) row_changed = true;
+      }
+      if (row_changed) {
+        changed = true;
+        ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
       }
     }
-    if (changed) update_tile(d, task.tu, task.tv);
+    if (changed) ext_.refresh_tile(d, tu, task.tv);
   }
 
   bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
     Dexel& ray = stock_.ray(d, iu, iv);
+    // The common case: one cutting part, nothing to check but the removal.
+    if (acc.hits.size() == 1 && acc.hits[0].cutting && !rapid && obstacles_.empty() && !design_) {
+      const double gone = subtract_intervals(ray.begin(), ray.size(), &acc.hits[0].iv, 1, acc.mat, nullptr);
+      if (!(gone > 0)) return false;
+      ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+      acc.removed[d] += gone;
+      return true;
+    }
     // Union of the cutting parts' intervals.
     acc.cut.clear();
     for (const Hit& h : acc.hits)
@@ -614,8 +606,10 @@ class Simulator {
   std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
   std::vector<ToolPart> parts_;
   double reach_cut_ = 0.0, reach_all_ = 0.0;
-  std::array<int, 3> tiles_u_{}, tiles_v_{};
-  std::array<std::vector<Interval>, 3> tile_ext_;
+  RayExtents ext_;                 // where the material is, per tile and row segment
+  std::vector<PartSpan> spans_;    // per swept part of the block and grid
+  std::vector<Shadow> shadows_;    // the same
+  double inv_h_ = 1.0;             // 1 / lattice spacing
   std::array<std::vector<uint32_t>, 3> stamp_;
   uint32_t stamp_value_ = 0;
   std::vector<Task> tasks_;

@@ -198,55 +198,6 @@ struct Region {
   }
 };
 
-// Ray o + t e_dir against the capsule of radius r about the segment c0 + s d, s in [0, 1]. The ray is
-// axis-parallel, so every dot product with e is one component.
-bool capsule_interval(const SweptPart& p, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const double r2 = p.radius * p.radius;
-  const Eigen::Vector3d w = o - p.p0;
-  const double ww = w.squaredNorm(), we = w[dir];
-  auto sphere = [&](double b, double cc) {
-    const double disc = b * b - cc;
-    if (disc <= 0) return;
-    const double sq = std::sqrt(disc);
-    lo = std::min(lo, -b - sq);
-    hi = std::max(hi, -b + sq);
-  };
-  sphere(we, ww - r2);
-  if (p.len > 0.0) {
-    const Eigen::Vector3d w1 = w - p.d;
-    sphere(w1[dir], w1.squaredNorm() - r2);
-    const double L = p.len, de = p.dir_cos[dir], dw = p.d.dot(w) * p.inv_len;
-    const double inv_a = p.inv_sin2[dir];  // 1 / |e - dn de|^2; 0: the ray runs along the motion
-    if (inv_a > 0.0) {
-      const double A = 1.0 - de * de;
-      const double B = we - de * dw, C = ww - dw * dw - r2, disc = B * B - A * C;
-      if (disc > 0) {
-        const double sq = std::sqrt(disc);
-        double a = (-B - sq) * inv_a, b = (-B + sq) * inv_a;
-        bool ok = true;
-        if (p.inv_cos[dir] != 0.0) {
-          double s0 = -dw * p.inv_cos[dir], s1 = (L - dw) * p.inv_cos[dir];
-          if (s0 > s1) std::swap(s0, s1);
-          a = std::max(a, s0);
-          b = std::min(b, s1);
-          ok = b > a;
-        } else {
-          ok = dw >= 0 && dw <= L;
-        }
-        if (ok) {
-          lo = std::min(lo, a);
-          hi = std::max(hi, b);
-        }
-      }
-    }
-  }
-  if (!(hi > lo)) return false;
-  t0 = lo;
-  t1 = hi;
-  return true;
-}
-
 bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen::Vector3d& e, double& t0, double& t1) {
   const Eigen::Vector3d& a = p.axis;
   const Eigen::Vector3d w = o - p.p0;
@@ -273,10 +224,91 @@ bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
-  if (part.kind == ToolPart::Kind::Sphere) return capsule_interval(part, o, dir, t0, t1);
-  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  double a = 0.0, b = 0.0;
+  ray_intervals(part, o, dir, (dir + 1) % 3, 0.0, 1, &a, &b);
+  if (!(b > a)) return false;
+  t0 = a;
+  t1 = b;
+  return true;
+}
+
+void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
+                   double* t1) {
+  if (part.kind == ToolPart::Kind::Sphere) {
+    capsule_intervals(part, o, dir, u, step, n, t0, t1);
+    return;
+  }
+  Eigen::Vector3d e = Eigen::Vector3d::Zero(), x = o;
   e[dir] = 1.0;
-  return cylinder_interval(part, o, e, t0, t1);
+  for (int i = 0; i < n; ++i, x[u] += step)
+    if (!cylinder_interval(part, x, e, t0[i], t1[i])) {
+      t0[i] = std::numeric_limits<double>::infinity();
+      t1[i] = -t0[i];
+    }
+}
+
+Shadow make_shadow(const SweptPart& part, int dir, int u) {
+  Shadow s;
+  if (part.kind == ToolPart::Kind::Cylinder && std::abs(part.axis[dir]) < 1.0 - 1e-12) return s;
+  const int v = 3 - dir - u;
+  s.known = true;
+  s.pu = part.p0[u];
+  s.pv = part.p0[v];
+  s.du = part.d[u];
+  s.dv = part.d[v];
+  s.r = part.radius;
+  s.len = std::sqrt(s.du * s.du + s.dv * s.dv);
+  if (s.len > 1e-12) {
+    s.tu = s.du / s.len;
+    s.tv = s.dv / s.len;
+    s.inv_tu = std::abs(s.tu) > 1e-15 ? 1.0 / s.tu : 0.0;
+    s.inv_tv = std::abs(s.tv) > 1e-15 ? 1.0 / s.tv : 0.0;
+  }
+  return s;
+}
+
+bool shadow_row(const Shadow& s, double cv, double& lo, double& hi) {
+  const double inf = std::numeric_limits<double>::infinity(), r2 = s.r * s.r;
+  lo = inf;
+  hi = -inf;
+  // The discs about the start and end centres (a cylinder along dir: its end discs' common shadow).
+  const double o0 = cv - s.pv, o1 = o0 - s.dv;
+  if (o0 * o0 <= r2) {
+    const double q = std::sqrt(r2 - o0 * o0);
+    lo = s.pu - q;
+    hi = s.pu + q;
+  }
+  if (o1 * o1 <= r2) {
+    const double q = std::sqrt(r2 - o1 * o1);
+    lo = std::min(lo, s.pu + s.du - q);
+    hi = std::max(hi, s.pu + s.du + q);
+  }
+  // The band between them: within r of the centre line (|n . x| <= r, n = (-tv, tu)) and between the
+  // end normals (0 <= t . x <= len), x = (u - pu, cv - pv): two linear conditions on x_u.
+  if (s.len > 1e-12) {
+    double a = -inf, b = inf;
+    // lo_c <= coef x_u + off <= hi_c, with inv = 1 / coef (0 when coef is 0).
+    auto clip = [&](double coef, double inv, double off, double lo_c, double hi_c) {
+      if (inv == 0.0) {
+        if (off < lo_c || off > hi_c) a = inf;
+        return;
+      }
+      double x0 = (lo_c - off) * inv, x1 = (hi_c - off) * inv;
+      if (coef < 0.0) std::swap(x0, x1);
+      a = std::max(a, x0);
+      b = std::min(b, x1);
+    };
+    clip(-s.tv, -s.inv_tv, s.tu * o0, -s.r, s.r);
+    clip(s.tu, s.inv_tu, s.tv * o0, 0.0, s.len);
+    if (a <= b) {
+      lo = std::min(lo, s.pu + a);
+      hi = std::max(hi, s.pu + b);
+    }
+  }
+  // A margin well below any length the lattice resolves, against rounding at tangent rays.
+  lo -= 1e-9;
+  hi += 1e-9;
+  return hi >= lo;
 }
 
 Joints interpolate_block(const Joints& from, const Block& b, double tau) {

@@ -75,6 +75,27 @@ SweptPart sweep_part(const ToolPart& part, const Eigen::Vector3d& tip, const Eig
 // Interval [t0, t1] of the ray o + t e_dir (dir 0, 1, 2: x, y, z) inside the swept part; false if none.
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1);
 
+// The same for a row of n rays, o + i step e_u + t e_dir (i = 0 .. n-1, u != dir): t0[i] < t1[i] on a
+// hit; t0[i] = +inf and t1[i] = -inf on a miss. Spheres are evaluated in a vectorised batch.
+void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
+                   double* t1);
+// The shadow of a swept part cast along grid axis dir onto the (u, v) plane (v the third axis): a ray of
+// grid dir can meet the part only inside it. Known in closed form, a stadium (the segment swept by the
+// centre grown by the radius), for a sphere and for a cylinder whose axis is along dir; `known` is false
+// for other parts (use the box). Built once per part and grid by make_shadow, then asked row by row.
+struct Shadow {
+  bool known = false;
+  double pu = 0, pv = 0, du = 0, dv = 0, r = 0;  // start centre, motion and radius in (u, v), mm
+  double tu = 0, tv = 0, len = 0;                 // unit motion direction and length in (u, v)
+  double inv_tu = 0, inv_tv = 0;                  // 1 / tu, 1 / tv (0 where the component is 0)
+};
+Shadow make_shadow(const SweptPart& part, int dir, int u);
+// The stretch [lo, hi] of the line {v = cv} inside a known shadow; false when the line misses it.
+bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
+// ray_intervals for a sphere part (verifier/capsule_rows.cpp).
+void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
+                       double* t0, double* t1);
+
 // The motion of one block: tool pose as a function of time tau in [0, 1].
 using PoseAt = std::function<ToolPose(double tau)>;
 

@@ -6,6 +6,7 @@
 //      engagement measurement (its cost, issue 6).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -32,7 +33,8 @@ double peak_rss_mb() {
 // z of the freeform surface the ball tip follows: finishing depth, 0.5 to 2.5 mm below the block's top.
 double surface(double x, double y) { return 48.5 + 1.0 * std::sin(x / 10.0) * std::cos(y / 15.0); }
 
-tf::Program raster(int lines, int moves_per_line) {
+// The first `run` of `lines` raster lines (all when run = 0), 1000 moves each.
+tf::Program raster(int lines, int moves_per_line, int run = 0) {
   tf::Program p;
   const double stepover = 100.0 / lines, step = 100.0 / moves_per_line;
   auto add = [&](tf::Motion m, double x, double y, double z) {
@@ -44,7 +46,7 @@ tf::Program raster(int lines, int moves_per_line) {
     p.blocks.push_back(b);
   };
   p.start = {0, 0.5 * 100.0 / lines, surface(0, 0.5 * 100.0 / lines)};
-  for (int l = 0; l < lines; ++l) {
+  for (int l = 0; l < (run > 0 ? std::min(run, lines) : lines); ++l) {
     const double y = (l + 0.5) * stepover;
     const bool forward = l % 2 == 0;
     const double x0 = forward ? 0.0 : 100.0;
@@ -66,7 +68,7 @@ void BM_FreeformFinishing(benchmark::State& state) {
   scene.tool.shank_radius = 3;
   scene.tool.length = 60;
   scene.tool.holder = {{12, 40}};
-  const tf::Program program = raster(static_cast<int>(state.range(0)), 1000);
+  const tf::Program program = raster(static_cast<int>(state.range(0)), 1000, static_cast<int>(state.range(2)));
   tf::VerifyOptions opt;
   opt.resolution = 0.05;
   opt.engagement = state.range(1) != 0;
@@ -88,13 +90,15 @@ void BM_FreeformFinishing(benchmark::State& state) {
   state.counters["engagement_pct"] = 100.0 * engagement / std::max(seconds - engagement, 1e-9);
   state.counters["peak_MB"] = peak_rss_mb();
 }
-// Arguments: raster lines (1000 moves each), engagement off (0) or on (1).
+// Arguments: raster lines (1000 moves each), engagement off (0) or on (1), lines run (0: all). /500/0/30
+// is a quick sample of the full program's steady state (stepover 0.2 mm).
 BENCHMARK(BM_FreeformFinishing)
-    ->Args({5, 0})
-    ->Args({5, 1})
-    ->Args({50, 0})
-    ->Args({500, 0})
-    ->Args({500, 1})
+    ->Args({5, 0, 0})
+    ->Args({5, 1, 0})
+    ->Args({50, 0, 0})
+    ->Args({500, 0, 30})
+    ->Args({500, 0, 0})
+    ->Args({500, 1, 0})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 
