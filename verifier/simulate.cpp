@@ -370,7 +370,7 @@ class Simulator {
       for (const Obstacle& ob : obstacles_) row = hull(row, ob.ext.row(d, tu, iv));
       if (row.lo > row.hi) continue;
       const double cv = lattice_.origin[v] + h * iv;
-      // The rays of this row under each part's shadow (its box where the shadow has no closed form).
+      // The rays of this row under each part's shadow.
       acc.row.clear();
       int first = iu_end, last = iu0 - 1;
       for (size_t j = 0; j < acc.parts.size(); ++j) {
@@ -378,12 +378,10 @@ class Simulator {
         const PartSpan& sp = span(pi, d);
         if (iv < sp.v0 || iv > sp.v1 || !meets(row, sp.lo, sp.hi)) continue;
         int a = std::max(iu0, sp.u0), b = std::min(iu_end - 1, sp.u1);
-        if (const Shadow& sh = shadows_[size_t(pi) * 3 + d]; sh.known) {
-          double lo, hi;
-          if (!shadow_row(sh, cv, lo, hi)) continue;
-          a = std::max(a, ceil_index((lo - lattice_.origin[u]) * inv_h_));
-          b = std::min(b, floor_index((hi - lattice_.origin[u]) * inv_h_));
-        }
+        double lo, hi;
+        if (!shadow_row(shadows_[size_t(pi) * 3 + d], cv, lo, hi)) continue;
+        a = std::max(a, ceil_index((lo - lattice_.origin[u]) * inv_h_));
+        b = std::min(b, floor_index((hi - lattice_.origin[u]) * inv_h_));
         if (b < a) continue;
         acc.row.push_back({pi, a, b, static_cast<std::ptrdiff_t>(j * kTile) - iu0});
         first = std::min(first, a);

@@ -247,64 +247,88 @@ void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int
     }
 }
 
-Shadow make_shadow(const SweptPart& part, int dir, int u) {
-  Shadow s;
-  if (part.kind == ToolPart::Kind::Cylinder && std::abs(part.axis[dir]) < 1.0 - 1e-12) return s;
-  const int v = 3 - dir - u;
-  s.known = true;
-  s.pu = part.p0[u];
-  s.pv = part.p0[v];
-  s.du = part.d[u];
-  s.dv = part.d[v];
-  s.r = part.radius;
-  s.len = std::sqrt(s.du * s.du + s.dv * s.dv);
+namespace {
+
+Shadow::Stadium stadium(double pu, double pv, double du, double dv) {
+  Shadow::Stadium s;
+  s.pu = pu;
+  s.pv = pv;
+  s.du = du;
+  s.dv = dv;
+  s.len = std::sqrt(du * du + dv * dv);
   if (s.len > 1e-12) {
-    s.tu = s.du / s.len;
-    s.tv = s.dv / s.len;
+    s.tu = du / s.len;
+    s.tv = dv / s.len;
     s.inv_tu = std::abs(s.tu) > 1e-15 ? 1.0 / s.tu : 0.0;
     s.inv_tv = std::abs(s.tv) > 1e-15 ? 1.0 / s.tv : 0.0;
   }
   return s;
 }
 
-bool shadow_row(const Shadow& s, double cv, double& lo, double& hi) {
-  const double inf = std::numeric_limits<double>::infinity(), r2 = s.r * s.r;
-  lo = inf;
-  hi = -inf;
-  // The discs about the start and end centres (a cylinder along dir: its end discs' common shadow).
+// Widens [lo, hi] by the stretch of the line {v = cv} within r of the segment s.
+void stadium_row(const Shadow::Stadium& s, double r, double cv, double& lo, double& hi) {
+  const double inf = std::numeric_limits<double>::infinity(), r2 = r * r;
+  // The discs about the two ends.
   const double o0 = cv - s.pv, o1 = o0 - s.dv;
   if (o0 * o0 <= r2) {
     const double q = std::sqrt(r2 - o0 * o0);
-    lo = s.pu - q;
-    hi = s.pu + q;
+    lo = std::min(lo, s.pu - q);
+    hi = std::max(hi, s.pu + q);
   }
   if (o1 * o1 <= r2) {
     const double q = std::sqrt(r2 - o1 * o1);
     lo = std::min(lo, s.pu + s.du - q);
     hi = std::max(hi, s.pu + s.du + q);
   }
-  // The band between them: within r of the centre line (|n . x| <= r, n = (-tv, tu)) and between the
-  // end normals (0 <= t . x <= len), x = (u - pu, cv - pv): two linear conditions on x_u.
-  if (s.len > 1e-12) {
-    double a = -inf, b = inf;
-    // lo_c <= coef x_u + off <= hi_c, with inv = 1 / coef (0 when coef is 0).
-    auto clip = [&](double coef, double inv, double off, double lo_c, double hi_c) {
-      if (inv == 0.0) {
-        if (off < lo_c || off > hi_c) a = inf;
-        return;
-      }
-      double x0 = (lo_c - off) * inv, x1 = (hi_c - off) * inv;
-      if (coef < 0.0) std::swap(x0, x1);
-      a = std::max(a, x0);
-      b = std::min(b, x1);
-    };
-    clip(-s.tv, -s.inv_tv, s.tu * o0, -s.r, s.r);
-    clip(s.tu, s.inv_tu, s.tv * o0, 0.0, s.len);
-    if (a <= b) {
-      lo = std::min(lo, s.pu + a);
-      hi = std::max(hi, s.pu + b);
+  // The band between them: within r of the segment's line (|n . x| <= r, n = (-tv, tu)) and between
+  // the end normals (0 <= t . x <= len), x = (u - pu, cv - pv): two linear conditions on x_u.
+  if (s.len <= 1e-12) return;
+  double a = -inf, b = inf;
+  // lo_c <= coef x_u + off <= hi_c, with inv = 1 / coef (0 when coef is 0).
+  auto clip = [&](double coef, double inv, double off, double lo_c, double hi_c) {
+    if (inv == 0.0) {
+      if (off < lo_c || off > hi_c) a = inf;
+      return;
     }
+    double x0 = (lo_c - off) * inv, x1 = (hi_c - off) * inv;
+    if (coef < 0.0) std::swap(x0, x1);
+    a = std::max(a, x0);
+    b = std::min(b, x1);
+  };
+  clip(-s.tv, -s.inv_tv, s.tu * o0, -r, r);
+  clip(s.tu, s.inv_tu, s.tv * o0, 0.0, s.len);
+  if (a <= b) {
+    lo = std::min(lo, s.pu + a);
+    hi = std::max(hi, s.pu + b);
   }
+}
+
+}  // namespace
+
+Shadow make_shadow(const SweptPart& part, int dir, int u) {
+  const int v = 3 - dir - u;
+  Shadow s;
+  s.r = part.radius;
+  const double pu = part.p0[u], pv = part.p0[v], du = part.d[u], dv = part.d[v];
+  if (part.kind == ToolPart::Kind::Sphere || std::abs(part.axis[dir]) >= 1.0 - 1e-12) {
+    s.count = 1;
+    s.stadiums[0] = stadium(pu, pv, du, dv);
+    return s;
+  }
+  // The parallelogram p0 + [0, 1] axis H + [0, 1] d, by its four edges.
+  const double au = part.axis[u] * part.height, av = part.axis[v] * part.height;
+  s.count = 4;
+  s.stadiums[0] = stadium(pu, pv, du, dv);
+  s.stadiums[1] = stadium(pu + au, pv + av, du, dv);
+  s.stadiums[2] = stadium(pu, pv, au, av);
+  s.stadiums[3] = stadium(pu + du, pv + dv, au, av);
+  return s;
+}
+
+bool shadow_row(const Shadow& s, double cv, double& lo, double& hi) {
+  lo = std::numeric_limits<double>::infinity();
+  hi = -lo;
+  for (int i = 0; i < s.count; ++i) stadium_row(s.stadiums[i], s.r, cv, lo, hi);
   // A margin well below any length the lattice resolves, against rounding at tangent rays.
   lo -= 1e-9;
   hi += 1e-9;

@@ -20,6 +20,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -80,17 +81,24 @@ bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, doub
 void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
                    double* t1);
 // The shadow of a swept part cast along grid axis dir onto the (u, v) plane (v the third axis): a ray of
-// grid dir can meet the part only inside it. Known in closed form, a stadium (the segment swept by the
-// centre grown by the radius), for a sphere and for a cylinder whose axis is along dir; `known` is false
-// for other parts (use the box). Built once per part and grid by make_shadow, then asked row by row.
+// grid dir can meet the part only inside it. It is the convex hull of up to four stadiums (a segment in
+// (u, v) grown by a radius). Exact for a sphere (the centre's segment grown by the radius) and for a
+// cylinder whose axis is along dir (its bottom centre's segment). A tilted cylinder lies inside the
+// capsule of radius r about its axis; the shadow bounds that capsule swept by d: the parallelogram of the
+// axis and the motion, grown by r (its four edges' stadiums), so it is conservative there, never short.
+// Built once per part and grid by make_shadow, then asked row by row.
 struct Shadow {
-  bool known = false;
-  double pu = 0, pv = 0, du = 0, dv = 0, r = 0;  // start centre, motion and radius in (u, v), mm
-  double tu = 0, tv = 0, len = 0;                 // unit motion direction and length in (u, v)
-  double inv_tu = 0, inv_tv = 0;                  // 1 / tu, 1 / tv (0 where the component is 0)
+  struct Stadium {
+    double pu = 0, pv = 0, du = 0, dv = 0;  // segment start and direction in (u, v), mm
+    double tu = 0, tv = 0, len = 0;         // its unit direction and length
+    double inv_tu = 0, inv_tv = 0;          // 1 / tu, 1 / tv (0 where the component is 0)
+  };
+  int count = 0;
+  double r = 0;  // the radius, mm
+  std::array<Stadium, 4> stadiums;
 };
 Shadow make_shadow(const SweptPart& part, int dir, int u);
-// The stretch [lo, hi] of the line {v = cv} inside a known shadow; false when the line misses it.
+// The stretch [lo, hi] of the line {v = cv} inside the shadow; false when the line misses it.
 bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
 // ray_intervals for a sphere part (verifier/capsule_rows.cpp).
 void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
