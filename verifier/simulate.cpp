@@ -393,8 +393,7 @@ class Simulator {
         r = material_range(stock_.ray(d, iu, iv));
         for (const Obstacle& ob : obstacles_) r = hull(r, obstacle_range(*ob.table, d, iu, iv));
       }
-      // The parts' intervals on them: spheres in one batch per row, the costlier cylinders ray by ray
-      // and only where the part's extent meets the ray's.
+      // The parts' intervals on them, in one batch per part and row.
       for (const RowPart& rp : acc.row) {
         const SweptPart& p = sweep_.parts[rp.part];
         Eigen::Vector3d o = lattice_.origin;
@@ -404,6 +403,10 @@ class Simulator {
           ray_intervals(p, o, d, u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first], &acc.t1[rp.offset + rp.first]);
           continue;
         }
+        if (cylinder_intervals(p, o, d, u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first],
+                               &acc.t1[rp.offset + rp.first]))
+          continue;
+        // The rows the batch leaves to the scalar method: only the rays whose range the part can meet.
         const PartSpan& sp = span(rp.part, d);
         for (int iu = rp.first; iu <= rp.last; ++iu) {
           o[u] = lattice_.origin[u] + h * iu;

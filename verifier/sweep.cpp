@@ -224,6 +224,11 @@ bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
+  if (part.kind == ToolPart::Kind::Cylinder) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[dir] = 1.0;
+    return cylinder_interval(part, o, e, t0, t1);
+  }
   double a = 0.0, b = 0.0;
   ray_intervals(part, o, dir, (dir + 1) % 3, 0.0, 1, &a, &b);
   if (!(b > a)) return false;
@@ -238,13 +243,16 @@ void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int
     capsule_intervals(part, o, dir, u, step, n, t0, t1);
     return;
   }
+  if (cylinder_intervals(part, o, dir, u, step, n, t0, t1)) return;
   Eigen::Vector3d e = Eigen::Vector3d::Zero(), x = o;
   e[dir] = 1.0;
-  for (int i = 0; i < n; ++i, x[u] += step)
+  for (int i = 0; i < n; ++i) {
+    x[u] = o[u] + step * i;
     if (!cylinder_interval(part, x, e, t0[i], t1[i])) {
       t0[i] = std::numeric_limits<double>::infinity();
       t1[i] = -t0[i];
     }
+  }
 }
 
 namespace {

@@ -74,6 +74,7 @@ SweptPart sweep_part(const ToolPart& part, const Eigen::Vector3d& tip, const Eig
                      const Eigen::Vector3d& ref, const Eigen::Vector3d& d);
 
 // Interval [t0, t1] of the ray o + t e_dir (dir 0, 1, 2: x, y, z) inside the swept part; false if none.
+// For a cylinder this is the scalar enumeration, the reference for the batched rows below.
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1);
 
 // The same for a row of n rays, o + i step e_u + t e_dir (i = 0 .. n-1, u != dir): t0[i] < t1[i] on a
@@ -103,6 +104,11 @@ bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
 // ray_intervals for a sphere part (verifier/capsule_rows.cpp).
 void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
                        double* t0, double* t1);
+// ray_intervals for a cylinder part, vectorised (verifier/cylinder_rows.cpp). Returns false, writing
+// nothing, for the rows it leaves to the scalar method: the ray across the cylinder's axis, or the motion
+// along it.
+bool cylinder_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
+                        double* t0, double* t1);
 
 // The motion of one block: tool pose as a function of time tau in [0, 1].
 using PoseAt = std::function<ToolPose(double tau)>;
