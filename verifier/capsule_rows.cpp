@@ -13,18 +13,13 @@
 #include <cmath>
 #include <limits>
 
+#include "row_kernels.hpp"
 #include "tiltfield/sweep.hpp"
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define TF_ROW_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define TF_ROW_CLONES
-#endif
 
 namespace tf {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using row_kernels::kInf;
 
 struct RowConstants {
   double r2, wv, w1v, du, dv, dd;      // r^2; v offsets of the ray row from the start / end centre; d
@@ -82,20 +77,9 @@ template <bool kMoving, bool kAcross, bool kSlanted>
 template <bool kMoving, bool kAcross, bool kSlanted>
 [[gnu::always_inline]] inline void capsule_row(const RowConstants& k, double wu0, double step, int n, double shift,
                                                double* __restrict t0, double* __restrict t1) {
-  // Blocks of kLanes rays: loops of a known trip count vectorise without a scalar remainder. The last,
-  // partial block goes through a buffer (copied by a plain loop: see CMakeLists.txt).
-  constexpr int kLanes = 8;
-  int base = 0;
-  for (; base + kLanes <= n; base += kLanes)
-    for (int i = 0; i < kLanes; ++i)
-      capsule_lane<kMoving, kAcross, kSlanted>(k, wu0 + step * (base + i), shift, t0[base + i], t1[base + i]);
-  if (base == n) return;
-  double b0[kLanes], b1[kLanes];
-  for (int i = 0; i < kLanes; ++i) capsule_lane<kMoving, kAcross, kSlanted>(k, wu0 + step * (base + i), shift, b0[i], b1[i]);
-  for (int i = 0; i < n - base; ++i) {
-    t0[base + i] = b0[i];
-    t1[base + i] = b1[i];
-  }
+  row_kernels::in_blocks(n, t0, t1, [&](int i, double& a, double& b) __attribute__((always_inline)) {
+    capsule_lane<kMoving, kAcross, kSlanted>(k, wu0 + step * i, shift, a, b);
+  });
 }
 
 TF_ROW_CLONES

@@ -6,24 +6,19 @@
 // quadratic Q (the radius) and four linear constraints (0 <= axial <= H, 0 <= s <= 1). The extremes of t
 // are among fourteen candidates: the four corners of the linear constraints, the roots of Q on each of
 // their four lines, and the two points of Q with a tangent along s. Here every candidate is computed for
-// every ray and kept or dropped by a select, so the loop has no branches and vectorises (see
-// capsule_rows.cpp for the build flags). Rows where the candidates' coefficients degenerate (the ray
+// every ray and kept or dropped by a select, so the loop has no branches and vectorises (row_kernels.hpp,
+// and verifier/CMakeLists.txt for the flags). Rows where the candidates' coefficients degenerate (the ray
 // across the axis, or the motion along it) go to the scalar enumeration.
 #include <cmath>
 #include <limits>
 
+#include "row_kernels.hpp"
 #include "tiltfield/sweep.hpp"
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define TF_ROW_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define TF_ROW_CLONES
-#endif
 
 namespace tf {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using row_kernels::kInf;
 
 // Per row: Q(t, s) = A t^2 + 2B ts + C s^2 + 2D t + 2E s + F, D, E and F linear / quadratic along the row
 // through the ray's offset pw from the axis; axial coordinate aw + t ae - s ad.
@@ -113,18 +108,9 @@ TF_ROW_CLONES
 void cylinder_row(const CylRow& row, int n, double* __restrict t0, double* __restrict t1) {
   // A local copy: its fields may be read under a select without a masked load (which stops the vectoriser).
   const CylRow k = row;
-  // Blocks of kLanes rays (see capsule_rows.cpp).
-  constexpr int kLanes = 8;
-  int base = 0;
-  for (; base + kLanes <= n; base += kLanes)
-    for (int i = 0; i < kLanes; ++i) cylinder_lane(k, base + i, t0[base + i], t1[base + i]);
-  if (base == n) return;
-  double b0[kLanes], b1[kLanes];
-  for (int i = 0; i < kLanes; ++i) cylinder_lane(k, base + i, b0[i], b1[i]);
-  for (int i = 0; i < n - base; ++i) {
-    t0[base + i] = b0[i];
-    t1[base + i] = b1[i];
-  }
+  row_kernels::in_blocks(n, t0, t1, [&](int i, double& a, double& b) __attribute__((always_inline)) {
+    cylinder_lane(k, i, a, b);
+  });
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <utility>
 
 #include "obstacles.hpp"
 #include "ray_depths.hpp"
@@ -57,6 +58,8 @@ struct Accum {
   std::vector<Interval> cut, mat, removed_pieces;
   std::vector<int> parts;
   std::vector<double> t0, t1;  // per part of the tile and ray of the row: its interval (see process_tile)
+  std::vector<double> shadow_lo, shadow_hi;  // per part and row of the tile: its shadow's stretch
+  std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
   std::vector<RowPart> row;
   void reset() {
     removed = {};
@@ -363,11 +366,31 @@ class Simulator {
     const int iv_end = std::min(lattice_.n[v], (task.tv + 1) * kTile);
     acc.t0.resize(acc.parts.size() * kTile);
     acc.t1.resize(acc.parts.size() * kTile);
-    std::array<Interval, kTile> range;
-    for (int iv = task.tv * kTile; iv < iv_end; ++iv) {
-      // Where along this row's rays a part must be to matter: the material, or an obstacle.
-      Interval row = ext_.row(d, tu, iv);
+    // Where along each row's rays a part must be to matter: the material, or an obstacle.
+    const int iv0 = task.tv * kTile;
+    std::array<Interval, kTile> row_ext;
+    for (int iv = iv0; iv < iv_end; ++iv) {
+      Interval& row = row_ext[iv - iv0];
+      row = ext_.row(d, tu, iv);
       for (const Obstacle& ob : obstacles_) row = hull(row, ob.ext.row(d, tu, iv));
+    }
+    // Each part's shadow on the rows where it can matter (first..last), in one batch per part.
+    acc.shadow_lo.resize(acc.parts.size() * kTile);
+    acc.shadow_hi.resize(acc.parts.size() * kTile);
+    acc.rows.resize(acc.parts.size());
+    for (size_t j = 0; j < acc.parts.size(); ++j) {
+      const PartSpan& sp = span(acc.parts[j], d);
+      int r0 = std::max(iv0, sp.v0), r1 = std::min(iv_end - 1, sp.v1);
+      while (r0 <= r1 && !meets(row_ext[r0 - iv0], sp.lo, sp.hi)) ++r0;
+      while (r1 >= r0 && !meets(row_ext[r1 - iv0], sp.lo, sp.hi)) --r1;
+      acc.rows[j] = {r0, r1};
+      if (r1 >= r0)
+        shadow_rows(shadows_[size_t(acc.parts[j]) * 3 + d], lattice_.origin[v] + h * r0, h, r1 - r0 + 1,
+                    &acc.shadow_lo[j * kTile + (r0 - iv0)], &acc.shadow_hi[j * kTile + (r0 - iv0)]);
+    }
+    std::array<Interval, kTile> range;
+    for (int iv = iv0; iv < iv_end; ++iv) {
+      const Interval row = row_ext[iv - iv0];
       if (row.lo > row.hi) continue;
       const double cv = lattice_.origin[v] + h * iv;
       // The rays of this row under each part's shadow.
@@ -376,10 +399,10 @@ class Simulator {
       for (size_t j = 0; j < acc.parts.size(); ++j) {
         const int pi = acc.parts[j];
         const PartSpan& sp = span(pi, d);
-        if (iv < sp.v0 || iv > sp.v1 || !meets(row, sp.lo, sp.hi)) continue;
+        if (iv < acc.rows[j].first || iv > acc.rows[j].second || !meets(row, sp.lo, sp.hi)) continue;
         int a = std::max(iu0, sp.u0), b = std::min(iu_end - 1, sp.u1);
-        double lo, hi;
-        if (!shadow_row(shadows_[size_t(pi) * 3 + d], cv, lo, hi)) continue;
+        const double lo = acc.shadow_lo[j * kTile + (iv - iv0)], hi = acc.shadow_hi[j * kTile + (iv - iv0)];
+        if (!(hi >= lo)) continue;
         a = std::max(a, ceil_index((lo - lattice_.origin[u]) * inv_h_));
         b = std::min(b, floor_index((hi - lattice_.origin[u]) * inv_h_));
         if (b < a) continue;

@@ -101,6 +101,8 @@ struct Shadow {
 Shadow make_shadow(const SweptPart& part, int dir, int u);
 // The stretch [lo, hi] of the line {v = cv} inside the shadow; false when the line misses it.
 bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
+// The same for the n rows v = cv0 + i step in one batch: lo[i] > hi[i] where row i misses.
+void shadow_rows(const Shadow& shadow, double cv0, double step, int n, double* lo, double* hi);
 // ray_intervals for a sphere part (verifier/capsule_rows.cpp).
 void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
                        double* t0, double* t1);
