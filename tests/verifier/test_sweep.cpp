@@ -81,8 +81,9 @@ TEST(Sweep, RayIntervalsMatchExactMembership) {
   EXPECT_GT(checked, 2000);
 }
 
-// Rows of rays in one batch (vectorised for spheres, 8 lanes at a time) against exact membership, for
-// every case of the kernel: at rest, moving along the rays, across them, and slanted to them.
+// Rows of rays in one batch (vectorised, 8 lanes at a time) against the scalar method and exact
+// membership, for every case of the kernels: at rest, moving along the rays, across them, slanted to
+// them, and the cylinder rows left to the scalar method.
 TEST(Sweep, RowBatchesMatchExactMembership) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
