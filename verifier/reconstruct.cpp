@@ -9,10 +9,14 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <map>
 
 #include <Eigen/Eigenvalues>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -21,12 +25,6 @@
 
 namespace tf {
 namespace {
-
-bool inside(const Dexel& r, float t) {
-  for (const Interval& iv : r)
-    if (t >= iv.lo && t < iv.hi) return true;
-  return false;
-}
 
 // The coordinate (relative to the lattice origin) where ray r has an interval end within [a, b].
 float crossing(const Dexel& r, float a, float b) {
@@ -47,15 +45,24 @@ struct Builder {
   std::vector<uint32_t> point_start{0};  // vertex v owns points[point_start[v], point_start[v + 1])
   std::vector<uint8_t> occ0, occ1;   // node layers k and k+1
   std::vector<int> cells_prev, cells_cur;  // vertex ids of cell layers k-1 and k (-1: none)
+  std::vector<uint32_t> cursor;            // per z ray: its first interval not below the current layer
+  std::vector<uint8_t> column;             // per node column of the cell layer: occ0 | occ1 << 1
 
   explicit Builder(const TriDexel& t) : td(t), L(t.lattice()), nx(L.n[0]), ny(L.n[1]), nz(L.n[2]) {}
 
-  bool node(int i, int j, int k) const { return inside(td.ray(2, i, j), float(k * L.h)); }
-
-  void fill_layer(std::vector<uint8_t>& occ, int k) const {
+  // Node occupancy of layer k from the z rays. Layers come in increasing k, so each ray keeps a cursor
+  // to its first interval not wholly below the layer: O(1) a node, not a walk along the ray.
+  void fill_layer(std::vector<uint8_t>& occ, int k) {
     occ.assign(size_t(nx) * ny, 0);
+    cursor.resize(size_t(nx) * ny, 0);
+    const float t = float(k * L.h);
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) occ[size_t(j) * nx + i] = node(i, j, k);
+      for (int i = 0; i < nx; ++i) {
+        const Dexel& r = td.ray(2, i, j);
+        uint32_t& c = cursor[size_t(j) * nx + i];
+        while (c < r.size() && r.begin()[c].hi <= t) ++c;
+        occ[size_t(j) * nx + i] = c < r.size() && t >= r.begin()[c].lo;
+      }
   }
 
   // Exact crossing points on the edges of cell (i, j, k); corners from the two occupancy layers.
@@ -63,6 +70,11 @@ struct Builder {
     auto o = [&](int di, int dj, int dk) {
       return (dk ? occ1 : occ0)[size_t(j + dj) * nx + (i + di)] != 0;
     };
+    // Most cells lie wholly inside or outside: all eight corners alike, no crossing.
+    const bool c0 = o(0, 0, 0);
+    if (o(1, 0, 0) == c0 && o(0, 1, 0) == c0 && o(1, 1, 0) == c0 && o(0, 0, 1) == c0 && o(1, 0, 1) == c0 &&
+        o(0, 1, 1) == c0 && o(1, 1, 1) == c0)
+      return false;
     const float h = float(L.h);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int n = 0;
@@ -110,15 +122,34 @@ struct Builder {
     for (int k = 0; k + 1 < nz; ++k) {
       fill_layer(occ1, k + 1);
       cells_cur.assign(layer, -1);
-      for (int j = 0; j + 1 < ny; ++j)
-        for (int i = 0; i + 1 < nx; ++i) {
+      // Per node column of this cell layer: 0 (both nodes out), 3 (both in), else mixed.
+      column.resize(layer);
+      for (size_t c = 0; c < layer; ++c) column[c] = static_cast<uint8_t>(occ0[c] | (occ1[c] << 1));
+      for (int j = 0; j + 1 < ny; ++j) {
+        const uint8_t *r0 = &column[size_t(j) * nx], *r1 = r0 + nx;
+        for (int i = 0; i + 1 < nx;) {
+          // Eight cells at once where their nine columns on both rows are alike and not mixed (most of the
+          // lattice is wholly in or out): a, b, c, d equal means r0[i..i+8] and r1[i..i+8] all one value.
+          if (i + 9 <= nx) {
+            uint64_t a, b, c, d;
+            std::memcpy(&a, r0 + i, 8);
+            std::memcpy(&b, r0 + i + 1, 8);
+            std::memcpy(&c, r1 + i, 8);
+            std::memcpy(&d, r1 + i + 1, 8);
+            if (a == b && c == d && a == c && (a == 0 || a == 0x0303030303030303ull)) {
+              i += 8;
+              continue;
+            }
+          }
           Eigen::Vector3d p;
           if (cell_vertex(i, j, k, p)) {
             cells_cur[size_t(j) * nx + i] = static_cast<int>(vertices.size());
             vertices.push_back(p);
             point_start.push_back(static_cast<uint32_t>(points.size()));
           }
+          ++i;
         }
+      }
       auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
         if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return -1;
         return layer_ids[size_t(j) * nx + i];
@@ -219,21 +250,24 @@ std::vector<LocalFit> smooth_vertices(Builder& b) {
       ring[f[k]].push_back(f[(k + 2) % 3]);
     }
   std::vector<LocalFit> fits(nv);
-  std::vector<Eigen::Vector3d> P;
   const double tol = 0.05 * b.L.h;
-  for (size_t v = 0; v < nv; ++v) {
-    auto& r = ring[v];
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
-    P.clear();
-    for (int w : r) P.insert(P.end(), b.points.begin() + b.point_start[w], b.points.begin() + b.point_start[w + 1]);
-    P.insert(P.end(), b.points.begin() + b.point_start[v], b.points.begin() + b.point_start[v + 1]);
-    std::sort(P.begin(), P.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& c) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
-    });
-    P.erase(std::unique(P.begin(), P.end()), P.end());
-    fits[v] = fit_points(P, tol);
-  }
+  // Each vertex's fit depends on its own neighbourhood only: in parallel.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 1024), [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<Eigen::Vector3d> P;
+    for (size_t v = range.begin(); v != range.end(); ++v) {
+      auto& r = ring[v];
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      P.clear();
+      for (int w : r) P.insert(P.end(), b.points.begin() + b.point_start[w], b.points.begin() + b.point_start[w + 1]);
+      P.insert(P.end(), b.points.begin() + b.point_start[v], b.points.begin() + b.point_start[v + 1]);
+      std::sort(P.begin(), P.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& c) {
+        return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
+      });
+      P.erase(std::unique(P.begin(), P.end()), P.end());
+      fits[v] = fit_points(P, tol);
+    }
+  });
   for (size_t v = 0; v < nv; ++v) {
     if (!fits[v].valid) continue;
     const Eigen::Vector3d q = fits[v].project(b.vertices[v]);
@@ -310,16 +344,18 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
   if (design && design->n_faces() > 0 && options.colour_by_deviation && mesh.n_vertices() > 0) {
     const RayMesh rm(*design);
     std::vector<double> dev(mesh.n_vertices(), 0.0);
-    double largest = 0.0;
     const double far = bounding_box(*design).sizes().norm() + bounding_box(mesh).sizes().norm() + 1.0;
-    for (auto v : mesh.vertices()) {
-      const Eigen::Vector3d p = to_eigen(mesh.point(v));
-      Eigen::Vector3d q, n;
-      if (!rm.closest(p, far, q, n)) continue;
-      const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
-      dev[v.idx()] = s * (p - q).norm();
-      largest = std::max(largest, std::abs(dev[v.idx()]));
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.n_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const Eigen::Vector3d p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
+        Eigen::Vector3d q, n;
+        if (!rm.closest(p, far, q, n)) continue;
+        const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
+        dev[i] = s * (p - q).norm();
+      }
+    });
+    double largest = 0.0;
+    for (const double x : dev) largest = std::max(largest, std::abs(x));
     const double range = options.colour_range_mm > 0 ? options.colour_range_mm : std::max(0.05, largest);
     mesh.request_vertex_colors();
     for (auto v : mesh.vertices()) {
