@@ -79,4 +79,45 @@ double gouge_depth(const Crossing* c, const Crossing* e, const std::vector<Inter
   return best;
 }
 
+ExcessStats excess_left(const RayTable& design, const TriDexel& stock) {
+  ExcessStats out;
+  std::vector<double> values;
+  const Lattice& lattice = stock.lattice();
+  for (int d = 0; d < 3; ++d) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    for (int iv = 0; iv < lattice.n[v]; ++iv)
+      for (int iu = 0; iu < lattice.n[u]; ++iu) {
+        const Crossing* c = design.begin(d, iu, iv);
+        if (!c) continue;
+        const Crossing* e = design.end(d, iu, iv);
+        const Dexel& ray = stock.ray(d, iu, iv);
+        for (const Crossing* x = c; x != e; ++x) {
+          if (std::abs(x->cos) < 0.5) continue;
+          double along = 0.0;
+          const float tol = 1e-3f;
+          for (const Interval& m : ray) {
+            if (x->cos < 0 && m.lo < x->t && m.hi >= x->t - tol) {
+              const float prev = x == c ? -std::numeric_limits<float>::infinity() : (x - 1)->t;
+              along = x->t - std::max(m.lo, prev);
+            }
+            if (x->cos > 0 && m.hi > x->t && m.lo <= x->t + tol) {
+              const float next = x + 1 == e ? std::numeric_limits<float>::infinity() : (x + 1)->t;
+              along = std::min(m.hi, next) - x->t;
+            }
+          }
+          values.push_back(std::max(0.0, along) * std::abs(x->cos));
+        }
+      }
+  }
+  if (values.empty()) return out;
+  std::sort(values.begin(), values.end());
+  double sum = 0.0;
+  for (double x : values) sum += x;
+  out.samples = values.size();
+  out.mean_mm = sum / values.size();
+  out.max_mm = values.back();
+  out.p95_mm = values[std::min(values.size() - 1, static_cast<size_t>(0.95 * values.size()))];
+  return out;
+}
+
 }  // namespace tf

@@ -142,7 +142,7 @@ class Simulator {
     rep.blocks = static_cast<int>(rep.per_block.size());
     rep.stock_volume_end_mm3 = stock_.volume();
     rep.memory_bytes = stock_.memory_bytes();
-    excess(rep);
+    if (design_) rep.excess = excess_left(*design_, stock_);
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     report(opt_.progress, "verify", 1.0);
     return {std::move(rep), std::move(stock_)};
@@ -577,46 +577,6 @@ class Simulator {
     if (b.motion == Motion::Rapid) return len / std::max(1.0, scene_.machine ? scene_.machine->rapid_feed : 20000.0);
     if (b.feed_mode == FeedMode::InverseTime) return b.feed > 0 ? 1.0 / b.feed : 0.0;
     return b.feed > 0 ? len / b.feed : 0.0;
-  }
-
-  // Material left outside the design, measured at the design's crossings inside the initial stock bounds.
-  void excess(VerifyReport& rep) const {
-    if (!design_) return;
-    std::vector<double> values;
-    for (int d = 0; d < 3; ++d) {
-      const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-      for (int iv = 0; iv < lattice_.n[v]; ++iv)
-        for (int iu = 0; iu < lattice_.n[u]; ++iu) {
-          const Crossing* c = design_->begin(d, iu, iv);
-          if (!c) continue;
-          const Crossing* e = design_->end(d, iu, iv);
-          const Dexel& ray = stock_.ray(d, iu, iv);
-          for (const Crossing* x = c; x != e; ++x) {
-            if (std::abs(x->cos) < 0.5) continue;
-            double along = 0.0;
-            const float tol = 1e-3f;
-            for (const Interval& m : ray) {
-              if (x->cos < 0 && m.lo < x->t && m.hi >= x->t - tol) {
-                const float prev = x == c ? -std::numeric_limits<float>::infinity() : (x - 1)->t;
-                along = x->t - std::max(m.lo, prev);
-              }
-              if (x->cos > 0 && m.hi > x->t && m.lo <= x->t + tol) {
-                const float next = x + 1 == e ? std::numeric_limits<float>::infinity() : (x + 1)->t;
-                along = std::min(m.hi, next) - x->t;
-              }
-            }
-            values.push_back(std::max(0.0, along) * std::abs(x->cos));
-          }
-        }
-    }
-    if (values.empty()) return;
-    std::sort(values.begin(), values.end());
-    double sum = 0.0;
-    for (double x : values) sum += x;
-    rep.excess.samples = values.size();
-    rep.excess.mean_mm = sum / values.size();
-    rep.excess.max_mm = values.back();
-    rep.excess.p95_mm = values[std::min(values.size() - 1, static_cast<size_t>(0.95 * values.size()))];
   }
 
   const Scene& scene_;
