@@ -1,4 +1,4 @@
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf {
 namespace {

@@ -1,4 +1,4 @@
-#include "tiltfield/io.hpp"
+#include "tiltfield/core/io.hpp"
 
 #include <unistd.h>
 
@@ -9,7 +9,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf {
 namespace fs = std::filesystem;

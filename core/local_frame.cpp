@@ -1,4 +1,4 @@
-#include "tiltfield/local_frame.hpp"
+#include "tiltfield/core/local_frame.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -43,6 +43,13 @@ Eigen::Vector3d axis_from_lead_tilt(const LocalFrame& fr, double lead_deg, doubl
 Eigen::Vector2d lead_tilt_from_axis(const LocalFrame& fr, const Eigen::Vector3d& axis) {
   const double s = std::clamp(axis.dot(fr.f), -1.0, 1.0);
   return {std::asin(s) / kDeg, std::atan2(axis.dot(fr.t), axis.dot(fr.n)) / kDeg};
+}
+
+Eigen::Vector3d slerp_axis(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double s) {
+  const double w = std::atan2(a.cross(b).norm(), a.dot(b));
+  if (w < 1e-9) return (a + (b - a) * s).normalized();
+  const double sw = std::sin(w);
+  return (std::sin((1.0 - s) * w) / sw * a + std::sin(s * w) / sw * b).normalized();
 }
 
 }  // namespace tf

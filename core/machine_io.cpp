@@ -1,7 +1,7 @@
 #include <fstream>
 
-#include "json_fields.hpp"
-#include "tiltfield/machine.hpp"
+#include "tiltfield/core/internal/json_fields.hpp"
+#include "tiltfield/core/machine.hpp"
 
 namespace tf {
 namespace fs = std::filesystem;

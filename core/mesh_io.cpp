@@ -5,9 +5,9 @@
 #include <fstream>
 
 #include "mesh_readers.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/io.hpp"
-#include "tiltfield/mesh.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/mesh.hpp"
 
 namespace tf {
 namespace fs = std::filesystem;

@@ -7,8 +7,8 @@
 #include <map>
 #include <sstream>
 
-#include "tiltfield/error.hpp"
-#include "tiltfield/io.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
 
 namespace tf::detail {
 namespace fs = std::filesystem;

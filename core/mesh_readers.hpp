@@ -3,7 +3,7 @@
 #pragma once
 #include <filesystem>
 
-#include "tiltfield/mesh.hpp"
+#include "tiltfield/core/mesh.hpp"
 
 namespace tf::detail {
 

@@ -1,10 +1,15 @@
 #include <cmath>
 
-#include "tiltfield/error.hpp"
-#include "tiltfield/io.hpp"
-#include "tiltfield/oriented_path.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/oriented_path.hpp"
 
 namespace tf {
+
+Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool) {
+  return row.p - tool.cl_height() * row.axis.normalized();
+}
+
 namespace fs = std::filesystem;
 
 OrientedPath read_oriented_csv(const fs::path& file) {

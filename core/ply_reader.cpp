@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "mesh_readers.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/io.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
 
 namespace tf::detail {
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include <cmath>
 
-#include "json_fields.hpp"
-#include "tiltfield/scene.hpp"
+#include "tiltfield/core/internal/json_fields.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace tf {
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "tiltfield/scene.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace tf {
 

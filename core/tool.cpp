@@ -1,9 +1,9 @@
-#include "tiltfield/tool.hpp"
+#include "tiltfield/core/tool.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf {
 

@@ -4,9 +4,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "tiltfield/error.hpp"
-#include "tiltfield/io.hpp"
-#include "tiltfield/toolpath.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/toolpath.hpp"
 
 namespace tf {
 namespace fs = std::filesystem;

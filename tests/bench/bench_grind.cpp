@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "grinding/tridexel_bridge.hpp"
-#include "tiltfield/sections.hpp"
+#include "integration/tridexel_bridge.hpp"
+#include "tiltfield/grind/sections.hpp"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <polyclipping/clipper.hpp>
 #include <sstream>
 
-#include "tiltfield/offset.hpp"
+#include "tiltfield/offset/offset.hpp"
 
 namespace {
 using namespace tf::offset;

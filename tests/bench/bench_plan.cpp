@@ -14,9 +14,9 @@
 #include <cstdlib>
 #include <memory>
 
-#include "scene_impeller.hpp"
-#include "scene_writer.hpp"
-#include "tiltfield/plan.hpp"
+#include "scenes/scene_impeller.hpp"
+#include "scenes/scene_writer.hpp"
+#include "tiltfield/tilt/plan.hpp"
 
 namespace {
 

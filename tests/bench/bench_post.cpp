@@ -7,8 +7,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "tiltfield/machine.hpp"
-#include "tiltfield/post.hpp"
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/post/post.hpp"
 
 namespace {
 

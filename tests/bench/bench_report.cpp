@@ -12,10 +12,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "job.hpp"
-#include "report.hpp"
-#include "tiltfield/io.hpp"
-#include "tiltfield/scene.hpp"
+#include "cli/job.hpp"
+#include "report/report.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace {
 

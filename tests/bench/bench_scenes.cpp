@@ -1,9 +1,9 @@
 // Generation time of the parametric scenes (library calls, no file output).
 #include <benchmark/benchmark.h>
 
-#include "scene_block.hpp"
-#include "scene_impeller.hpp"
-#include "scene_pocket.hpp"
+#include "scenes/scene_block.hpp"
+#include "scenes/scene_impeller.hpp"
+#include "scenes/scene_pocket.hpp"
 
 namespace sc = tf::scenes;
 

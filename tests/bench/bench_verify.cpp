@@ -14,11 +14,12 @@
 #include <sstream>
 #include <string>
 
-#include "tiltfield/gcode.hpp"
-#include "tiltfield/plan.hpp"
-#include "tiltfield/post.hpp"
-#include "tiltfield/scene.hpp"
-#include "tiltfield/verify.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+#include "tiltfield/tilt/plan.hpp"
+#include "tiltfield/post/post.hpp"
+#include "tiltfield/core/scene.hpp"
+#include "tiltfield/dexel/verify.hpp"
+#include "tiltfield/engagement/engagement.hpp"
 
 namespace {
 
@@ -71,7 +72,7 @@ void BM_FreeformFinishing(benchmark::State& state) {
   const tf::Program program = raster(static_cast<int>(state.range(0)), 1000, static_cast<int>(state.range(2)));
   tf::VerifyOptions opt;
   opt.resolution = 0.05;
-  opt.engagement = state.range(1) != 0;
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
   opt.check_gouges = false;
   double seconds = 0.0;
   size_t rays = 0;
@@ -141,7 +142,7 @@ void BM_Impeller(benchmark::State& state) {
   }
   tf::VerifyOptions opt;
   opt.resolution = state.range(0) / 100.0;
-  opt.engagement = state.range(1) != 0;
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(job->scene.tool);
   double seconds = 0.0, balance = 0.0, engagement = 0.0;
   size_t collisions = 0, engaged = 0;
   for (auto _ : state) {

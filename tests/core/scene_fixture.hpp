@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
-#include "tiltfield/scene.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace tf::test {
 

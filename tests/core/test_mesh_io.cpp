@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/mesh.hpp"
-#include "tiltfield/scene.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace {
 

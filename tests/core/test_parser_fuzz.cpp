@@ -5,9 +5,9 @@
 #include <random>
 
 #include "scene_fixture.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/machine.hpp"
-#include "tiltfield/oriented_path.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/oriented_path.hpp"
 
 namespace {
 

@@ -1,10 +1,10 @@
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/local_frame.hpp"
-#include "tiltfield/oriented_path.hpp"
-#include "tiltfield/toolpath.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/local_frame.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/core/toolpath.hpp"
 
 namespace {
 

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "scene_fixture.hpp"
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace {
 using nlohmann::json;

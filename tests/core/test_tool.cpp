@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "tiltfield/error.hpp"
-#include "tiltfield/tool.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/tool.hpp"
 
 namespace {
 

@@ -5,8 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "tiltfield/gcode.hpp"
-#include "tiltfield/verify.hpp"
+#include "moves.hpp"
+#include "tiltfield/dexel/verify.hpp"
+#include "tiltfield/engagement/engagement.hpp"
 
 namespace tf {
 namespace {
@@ -32,12 +33,13 @@ Scene box_scene(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Tool
   return s;
 }
 
-VerifyReport run(const Scene& scene, const std::string& gcode, double resolution = 0.1, bool keep_pairs = false) {
-  const Program p = parse_gcode(gcode, "test.ngc", MachineSpec{});
+VerifyReport run(const Scene& scene, const test::Moves& moves, double resolution = 0.1, bool keep_pairs = false) {
   VerifyOptions o;
   o.resolution = resolution;
-  o.engagement_options.keep_pairs = keep_pairs;
-  return verify_program(scene, p, forward_xyz, o).report;
+  EngagementOptions eo;
+  eo.keep_pairs = keep_pairs;
+  o.engagement = engagement_probe(scene.tool, eo);
+  return verify_program(scene, moves.program(), forward_xyz, o).report;
 }
 
 // Relative tolerance of the issue: 1 % of the closed form (angles: of the engaged span).
@@ -48,9 +50,8 @@ void expect_within(double value, double expected, double scale, const char* what
 constexpr double R = 5.0, ap = 2.0, L = 20.0;
 
 // Box 0..100 x -20..20 x 0..10; the tool enters from x = -10 at tip height 10 - depth and cuts to x = 50.
-std::string slot_program(double y, double depth) {
-  const std::string z = std::to_string(10.0 - depth), ys = std::to_string(y);
-  return "G21 G90 G94\nG0 X-10 Y" + ys + " Z" + z + "\nG1 X30 F600\nG1 X50\nM30\n";
+test::Moves slot_program(double y, double depth) {
+  return test::Moves().rapid({-10, y, 10.0 - depth}).line({.x = 30}, 600).line({.x = 50});
 }
 
 TEST(Engagement, FlatSlotting180) {
@@ -121,8 +122,13 @@ TEST(Engagement, CrossingAnEarlierSlotGivesTwoPairs) {
   // A slot along y at x 33..43, 3 mm deep; the 2 mm deep x-slot ends at x = 30, where its front arc
   // x = 30 + R sin(phi) is in the earlier slot for sin(phi) >= 0.6.
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
-  const std::string g =
-      "G21 G90 G94\nG0 X38 Y-30 Z7\nG1 Y30 F600\nG0 Z20\nG0 X-10 Y0\nG0 Z8\nG1 X30 F600\nM30\n";
+  const test::Moves g = test::Moves()
+                            .rapid({38, -30, 7})
+                            .line({.y = 30}, 600)
+                            .rapid({.z = 20})
+                            .rapid({.x = -10, .y = 0})
+                            .rapid({.z = 8})
+                            .line({.x = 30}, 600);
   const VerifyReport r = run(s, g, 0.1, true);
   const Engagement& e = r.per_block.back().engagement;
   const double gap0 = std::asin(0.6) * kDeg, gap1 = 180.0 - gap0;
@@ -149,7 +155,7 @@ TEST(Engagement, CrossingAnEarlierSlotGivesTwoPairs) {
 
 TEST(Engagement, PlungeEngagesTheWholeEndFace) {
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
-  const VerifyReport r = run(s, "G21 G90 G94\nG0 X50 Y0 Z12\nG1 Z8 F100\nM30\n");
+  const VerifyReport r = run(s, test::Moves().rapid({50, 0, 12}).line({.z = 8}, 100));
   const Engagement& e = r.per_block.back().engagement;
   std::cout << "plunge: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";
   EXPECT_NEAR(e.angle_deg(), 360.0, 1e-9);
@@ -160,7 +166,7 @@ TEST(Engagement, PlungeEngagesTheWholeEndFace) {
 TEST(Engagement, InverseTimeMrr) {
   // G93: F is 1 / block minutes, so the MRR of the 20 mm slot block is its volume times F.
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
-  const VerifyReport r = run(s, "G21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F600\nG93 G1 X50 F12\nM30\n");
+  const VerifyReport r = run(s, test::Moves().rapid({-10, 0, 8}).line({.x = 30}, 600).inverse_time({.x = 50}, 12));
   const BlockResult& b = r.per_block.back();
   EXPECT_EQ(b.feed_mode, FeedMode::InverseTime);
   expect_within(b.mrr(), b.removed_mm3 * 12.0, b.removed_mm3 * 12.0, "G93 MRR");
@@ -170,7 +176,7 @@ TEST(Engagement, InverseTimeMrr) {
 TEST(Engagement, ResolutionDoesNotMoveTheAngles) {
   // Refinement makes the angles independent of the lattice: a 30 deg oblique slot at two resolutions.
   const Scene s = box_scene({0, -20, 0}, {100, 40, 10}, make_tool(FlatCutter{R}));
-  const std::string g = "G21 G90 G94\nG0 X-10 Y-5 Z8\nG1 X20 Y12.3205 F600\nG1 X40 Y23.8675\nM30\n";
+  const test::Moves g = test::Moves().rapid({-10, -5, 8}).line({.x = 20, .y = 12.3205}, 600).line({.x = 40, .y = 23.8675});
   const Engagement a = run(s, g, 0.1).per_block.back().engagement;
   const Engagement b = run(s, g, 0.2).per_block.back().engagement;
   EXPECT_NEAR(a.entry_deg, 0.0, 0.5);
@@ -191,7 +197,7 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
   // the ball's lower hemisphere in the tilted tool frame too (its rim is 4 mm from the centre's vertical).
   const double d = 2.0;
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
-  const Program p = parse_gcode(slot_program(0.0, d), "test.ngc", MachineSpec{});
+  const Program p = slot_program(0.0, d).program();
   const double lean = 30.0 * kPi / 180.0;
   // Joint values -> pose: tip at X Y Z (the ball's centre stays above it at R along the tilted axis, so
   // lift the tip to keep the ball's lowest point at the programmed Z).
@@ -202,6 +208,7 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
   };
   VerifyOptions o;
   o.resolution = 0.1;
+  o.engagement = engagement_probe(s.tool);
   const VerifyReport r = verify_program(s, p, tilted, o).report;
   const Engagement& e = r.per_block.back().engagement;
   std::cout << "tilted ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";

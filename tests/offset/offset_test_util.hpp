@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "tiltfield/offset.hpp"
+#include "tiltfield/offset/offset.hpp"
 
 namespace tf::offset::test {
 

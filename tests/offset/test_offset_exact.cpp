@@ -1,7 +1,7 @@
 // Exactness of the trajectory: every output element, sampled densely, lies at the gap's distance from
 // the profile (>= for sharp-corner extensions), and contours are closed and free of self-crossings.
 #include "offset_test_util.hpp"
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf::offset::test {
 namespace {

@@ -4,7 +4,7 @@
 #include <random>
 
 #include "offset_test_util.hpp"
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf::offset::test {
 namespace {

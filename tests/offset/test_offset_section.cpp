@@ -1,6 +1,6 @@
 // A profile from a part mesh: plane section, chaining and line/arc fitting within the tolerance.
 #include "offset_test_util.hpp"
-#include "tiltfield/offset_section.hpp"
+#include "tiltfield/offset/offset_section.hpp"
 
 namespace tf::offset::test {
 namespace {

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "tiltfield/io.hpp"
-#include "tiltfield/oriented_path.hpp"
-#include "tiltfield/post.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/post/post.hpp"
 
 namespace post_test {
 

@@ -7,8 +7,8 @@
 #include <regex>
 
 #include "post_fixture.hpp"
-#include "tiltfield/machine.hpp"
-#include "tiltfield/scene.hpp"
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "post_fixture.hpp"
-#include "tiltfield/error.hpp"
-#include "tiltfield/machine.hpp"
-#include "tiltfield/toolpath.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/toolpath.hpp"
 
 namespace {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <memory>
 
-#include "report.hpp"
-#include "tiltfield/kinematics.hpp"
-#include "tiltfield/post.hpp"
+#include "report/report.hpp"
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/oriented_path.hpp"
 
 namespace tf::test {
 
@@ -92,7 +92,8 @@ inline std::unique_ptr<SyntheticJob> synthetic_job() {
                                   10.0, 80.0 + 30.0 * std::cos(0.2 * double(r)), 2.0 + std::cos(0.1 * double(r)), false});
   }
   for (int b : {20, 21, 95}) {
-    job->inputs.collisions.push_back({b, b + 20, b == 95 ? "holder" : "shank", "check", false, 0.25 + 0.01 * b});
+    job->inputs.collisions.push_back({b, b + 20, b == 95 ? ToolComponent::Holder : ToolComponent::Shank, HitWith::Check,
+                                      false, 0.25 + 0.01 * b});
     job->inputs.blocks[size_t(b)].collision = true;
   }
   job->inputs.gouges.push_back({130, 150, 0.042});

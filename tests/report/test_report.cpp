@@ -4,11 +4,11 @@
 #include <regex>
 
 #include "report_fixture.hpp"
-#include "report_internal.hpp"
-#include "report_mesh.hpp"
-#include "report_svg.hpp"
+#include "report/report_internal.hpp"
+#include "report/report_mesh.hpp"
+#include "report/report_svg.hpp"
 #include "test_support.hpp"
-#include "tiltfield/error.hpp"
+#include "tiltfield/core/error.hpp"
 
 namespace tf::test {
 namespace {
@@ -154,7 +154,7 @@ TEST(Report, TriangleBudgetSparesSmallMeshes) {
 
 TEST(Report, LongTablesAreCut) {
   auto job = synthetic_job();
-  for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back({i, i + 1, "ball", "stock", true, 0.1});
+  for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back({i, i + 1, ToolComponent::Ball, HitWith::Stock, true, 0.1});
   ReportOptions opt;
   opt.max_table_rows = 10;
   const std::string html = render_html_report(job->inputs, opt);
@@ -297,7 +297,8 @@ TEST(ReportIo, VerifyJson) {
     "gouges": [{"block": 1, "line": 29, "depth_mm": 0.01}]})");
   const auto v = read_verify_json(dir / "verify.json");
   ASSERT_EQ(v.collisions.size(), 1u);
-  EXPECT_EQ(v.collisions[0].component, "holder");
+  EXPECT_EQ(v.collisions[0].component, ToolComponent::Holder);
+  EXPECT_FALSE(v.collisions[0].has_poses) << "the spec's fields only";
   EXPECT_EQ(v.gouges[0].line, 29);
   EXPECT_DOUBLE_EQ(v.removed_volume_mm3, 12.5);
   write_text(dir / "bad.json", R"({"collisions": [{"block": 2, "line": 30, "component": "holder", "with": "check"}]})");

@@ -1,0 +1,91 @@
+// tiltfield (internal): typed access to JSON fields with errors that name the file and the field path.
+#pragma once
+#include <Eigen/Core>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <initializer_list>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tiltfield/core/error.hpp"
+
+namespace tf::json_fields {
+
+using nlohmann::json;
+
+inline std::string join(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
+
+inline void require_object(const json& j, const std::string& file, const std::string& field) {
+  if (!j.is_object()) throw InputError(file, 0, field, "must be a JSON object");
+}
+
+// Refuses keys outside `allowed`, so that a typo does not silently fall back to a default.
+inline void only_keys(const json& j, std::initializer_list<const char*> allowed, const std::string& file,
+                      const std::string& prefix) {
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    bool ok = false;
+    for (const char* a : allowed) ok |= it.key() == a;
+    if (!ok) throw InputError(file, 0, join(prefix, it.key()), "unknown key");
+  }
+}
+
+inline double number(const json& j, const std::string& file, const std::string& field) {
+  if (!j.is_number()) throw InputError(file, 0, field, "must be a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) throw InputError(file, 0, field, "must be finite");
+  return v;
+}
+
+inline std::optional<double> optional_number(const json& obj, const char* key, const std::string& file,
+                                             const std::string& prefix) {
+  if (!obj.contains(key)) return std::nullopt;
+  return number(obj.at(key), file, join(prefix, key));
+}
+
+inline double number_or(const json& obj, const char* key, double fallback, const std::string& file,
+                        const std::string& prefix) {
+  return optional_number(obj, key, file, prefix).value_or(fallback);
+}
+
+inline double required_number(const json& obj, const char* key, const std::string& file, const std::string& prefix) {
+  if (!obj.contains(key)) throw InputError(file, 0, join(prefix, key), "missing");
+  return number(obj.at(key), file, join(prefix, key));
+}
+
+inline double positive(double v, const std::string& file, const std::string& field) {
+  if (!(v > 0.0)) throw InputError(file, 0, field, "must be positive");
+  return v;
+}
+
+inline std::string string(const json& j, const std::string& file, const std::string& field) {
+  if (!j.is_string()) throw InputError(file, 0, field, "must be a string");
+  return j.get<std::string>();
+}
+
+inline Eigen::Vector3d vec3(const json& j, const std::string& file, const std::string& field) {
+  if (!j.is_array() || j.size() != 3) throw InputError(file, 0, field, "must be an array of 3 numbers");
+  return {number(j[0], file, field + "[0]"), number(j[1], file, field + "[1]"), number(j[2], file, field + "[2]")};
+}
+
+// Parses a JSON file; a syntax error becomes an InputError with the line it is on.
+inline json parse_file(const std::string& file, const std::string& what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, 0, "", "cannot open " + what);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    int line = 1;
+    for (size_t i = 0; i < text.size() && i + 1 < e.byte; ++i) line += text[i] == '\n';
+    std::string msg = e.what();
+    const auto colon = msg.find("syntax error");
+    throw InputError(file, line, "", "invalid JSON: " + (colon == std::string::npos ? msg : msg.substr(colon)));
+  }
+}
+
+}  // namespace tf::json_fields

@@ -1,0 +1,39 @@
+// tiltfield: a machining program as motion blocks in machine axes. Made by the post-processor (and then
+// written as G-code) and by the G-code reader (then simulated by the verifier).
+#pragma once
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "tiltfield/core/kinematics.hpp"
+
+namespace tf {
+
+enum class Motion { Rapid, Linear, ArcCW, ArcCCW };
+enum class FeedMode { PerMinute, InverseTime };  // G94 mm/min, G93 1/min (block time = 1/F min)
+
+struct Block {
+  int line = 0;             // 1-based line in the G-code source, 0 for a generated block
+  Motion motion = Motion::Linear;
+  Joints target;            // axis values at the end of the block
+  // When true, target.x/y/z are the tool tip in the part frame (tool-centre-point control active:
+  // G43.4, M128 or the machine's configured code) and the tip moves linearly; otherwise they are
+  // machine coordinates and every axis is interpolated linearly.
+  bool tcp = false;
+  FeedMode feed_mode = FeedMode::PerMinute;
+  double feed = 0.0;        // mm/min (PerMinute) or 1/min (InverseTime); unused for rapids
+  // Arcs (Motion::ArcCW/ArcCCW): centre in the same coordinates as target, and the plane (17, 18, 19).
+  Eigen::Vector3d arc_center = Eigen::Vector3d::Zero();
+  int plane = 17;
+  double spindle_rpm = 0.0;
+  int tool = 0;
+};
+
+struct Program {
+  Joints start;                       // axis values before the first block
+  std::vector<Block> blocks;          // motion blocks only
+  std::vector<std::string> warnings;  // "file:line: ..." for codes read but not simulated
+};
+
+}  // namespace tf

@@ -1,0 +1,79 @@
+// tiltfield: the scene: everything one job needs, loaded and validated from the spec's scene JSON.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/tool.hpp"
+#include "tiltfield/core/toolpath.hpp"
+
+namespace tf {
+
+struct StockBox {
+  Eigen::Vector3d min, max;  // mm
+};
+struct StockCylinder {
+  Eigen::Vector3d base;  // centre of the bottom face, mm
+  Eigen::Vector3d axis;  // unit
+  double radius = 0.0, height = 0.0;
+};
+
+struct Stock {
+  enum class Kind { Mesh, Box, Cylinder } kind = Kind::Box;
+  Mesh mesh;  // Kind::Mesh: a closed mesh
+  StockBox box;
+  StockCylinder cylinder;
+};
+
+// A closed triangle mesh of the stock, whatever its kind (a cylinder with `segments` facets around).
+Mesh stock_to_mesh(const Stock& stock, int segments = 128);
+
+// The options every planner shares; the planner's own tuning keys stay in Scene::planner_json and are
+// parsed (and checked) by the planner.
+struct PlannerBasics {
+  double lead_deg = 0.0;          // nominal lead: rotation about t = f x n toward the feed, deg
+  double tilt_deg = 0.0;          // nominal tilt: rotation about the feed direction f, deg
+  double safety_distance = 1.0;   // clearance of the whole tool to the check surfaces, mm
+  std::optional<double> shank_clearance;   // mm, defaults to safety_distance
+  std::optional<double> holder_clearance;  // mm, defaults to safety_distance
+  double max_tilt_deg = 60.0;     // largest angle between the tool axis and the surface normal, deg
+};
+
+struct Scene {
+  std::filesystem::path file;  // the scene file as given
+  std::filesystem::path dir;   // its folder; relative paths inside resolve against it
+  std::string units = "mm";
+  Mesh design;
+  std::vector<Mesh> check_surfaces;
+  std::vector<std::filesystem::path> check_files;
+  Stock stock;
+  std::vector<Mesh> fixtures;
+  Tool tool;
+  ToolPath path;
+  std::filesystem::path path_file;
+  double feed = 1000.0;  // mm/min
+  PlannerBasics planner;
+  nlohmann::json planner_json = nlohmann::json::object();  // the whole "planner" object as written
+  std::optional<MachineSpec> machine;                      // absent: the scene names no machine
+  std::filesystem::path machine_file;                      // empty when inline or absent
+};
+
+// Everything the part occupies: design, check surfaces, fixtures and stock, part frame, mm (for safe
+// heights and simulation bounds).
+Eigen::AlignedBox3d scene_bounds(const Scene& scene);
+
+// Loads and validates a scene. Throws InputError naming the scene file (or the referenced file) and the
+// JSON field, or the line of a path file. Every referenced mesh and path file is read.
+Scene load_scene(const std::filesystem::path& file);
+
+// Parses the "tool" object; `file` and `prefix` only name the place in errors.
+Tool parse_tool_json(const nlohmann::json& j, const std::string& file, const std::string& prefix);
+
+}  // namespace tf

@@ -1,0 +1,67 @@
+// tiltfield: the tool as a body of revolution: cutter end form, flutes, shank and stacked holder cylinders.
+//
+// Tool frame: the tip at the origin, the axis +z pointing from the tip toward the spindle, mm.
+// Heights along the axis: [0, end_height) is the end form ("ball" component for every cutter type, as
+// the report names it), [end_height, flute_length) the fluted cylinder, [flute_length, length) the
+// shank, and from `length` (the gauge length, tip to holder face) upward the holder segments in order.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "tiltfield/core/ball_cutter.hpp"
+#include "tiltfield/core/bull_cutter.hpp"
+#include "tiltfield/core/flat_cutter.hpp"
+
+namespace tf {
+
+using Cutter = std::variant<BallCutter, FlatCutter, BullCutter>;
+
+enum class ToolComponent { Ball, Flute, Shank, Holder };
+std::string_view to_string(ToolComponent c);
+
+struct HolderSegment {
+  double radius = 12.0;  // mm
+  double length = 40.0;  // mm
+};
+
+// A point on the tool body's surface, in the tool frame.
+struct ToolSample {
+  Eigen::Vector3d p;       // mm
+  Eigen::Vector3d normal;  // outward unit normal of the body there
+  ToolComponent component;
+  int holder_segment = -1;  // index for Holder samples, -1 otherwise
+};
+
+struct Tool {
+  Cutter cutter = BallCutter{};
+  double flute_length = 12.0;  // mm from the tip
+  double shank_radius = 3.0;   // mm
+  double length = 60.0;        // gauge length, tip to holder face, mm
+  std::vector<HolderSegment> holder;
+
+  double radius() const;            // cutter radius, mm
+  double cl_height() const;         // cutter location above the tip, mm
+  double end_height() const;        // top of the end form, mm
+  double total_length() const;      // tip to the top of the last holder segment, mm
+  std::string_view type_name() const;  // "ball", "flat" or "bull"
+
+  // Radius of the body at height h (mm above the tip); 0 outside [0, total_length()].
+  double radius_at(double h) const;
+  ToolComponent component_at(double h) const;
+  // Largest radius over [h0, h1].
+  double max_radius_between(double h0, double h1) const;
+
+  // Points spread over the whole body surface (end form, flutes, shank, every holder segment and the
+  // annular faces between them) about `spacing` mm apart, with outward normals. Deterministic.
+  std::vector<ToolSample> sample_surface(double spacing) const;
+};
+
+// Throws InputError(file, 0, field, ...) when a dimension is not positive/finite or the stack is
+// inconsistent (flute_length < end form height, length < flute_length, ...). `field_prefix` is the JSON
+// path of the tool object, e.g. "tool".
+void validate_tool(const Tool& tool, const std::string& file, const std::string& field_prefix);
+
+}  // namespace tf

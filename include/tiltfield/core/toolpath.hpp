@@ -1,0 +1,43 @@
+// tiltfield: the input tool path: cutter locations with design-surface normals, in cutting order.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <limits>
+#include <vector>
+
+#include "tiltfield/core/tool.hpp"
+
+namespace tf {
+
+struct CLPoint {
+  Eigen::Vector3d p;  // cutter location (ball centre for a ball end mill), part frame, mm
+  Eigen::Vector3d n;  // unit normal of the design surface at the contact point
+  double feed = std::numeric_limits<double>::quiet_NaN();  // mm/min; NaN: use the scene's feed
+};
+
+struct ToolPath {
+  std::vector<CLPoint> rows;
+  // Cumulative arc length of the cutter locations, mm; arc_length()[0] == 0.
+  std::vector<double> arc_length() const;
+};
+
+// Reads the spec's CSV (header x,y,z,nx,ny,nz[,feed], columns in any order, extra columns refused).
+// Throws InputError with the line and column for a missing column, a bad number, NaN, a zero or
+// non-unit normal (|n| off by more than 1e-3; normals within that are renormalised), or no rows.
+ToolPath read_toolpath_csv(const std::filesystem::path& file);
+
+// Reads APT CLDATA: GOTO/x,y,z[,i,j,k] (tool tip and axis), MULTAX[/ON|OFF], FEDRAT/f[,MMPM], RAPID
+// (the next GOTO is a positioning move and is skipped), comments and other records ignored. The tool
+// tip is converted to the cutter location with the tool's cl_height along the axis. CLDATA has no
+// surface normal: the tool axis is taken as the normal (3-axis GOTO: +z). Continuation lines ending
+// in '$' are joined.
+ToolPath read_toolpath_apt(const std::filesystem::path& file, const Tool& tool);
+
+// Dispatches on the extension: .cl/.apt to CLDATA, anything else to CSV.
+ToolPath read_toolpath(const std::filesystem::path& file, const Tool& tool);
+
+// Writes the spec's CSV (x,y,z,nx,ny,nz and feed when any row has one), 9 decimals, atomically.
+void write_toolpath_csv(const ToolPath& path, const std::filesystem::path& file);
+
+}  // namespace tf

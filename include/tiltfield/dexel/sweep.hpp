@@ -1,0 +1,136 @@
+// tiltfield: swept volumes of the tool over a motion, as exact per-ray intervals.
+//
+// The tool body (tool.hpp) is split into convex parts: spheres (ball end; the torus of a bull end as a
+// ring of spheres on its centre circle) and cylinders (flat end, flutes, shank, holder segments). Under a
+// pure translation d the swept volume of a convex part K is K + [0, 1] d, and its intersection with an
+// axis-parallel ray is one interval computed exactly: a capsule for a sphere, and for a cylinder the
+// t-extent of the convex set {(t, s) : o + t e - s d in K, 0 <= s <= 1} (one quadratic and four linear
+// constraints, solved by enumerating the active constraints). So a 3-axis linear move of a ball or flat
+// tool is exact. A bull end's torus is the union of spheres spaced so that the lens between neighbours is
+// at most `torus_tolerance` deep (stated error, default 0.001 mm).
+//
+// Rotary motion (simultaneous 5-axis) is split into sub-steps; in sub-step k the tool translates from the
+// tip position at its start to the one at its end with the tool axis of its mid-time. The distance from
+// any point of that approximation to the true swept volume (and back) is at most
+//   (dtheta / 2) * L + sagitta,
+// with dtheta the sub-step's axis rotation, L the reach of the part (distance from the tip to its farthest
+// point) and sagitta the tip path's deviation from the chord; the sub-step count is chosen so that this is
+// at most `tolerance` for the cutting parts (ball, flutes). Shank and holder use the same sub-steps; their
+// larger bound is reported (BlockSweep::holder_error).
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/program.hpp"
+#include "tiltfield/core/tool.hpp"
+
+namespace tf {
+
+// A convex tool part in the tool frame (tip at the origin, axis +z).
+struct ToolPart {
+  enum class Kind { Sphere, Cylinder } kind = Kind::Sphere;
+  double h0 = 0.0;      // sphere: centre height; cylinder: bottom height, mm
+  double h1 = 0.0;      // cylinder: top height, mm
+  double radius = 0.0;  // mm
+  double offset = 0.0;  // sphere: distance of the centre from the axis (torus ring), mm
+  double angle = 0.0;   // sphere: angle of the centre about the axis, rad
+  ToolComponent component = ToolComponent::Ball;
+  bool cutting = true;  // ball end and flutes cut; shank and holder only collide
+};
+
+struct SweepOptions {
+  double tolerance = 0.01;         // mm, bound on the cutting parts' sub-step error (see above)
+  double torus_tolerance = 0.001;  // mm, depth of the gaps between a bull end's ring spheres
+  int max_substeps = 4096;         // per block
+};
+
+// The convex parts of `tool`, in the tool frame.
+std::vector<ToolPart> tool_parts(const Tool& tool, const SweepOptions& options = {});
+
+// One part swept by a translation, in the part frame.
+struct SweptPart {
+  ToolPart::Kind kind = ToolPart::Kind::Sphere;
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();    // sphere centre / cylinder bottom centre at the start
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();     // translation, mm
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(); // cylinder axis (unit)
+  double radius = 0.0, height = 0.0;               // mm
+  Eigen::AlignedBox3d box;                         // bounds of the swept part
+  ToolComponent component = ToolComponent::Ball;
+  bool cutting = true;
+  // Sphere sweeps: constants of the per-ray test for each grid direction k, set by sweep_part (they are
+  // the same for every ray of a grid): |d|, 1/|d|, d_k/|d|, 1/(1 - (d_k/|d|)^2) and |d|/d_k (0 where
+  // the division has no meaning).
+  double len = 0.0, inv_len = 0.0;
+  Eigen::Vector3d dir_cos = Eigen::Vector3d::Zero(), inv_sin2 = Eigen::Vector3d::Zero(), inv_cos = Eigen::Vector3d::Zero();
+};
+
+// Places `part` at the pose (tip, axis) and sweeps it by d. `ref` is a unit vector perpendicular to axis
+// fixing the angle origin of ring spheres.
+SweptPart sweep_part(const ToolPart& part, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis,
+                     const Eigen::Vector3d& ref, const Eigen::Vector3d& d);
+
+// Interval [t0, t1] of the ray o + t e_dir (dir 0, 1, 2: x, y, z) inside the swept part; false if none.
+// For a cylinder this is the scalar enumeration, the reference for the batched rows below.
+bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1);
+
+// The same for a row of n rays, o + i step e_u + t e_dir (i = 0 .. n-1, u != dir): t0[i] < t1[i] on a
+// hit; t0[i] = +inf and t1[i] = -inf on a miss. Spheres are evaluated in a vectorised batch.
+void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
+                   double* t1);
+// The shadow of a swept part cast along grid axis dir onto the (u, v) plane (v the third axis): a ray of
+// grid dir can meet the part only inside it. It is the convex hull of up to four stadiums (a segment in
+// (u, v) grown by a radius). Exact for a sphere (the centre's segment grown by the radius) and for a
+// cylinder whose axis is along dir (its bottom centre's segment). A tilted cylinder lies inside the
+// capsule of radius r about its axis; the shadow bounds that capsule swept by d: the parallelogram of the
+// axis and the motion, grown by r (its four edges' stadiums), so it is conservative there, never short.
+// Built once per part and grid by make_shadow, then asked row by row.
+struct Shadow {
+  struct Stadium {
+    double pu = 0, pv = 0, du = 0, dv = 0;  // segment start and direction in (u, v), mm
+    double tu = 0, tv = 0, len = 0;         // its unit direction and length
+    double inv_tu = 0, inv_tv = 0;          // 1 / tu, 1 / tv (0 where the component is 0)
+  };
+  int count = 0;
+  double r = 0;  // the radius, mm
+  std::array<Stadium, 4> stadiums;
+};
+Shadow make_shadow(const SweptPart& part, int dir, int u);
+// The stretch [lo, hi] of the line {v = cv} inside the shadow; false when the line misses it.
+bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
+// The same for the n rows v = cv0 + i step in one batch: lo[i] > hi[i] where row i misses.
+void shadow_rows(const Shadow& shadow, double cv0, double step, int n, double* lo, double* hi);
+// ray_intervals for a sphere part (verifier/capsule_rows.cpp).
+void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
+                       double* t0, double* t1);
+// ray_intervals for a cylinder part, vectorised (verifier/cylinder_rows.cpp). Returns false, writing
+// nothing, for the rows it leaves to the scalar method: the ray across the cylinder's axis, or the motion
+// along it.
+bool cylinder_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
+                        double* t0, double* t1);
+
+// The motion of one block: tool pose as a function of time tau in [0, 1].
+using PoseAt = std::function<ToolPose(double tau)>;
+
+struct BlockSweep {
+  std::vector<SweptPart> parts;   // all sub-steps, all parts
+  Eigen::AlignedBox3d box;        // bounds of all parts
+  int substeps = 1;
+  double cutting_error = 0.0;     // bound for ball and flutes, mm
+  double holder_error = 0.0;      // bound for shank and holder, mm
+  double tip_length = 0.0;        // length of the tip path, mm
+  std::vector<ToolPose> poses, mids;  // scratch: sub-step poses (reused between blocks)
+};
+
+// Sub-steps and swept parts of one block. `parts` from tool_parts(); `reach_cut`/`reach_all` the largest
+// distance from the tip of a cutting part / any part (mm). `out` is reused (no allocation when warm).
+void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, double reach_cut, double reach_all,
+                 const SweepOptions& options, BlockSweep& out);
+
+// Joint values at time tau of a block starting at `from` (linear in every axis; XYZ on the arc for G2/G3).
+Joints interpolate_block(const Joints& from, const Block& block, double tau);
+
+}  // namespace tf

@@ -1,0 +1,112 @@
+// tiltfield: the tri-dexel stock model (seed 000, "orthogonales Multi-Dexel-Modell"): three orthogonal grids
+// of rays along x, y and z through the nodes of one cubic lattice; per ray a sorted list of disjoint
+// material intervals. Memory grows with the number of rays (the grid faces) and the number of surface
+// crossings, not with the volume.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/scene.hpp"
+
+namespace tf {
+
+// One material interval on a ray, as coordinates along the ray's axis relative to the lattice origin, mm.
+struct Interval {
+  float lo, hi;
+};
+
+// The intervals of one ray: sorted, disjoint, each longer than kMinInterval. 16 bytes; one interval is
+// stored inline, more on the heap. Move-only.
+class Dexel {
+ public:
+  Dexel() : inl_{0.f, 0.f} {}
+  ~Dexel() { release(); }
+  Dexel(const Dexel&) = delete;
+  Dexel& operator=(const Dexel&) = delete;
+  Dexel(Dexel&& o) noexcept;
+  Dexel& operator=(Dexel&& o) noexcept;
+
+  uint32_t size() const { return n_; }
+  bool empty() const { return n_ == 0; }
+  const Interval* data() const { return cap_ ? heap_ : &inl_; }
+  const Interval* begin() const { return data(); }
+  const Interval* end() const { return data() + n_; }
+  // Replaces the intervals (sorted, disjoint). Reuses the heap block when large enough.
+  void assign(const Interval* iv, uint32_t n);
+  // Heap bytes held (for memory statistics).
+  size_t heap_bytes() const { return cap_ * sizeof(Interval); }
+
+ private:
+  void release();
+  union {
+    Interval inl_;
+    Interval* heap_;
+  };
+  uint32_t n_ = 0, cap_ = 0;
+};
+
+// Pieces shorter than this (mm) are dropped after a subtraction (numerical slivers).
+inline constexpr float kMinInterval = 1e-4f;
+
+// A cubic lattice: node (i, j, k) at origin + h (i, j, k); n nodes per axis.
+struct Lattice {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // mm
+  double h = 1.0;                                    // spacing, mm
+  std::array<int, 3> n{0, 0, 0};
+  // The two lattice axes across a ray grid along axis d: (d+1)%3 and (d+2)%3.
+  static int u_axis(int d) { return (d + 1) % 3; }
+  static int v_axis(int d) { return (d + 2) % 3; }
+  size_t rays(int d) const { return size_t(n[u_axis(d)]) * size_t(n[v_axis(d)]); }
+  double coord(int axis, int i) const { return origin[axis] + h * i; }
+};
+
+// Nodes at box.min + (i + 0.5 - pad) h per axis, enough to cover the box, plus `pad` empty nodes on each
+// side (so the reconstructed surface closes). A box 20 mm wide at h = 20/7 gets 7 nodes inside.
+Lattice lattice_for(const Eigen::AlignedBox3d& box, double h, int pad = 1);
+
+class TriDexel {
+ public:
+  TriDexel() = default;  // empty: no rays
+  explicit TriDexel(const Lattice& lattice);
+  const Lattice& lattice() const { return lat_; }
+  // Ray (iu, iv) of grid d: along axis d at node iu of u_axis(d) and iv of v_axis(d).
+  Dexel& ray(int d, int iu, int iv) { return rays_[d][size_t(iu) + size_t(lat_.n[Lattice::u_axis(d)]) * iv]; }
+  const Dexel& ray(int d, int iu, int iv) const {
+    return rays_[d][size_t(iu) + size_t(lat_.n[Lattice::u_axis(d)]) * iv];
+  }
+  std::vector<Dexel>& grid(int d) { return rays_[d]; }
+  const std::vector<Dexel>& grid(int d) const { return rays_[d]; }
+  size_t ray_count() const { return rays_[0].size() + rays_[1].size() + rays_[2].size(); }
+  // Rays holding at least one interval.
+  size_t material_rays() const;
+  // Volume measured by grid d alone: sum of interval lengths times h^2, mm^3.
+  double volume(int d) const;
+  // The mean of the three grids' volumes, mm^3.
+  double volume() const;
+  // Bytes held by the rays (inline and heap).
+  size_t memory_bytes() const;
+
+ private:
+  Lattice lat_;
+  std::array<std::vector<Dexel>, 3> rays_;
+};
+
+// Stock from the scene's box, cylinder or closed mesh, on `lattice`. Meshes are ray cast with Embree 3
+// (winding of the outward-oriented faces, parity when the winding does not close). Throws InputError
+// ("stock", ...) for an empty or open stock mesh.
+TriDexel make_stock(const Stock& stock, const Lattice& lattice);
+// Stock from a closed mesh alone.
+TriDexel dexels_from_mesh(const Mesh& mesh, const Lattice& lattice);
+
+// r = a \ b for sorted disjoint interval lists; returns the length removed (mm). `removed`, when not
+// null, receives the removed pieces. `out` is cleared first.
+double subtract_intervals(const Interval* a, size_t na, const Interval* b, size_t nb, std::vector<Interval>& out,
+                          std::vector<Interval>* removed);
+// Total overlap length of two sorted disjoint lists, and the longest single overlap (mm).
+double overlap_length(const Interval* a, size_t na, const Interval* b, size_t nb, double* longest);
+
+}  // namespace tf

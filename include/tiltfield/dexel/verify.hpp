@@ -1,0 +1,80 @@
+// tiltfield: the verifier: tri-dexel material-removal simulation of a program on the scene's machine,
+// with collisions, gouges, per-block removal and the report files (spec: "Verification report").
+#pragma once
+#include <Eigen/Core>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/program.hpp"
+#include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/report.hpp"
+#include "tiltfield/core/scene.hpp"
+#include "tiltfield/dexel/sweep.hpp"
+#include "tiltfield/dexel/tridexel.hpp"
+
+namespace tf {
+
+// Joint values -> tool pose in the part frame (Kinematics::forward, or a stand-in in tests).
+using ForwardFn = std::function<ToolPose(const Joints&)>;
+
+// The forward map of a 3-axis machine (tip = X Y Z, axis +Z), for scenes without rotary axes.
+ToolPose forward_xyz(const Joints& j);
+
+// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the tool's
+// gauge length.
+ForwardFn scene_forward(const Scene& scene);
+
+// Answers false only when no material of the stock can lie in the box (a conservative cull).
+using MaterialCull = std::function<bool(const Eigen::AlignedBox3d& box)>;
+
+// Measures a feed block's engagement at its end, from the stock before the block removes anything, the
+// pose a short time before the end and the end pose; `cull` lets it skip regions without material.
+// tiltfield_engagement's engagement_probe() makes one; the simulation itself does not depend on it.
+using EngagementProbe = std::function<Engagement(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
+                                                 const MaterialCull& cull)>;
+
+struct VerifyOptions {
+  double resolution = 0.1;               // lattice spacing (distance between neighbouring rays), mm
+  SweepOptions sweep;                    // sub-step tolerance of 5-axis sweeps
+  bool stop_at_first_collision = false;  // stop after the first block that collides
+  double collision_tolerance = 0.001;    // overlaps up to this deep (mm) are contact, not collision
+  double gouge_tolerance = 0.01;         // over-cuts deeper than this (mm) are listed as gouges
+  bool check_gouges = true;              // against the scene's design surface (when it has one)
+  // Called for every feed block that can touch material (empty: no engagement measured, the
+  // BlockResult::engagement stay empty). The command line sets it unless --no-engagement.
+  EngagementProbe engagement;
+  Progress progress;                     // stage "verify"
+};
+
+struct VerifyResult {
+  VerifyReport report;
+  TriDexel stock;  // the stock after the simulated blocks
+};
+
+// Simulates `program` on the scene's stock with the scene's tool. `forward` maps the program's joint
+// values to tool poses; TCP blocks take their tip from X Y Z and only the axis from forward().
+// Throws InputError for a scene that cannot be simulated (no stock, bad resolution).
+VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
+                            const VerifyOptions& options = {});
+
+// Options for the stock mesh.
+struct StockMeshOptions {
+  // Vertices move onto a local sphere (or plane) fitted to the exact dexel ends around them where it fits
+  // within 5 % of the spacing (smooth regions); edges and corners keep the mass point of their crossings.
+  bool smooth = true;
+  // Each level splits every triangle in four, new points on the fitted surfaces (0: none).
+  int refine = 0;
+  bool colour_by_deviation = true;  // per-vertex colour from the signed distance to the design
+  double colour_range_mm = 0.0;     // deviation mapped to full red/blue; 0: the largest |deviation|, >= 0.05
+};
+
+// A closed triangle mesh of the tri-dexel stock (dual contouring on the lattice: one vertex a cell with
+// crossings, placed from the exact dexel ends on its edges, one quad a crossing lattice edge).
+// With a design mesh and colour_by_deviation, vertices get colours: blue = below the design (gouge),
+// green = on it, red = material left.
+Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options = {});
+
+}  // namespace tf

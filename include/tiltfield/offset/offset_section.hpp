@@ -1,0 +1,34 @@
+// tiltfield offset: a profile from a part mesh: plane section, chaining, and line/arc fitting.
+#pragma once
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/offset/offset.hpp"
+
+namespace tf::offset {
+
+struct SectionOptions {
+  double tolerance = 0.01;  // largest distance of a section point from its fitted line or arc, mm
+};
+
+// "z=H" (spaces allowed) -> H in mm. Throws InputError(field "plane") otherwise.
+double parse_plane(const std::string& text);
+
+// Closed section polygons of a mesh with the plane z = z0, oriented counter-clockwise around material
+// (seen from +z). Edges are split where they cross the plane; vertices exactly on the plane count as
+// above it, so every crossing lies on an edge with one end strictly below.
+std::vector<std::vector<Eigen::Vector2d>> section_loops(const Mesh& mesh, double z0);
+
+// Lines and arcs through a closed polygon's points: each element is the longest run of consecutive points
+// that a line (preferred) or a circular arc passes within `tolerance` of. Vertices only are checked; a
+// coarsely faceted mesh therefore gives arcs through its facet corners.
+Profile fit_profile(const std::vector<Eigen::Vector2d>& loop, double tolerance, const std::string& file);
+
+// load_mesh, section at z0, the loop of largest area, fit_profile, validate_profile. Throws InputError
+// naming the mesh when the plane misses it.
+Profile profile_from_mesh(const std::filesystem::path& mesh_file, double z0, const SectionOptions& options);
+
+}  // namespace tf::offset

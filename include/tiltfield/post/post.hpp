@@ -1,0 +1,90 @@
+// tiltfield: the post-processor: an oriented path -> tf::Program (machine axes, linearised) -> text.
+//
+// Posting: OrientedPath (+ tool, machine, feed, part bounds) -> post_program() -> Program ->
+// write_gcode() (joint or tcp dialect) or write_apt() (CLDATA). Implemented in planner/post*.cpp,
+// planner/gcode_writer.cpp and planner/apt_writer.cpp. See docs/post.md.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <iosfwd>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/core/program.hpp"
+#include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/tool.hpp"
+
+namespace tf {
+
+enum class Dialect { Joint, Tcp, Apt };
+// How the C axis moves while the tool axis is within the pole tolerance of the pole (C is free there):
+// held at the value before the pole, or interpolated (by path length) from the value before to the one
+// after, so that it does not swing at the exit.
+enum class PoleMode { Interpolate, Hold };
+
+struct PostOptions {
+  std::optional<Dialect> dialect;      // default: the machine's `output` (joint or tcp)
+  std::optional<TcpStyle> tcp_style;   // default: the machine's `tcp_style`
+  double tip_tolerance_mm = 0.01;      // largest tip deviation from the straight segment between rows
+  double axis_tolerance_deg = 0.1;     // largest tool-axis deviation from the great-circle interpolation
+  double pole_tolerance_deg = 0.01;    // singular-pole cone half-angle (see PoleMode), deg
+  PoleMode pole_mode = PoleMode::Interpolate;
+  double spindle_rpm = 10000.0;        // S word, rev/min
+  int tool_number = 1;                 // T and H words
+  double plunge_feed_fraction = 0.5;   // approach feed = this fraction of the first row's feed
+};
+
+// What the post needs to know besides the path.
+struct PostJob {
+  MachineSpec machine;
+  Tool tool;
+  double feed = 1000.0;               // mm/min, for rows without their own feed
+  Eigen::AlignedBox3d part_bounds;    // stock, design and fixtures, part frame, mm (for safe heights)
+  std::string title = "tiltfield";    // a comment line in the program header
+};
+
+// A row that cannot be posted (unreachable pose, axis out of limits). The CLI turns it into exit 2
+// naming the file line of that row.
+class PostRowError : public std::runtime_error {
+ public:
+  PostRowError(size_t row, const std::string& what) : std::runtime_error(what), row_(row) {}
+  size_t row() const { return row_; }  // 0-based index into OrientedPath::rows
+
+ private:
+  size_t row_;
+};
+
+// Posts the path. Joint dialect: every block is in machine axes and linearised to the tolerances;
+// tcp dialect: tip in the part frame (Block::tcp), linearised for the axis only; apt: the program
+// holds the tool tips and axes as tcp blocks (A/B/C left 0, see post_apt_poses). Throws PostRowError
+// for an unreachable row, JobError when a segment cannot be linearised.
+Program post_program(const OrientedPath& path, const PostJob& job, const PostOptions& options,
+                     const Progress& progress = {});
+
+// The dialect in effect for these options and machine.
+Dialect effective_dialect(const PostOptions& options, const MachineSpec& machine);
+
+// Writes a program as RS274/NGC text (joint or tcp dialect; G93 inverse time on rotary joint moves).
+// No scientific notation; 4 decimals for mm, 4 for degrees.
+void write_gcode(std::ostream& out, const Program& program, const PostJob& job, const PostOptions& options);
+
+// Writes the path as APT CLDATA (GOTO/x,y,z,i,j,k with the tool tip and axis, MULTAX/ON, FEDRAT).
+void write_apt(std::ostream& out, const OrientedPath& path, const PostJob& job, const PostOptions& options);
+
+// ---- linearisation (planner/post_linearize.cpp); exposed for tests and the verifier ----
+
+// Deviation of joint-linear motion from the intended motion over one block, sampled at `samples`
+// interior points s: tip distance |tip(s) - lerp(tip0, tip1, s)| (mm) and axis angle
+// angle(axis(s), slerp(axis0, axis1, s)) (deg), where tip(s), axis(s) = forward(lerp(j0, j1, s)).
+struct Deviation {
+  double tip_mm = 0.0;
+  double axis_deg = 0.0;
+};
+Deviation joint_deviation(const Kinematics& kin, const Joints& j0, const Joints& j1, const ToolPose& p0,
+                          const ToolPose& p1, int samples);
+
+}  // namespace tf

@@ -1,0 +1,68 @@
+// tiltfield: re-planning the windows of a planned path where verification found collisions.
+//
+// The verifier knows what the planner could not: the shank or holder meeting material of the stock
+// (which the check surfaces do not describe), fixtures, or check surfaces hit between rows. Each collision
+// is located on the path by the tool poses of its block; a window of rows around it is planned again with
+// the same potential-field dynamics, against the check surfaces plus the stock as an extra obstacle felt
+// by the non-cutting part of the tool, and blended back into the original axes with a C1 weight, so the
+// axis and its angular velocity are continuous at the window ends. Rows outside the windows are copied
+// unchanged.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/core/report.hpp"
+#include "tiltfield/tilt/plan.hpp"
+#include "tiltfield/core/scene.hpp"
+
+namespace tf {
+
+// The collisions of a VERIFY.json, each with the tool poses of its block (which the re-planner needs to
+// find the path rows). Throws InputError naming the file and the field (collisions[i].start_tip, ...)
+// when a collision lacks its poses or the report is malformed.
+std::vector<Collision> read_replan_collisions(const std::filesystem::path& verify_json);
+
+struct ReplanOptions {
+  // Rows within this arc length (mm) plus the blend length of a collision's rows are re-planned; 0: the
+  // planner's response length (4 x tool radius by default).
+  double window_mm = 0.0;
+  // Arc length (mm) at each window end over which the new axes are blended into the old ones; 0: the
+  // planner's response length (4 x tool radius by default).
+  double blend_mm = 0.0;
+  // Margin (mm) added to the cutting reach when the stock is cropped (see stock_obstacle).
+  double crop_margin_mm = 0.5;
+};
+
+struct ReplanWindow {
+  size_t first = 0, last = 0;  // rows, inclusive
+  int collisions = 0;          // collision sites that fell into it
+};
+
+struct ReplanResult {
+  OrientedPath path;
+  std::vector<ReplanWindow> windows;
+  size_t rows_changed = 0;
+  size_t rows_below_safety = 0;  // rows of the windows still below their clearance afterwards
+  double min_clearance_mm = 0;   // over the windows' rows, against check surfaces and the obstacle
+  std::vector<size_t> uncleared; // those rows
+};
+
+// The part of `stock` that only the non-cutting part of the tool may meet: triangles split to at most
+// `edge_mm` long edges, minus every triangle within the cutting reach (flutes and ball around the cutter
+// location, plus the safety distance and `margin_mm`) of any row of `path`. What the flutes would meet is
+// material they cut, not a collision; so the shank and holder are the only parts this obstacle can stop.
+// Simplification (stated): material within the cutting reach of a row is never an obstacle, so a shank
+// touching material right above the flutes may pass unseen by the re-planner (the verifier still sees it).
+Mesh stock_obstacle(const Mesh& stock, const ToolPath& path, const Tool& tool, const PlannerBasics& basics,
+                    double edge_mm, double margin_mm);
+
+// Re-plans the windows around `collisions`. `original` must have one row per scene path row. `extra_obstacles`
+// are added to the check surfaces for the windows (e.g. stock_obstacle of the in-process or raw stock).
+ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
+                    const std::vector<const Mesh*>& extra_obstacles, const PlanOptions& plan_options,
+                    const ReplanOptions& options = {});
+
+}  // namespace tf

@@ -1,0 +1,126 @@
+// tiltfield planner: tool-axis planning by the potential-field rigid-body model (Lacharnay et al., CAD 64,
+// 2015), with a point-by-point geometric baseline, clearance guarantees and an optional Ceres smoothing.
+//
+// At each cutter location C_L the tool turns about C_L. Its orientation is a state carried along the path:
+// J dOmega/dt = repulsion + attraction + damping, integrated in time (time = arc length / feed). The
+// repulsion is the gradient of a potential of the distance to the check surfaces, felt by points spread
+// over the whole tool body; the attraction pulls toward the nominal lead/tilt. See docs/planner.md.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/scene.hpp"
+
+namespace tf {
+
+enum class PlanMethod { Dynamic, Pointwise };
+
+// Every tuning value of the planner. `derive_plan_options` fills the defaults from the tool and the feed;
+// each can be overridden by the scene's "planner" object under the key named in the comment.
+struct PlanOptions {
+  PlanMethod method = PlanMethod::Dynamic;  // "method": "dynamic" | "pointwise"
+  bool smooth = false;                      // "smooth": global Ceres pass after the dynamics
+
+  // Dynamics. The time scale comes from the feed: omega_n = v / response_length, so the axis answers
+  // an obstacle over about response_length mm of path whatever the feed.
+  double response_length_mm = 0;   // "response_length_mm", default 4 x tool radius
+  double damping_ratio = 1.0;      // "damping_ratio": 1 = critically damped attraction
+  double inertia = 1.0;            // "inertia": J, in the same (arbitrary) unit as the gains below
+  double attraction = 0;           // "attraction": stiffness toward the nominal axis, torque/rad; default J omega_n^2
+  double damping = 0;              // "damping": torque/(rad/s); default 2 zeta J omega_n
+  double influence_mm = 0;         // "influence_mm": gap (distance beyond the required clearance) where
+                                   // repulsion starts; default tool radius + safety distance
+  double repulsion_gain = 1.0;     // "repulsion_gain": dimensionless; repulsion relative to attraction
+  double min_gap_mm = 0;           // "min_gap_mm": below this gap the repulsive force stops growing; default influence/20
+  double max_substep_deg = 0.25;   // "max_substep_deg": largest axis turn per integration sub-step
+
+  // Field and sampling.
+  double field_cell_mm = 0;        // "field_cell_mm": distance-field grid step, default tool radius / 2
+  double sample_spacing_mm = 0;    // "sample_spacing_mm": spacing of the tool-body points, default tool radius / 2
+
+  // Guarantees: rows left below their clearance are corrected by the smallest axis turn that clears
+  // them, spread smoothly over +-correction_window_mm of path.
+  double correction_window_mm = 0;     // "correction_window_mm", default 2 x response_length
+  double correction_margin_mm = 0.05;  // "correction_margin_mm": aimed above the required clearance
+  int correction_iterations = 8;       // "correction_iterations"
+
+  // Pointwise baseline.
+  double pointwise_step_deg = 0.5;  // "pointwise_step_deg": ring step of the search around the nominal axis
+
+  // Smoothing (Ceres): minimise w2 * |second difference of the axis|^2 + wd * |axis - dynamic axis|^2
+  // with the clearance as a barrier.
+  double smooth_weight = 1.0;             // "smooth_weight" (w2)
+  double smooth_deviation_weight = 0.01;  // "smooth_deviation_weight" (wd)
+  int smooth_iterations = 50;             // "smooth_iterations"
+};
+
+// The defaults for this tool and feed (mm/min), then every key of the scene's "planner" object that the
+// planner knows; unknown keys are refused with InputError(file, 0, "planner.KEY", ...).
+PlanOptions derive_plan_options(const Tool& tool, const PlannerBasics& basics, double feed_mm_min);
+PlanOptions parse_plan_options(const nlohmann::json& planner, const std::string& file, const Tool& tool,
+                               const PlannerBasics& basics, double feed_mm_min);
+
+struct PlanMetrics {
+  size_t rows = 0;
+  double min_clearance_mm = 0;
+  size_t rows_below_safety = 0;       // rows whose some component is below its required clearance
+  size_t rows_nominal_colliding = 0;  // the same figure for the nominal axis
+  double max_step_deg = 0;            // largest axis turn between consecutive rows
+  double max_deg_per_mm = 0;          // largest axis turn per mm of path
+  double rms_second_difference = 0;   // RMS of |a[i-1] - 2 a[i] + a[i+1]| (unit axes), rad
+  size_t corrected_rows = 0;          // rows changed by the guarantee pass
+  double seconds = 0;                 // wall time of the whole plan, preprocessing included
+  // Wall time per stage: "bvh", "nominal_check", "field", "axes" (dynamics or search), "clearance",
+  // "corrections", "smoothing".
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  std::string method;
+  bool smoothed = false;
+};
+
+struct UnclearedRow {
+  size_t row = 0;          // 0-based row of the path
+  double clearance_mm = 0; // smallest distance of the body
+  double margin_mm = 0;    // clearance minus the required clearance of the offending component
+  bool unreachable = false;  // the machine has no joint solution for the axis (rotary limits)
+};
+
+struct PlanResult {
+  OrientedPath path;
+  PlanMetrics metrics;
+  std::vector<UnclearedRow> uncleared;  // rows that could not be made clear
+  std::vector<std::string> notes;       // e.g. limits that were not checked
+};
+
+// Plans the scene's path against its check surfaces. Never throws for uncleared rows (see `uncleared`).
+PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress = {});
+
+// The same on explicit inputs (tests, benchmarks). `feed` is the default feed, mm/min.
+// `machine`: when given and it has rotary axes with limits, every axis must have a joint solution
+// (Kinematics::inverse); rows without one are corrected like colliding rows, or listed.
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+                     const PlannerBasics& basics, double feed, const PlanOptions& options,
+                     const MachineSpec* machine = nullptr, const Progress& progress = {});
+
+// The PLAN.json object: the metrics and the uncleared rows.
+nlohmann::json plan_report_json(const PlanResult& result);
+
+// Exact clearance of the whole tool body (ball, flutes, shank, every holder segment) at rows of an
+// oriented path against `obstacles`: the smallest distance (mm) and the smallest margin of a component
+// over its required clearance (mm, >= 0 when every component keeps its clearance). Rows are indices
+// into path.rows, answered in the same order.
+struct RowClearance {
+  double distance_mm = 0;
+  double margin_mm = 0;
+};
+std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::vector<size_t>& rows, const Tool& tool,
+                                        const PlannerBasics& basics, const std::vector<const Mesh*>& obstacles);
+
+// Metrics that only depend on the axes (step, deg/mm, RMS second difference); the rest left as is.
+void axis_metrics(const OrientedPath& path, PlanMetrics& metrics);
+
+}  // namespace tf

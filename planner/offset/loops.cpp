@@ -1,0 +1,259 @@
+// Loop removal: the raw offset is cut at all its self-intersections into slices; a slice whose points come
+// closer to the profile than the gap (an invalid local or global loop, or an arc that vanished) is dropped;
+// the remaining slices are stitched into closed contours. A narrow neck thus splits the result.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "segment_bvh.hpp"
+#include "offset_internal.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf::offset {
+namespace {
+using Eigen::Vector2d;
+
+struct Event {
+  int seg;
+  double t;
+  int node;
+};
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// Merges intersection nodes closer than tol (tangencies and crossings through a joint give several).
+std::vector<int> cluster_nodes(const std::vector<Vector2d>& pts, double tol) {
+  std::vector<int> parent(pts.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<int> order(pts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return pts[a].x() < pts[b].x(); });
+  for (size_t i = 0; i < order.size(); ++i)
+    for (size_t j = i + 1; j < order.size() && pts[order[j]].x() - pts[order[i]].x() <= tol; ++j)
+      if ((pts[order[i]] - pts[order[j]]).norm() <= tol)
+        parent[find_root(parent, order[i])] = find_root(parent, order[j]);
+  std::vector<int> root(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) root[i] = find_root(parent, static_cast<int>(i));
+  return root;
+}
+
+struct Slice {
+  std::vector<Segment> segs;
+  int from = -1, to = -1;  // node ids (cluster roots), -1 for the whole raw curve
+  int first_seg = -1, last_seg = -1;  // raw segments it starts and ends on
+};
+
+void append_piece(Slice& sl, const Segment& s, double t0, double t1, double tol) {
+  if (t1 <= t0) return;
+  Segment p = (t0 <= 0 && t1 >= 1) ? s : sub_segment(s, t0, t1);
+  if (length(p) <= tol) return;
+  if (!sl.segs.empty()) p.a = sl.segs.back().b;
+  sl.segs.push_back(p);
+}
+
+// Slice validity from the midpoints of up to 9 of its pieces spread along it (quarter points too for a
+// slice of one or two pieces): a slice lies wholly inside or wholly outside the region closer than the
+// gap, up to its ends, so a few samples decide it.
+bool slice_valid(const Slice& sl, const ClearanceField& field, double eps) {
+  const size_t n = sl.segs.size();
+  const size_t samples = std::min<size_t>(n, 9);
+  for (size_t k = 0; k < samples; ++k) {
+    const Segment& s = sl.segs[(2 * k + 1) * n / (2 * samples)];
+    for (double t : {0.25, 0.5, 0.75}) {
+      if (t != 0.5 && n > 2) continue;
+      if (closer_than_gap(field, point_at(s, t), eps)) return false;
+    }
+  }
+  return true;
+}
+// Crossing number of the ray from q toward +x with a chain polygonised finely (only used to tell
+// nesting, where contours are apart by much more than the chord error).
+bool inside_chain(const std::vector<Segment>& chain, const Vector2d& q) {
+  bool in = false;
+  auto edge = [&](const Vector2d& a, const Vector2d& b) {
+    if ((a.y() > q.y()) != (b.y() > q.y())) {
+      const double x = a.x() + (q.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+      if (x > q.x()) in = !in;
+    }
+  };
+  for (const auto& s : chain) {
+    const int n = s.is_arc() ? std::max(2, static_cast<int>(std::ceil(std::abs(s.sweep) / 0.01))) : 1;
+    Vector2d prev = s.a;
+    for (int k = 1; k <= n; ++k) {
+      const Vector2d p = point_at(s, static_cast<double>(k) / n);
+      edge(prev, p);
+      prev = p;
+    }
+  }
+  return in;
+}
+
+// A contour inside another of the same orientation bounds a doubly covered region (overlapping sharp
+// spikes); it is no boundary of the offset region.
+void drop_nested_same_orientation(std::vector<std::vector<Segment>>& contours) {
+  if (contours.size() < 2) return;
+  std::vector<double> area(contours.size());
+  std::vector<Eigen::AlignedBox2d> box(contours.size());
+  for (size_t k = 0; k < contours.size(); ++k) {
+    area[k] = signed_area(contours[k]);
+    box[k].setEmpty();
+    for (const auto& s : contours[k]) box[k].extend(bounding_box(s));
+  }
+  std::vector<char> drop(contours.size(), 0);
+  for (size_t k = 0; k < contours.size(); ++k)
+    for (size_t j = 0; j < contours.size(); ++j) {
+      if (j == k || (area[j] > 0) != (area[k] > 0) || std::abs(area[j]) <= std::abs(area[k])) continue;
+      if (!box[j].contains(box[k])) continue;
+      if (inside_chain(contours[j], point_at(contours[k][0], 0.5))) {
+        drop[k] = 1;
+        break;
+      }
+    }
+  std::vector<std::vector<Segment>> kept;
+  for (size_t k = 0; k < contours.size(); ++k)
+    if (!drop[k]) kept.push_back(std::move(contours[k]));
+  contours = std::move(kept);
+}
+}  // namespace
+
+std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field, double tol,
+                                               double eps, int* crossings) {
+  const int m = static_cast<int>(raw.size());
+  std::vector<std::vector<Segment>> contours;
+  if (m == 0) return contours;
+  const double vertex_tol = 1e3 * tol;
+
+  // All self-intersections, except the shared joint of neighbours.
+  std::vector<Eigen::AlignedBox2d> boxes;
+  boxes.reserve(m);
+  for (const auto& s : raw) {
+    auto b = bounding_box(s);
+    boxes.emplace_back(b.min().array() - tol, b.max().array() + tol);
+  }
+  detail::BoxTree tree(boxes);
+  std::vector<Event> events;
+  std::vector<Vector2d> nodes;
+  for (int i = 0; i < m; ++i) {
+    tree.query(boxes[i], [&](int j) {
+      if (j <= i) return;
+      const bool next = j == i + 1, wrap = i == 0 && j == m - 1;
+      for (const auto& c : intersect(raw[i], raw[j], tol)) {
+        if (next && (c.p - raw[i].b).norm() <= vertex_tol && c.t1 > 0.5 && c.t2 < 0.5) continue;
+        if (wrap && (c.p - raw[i].a).norm() <= vertex_tol && c.t1 < 0.5 && c.t2 > 0.5) continue;
+        const int id = static_cast<int>(nodes.size());
+        nodes.push_back(c.p);
+        events.push_back({i, c.t1, id});
+        events.push_back({j, c.t2, id});
+      }
+    });
+  }
+  if (crossings) *crossings = static_cast<int>(nodes.size());
+
+  std::vector<Slice> slices;
+  if (events.empty()) {
+    Slice sl;
+    sl.segs = raw;
+    slices.push_back(sl);
+  } else {
+    const auto root = cluster_nodes(nodes, 10 * tol);
+    for (auto& e : events) e.node = root[e.node];
+    std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+      return a.seg != b.seg ? a.seg < b.seg : a.t < b.t;
+    });
+    const size_t K = events.size();
+    for (size_t k = 0; k < K; ++k) {
+      const Event& cur = events[k];
+      const Event& nxt = events[(k + 1) % K];
+      Slice sl;
+      sl.from = cur.node;
+      sl.first_seg = cur.seg;
+      sl.last_seg = nxt.seg;
+      sl.to = nxt.node;
+      if (k + 1 < K && nxt.seg == cur.seg) {
+        append_piece(sl, raw[cur.seg], cur.t, nxt.t, tol);
+      } else {
+        append_piece(sl, raw[cur.seg], cur.t, 1.0, tol);
+        for (int s = (cur.seg + 1) % m; s != nxt.seg; s = (s + 1) % m) append_piece(sl, raw[s], 0.0, 1.0, tol);
+        if (K == 1 || nxt.seg != cur.seg || k + 1 == K) append_piece(sl, raw[nxt.seg], 0.0, nxt.t, tol);
+      }
+      if (sl.from == sl.to && chain_length(sl.segs) <= 100 * tol) continue;  // between two merged nodes
+      if (sl.segs.empty()) continue;
+      sl.segs.front().a = nodes[sl.from];
+      sl.segs.back().b = nodes[sl.to];
+      slices.push_back(std::move(sl));
+    }
+  }
+
+  std::vector<char> valid(slices.size());
+  for (size_t k = 0; k < slices.size(); ++k) valid[k] = slice_valid(slices[k], field, eps);
+
+  // Stitch valid slices end node to start node into closed chains.
+  std::multimap<int, int> by_start;
+  for (size_t k = 0; k < slices.size(); ++k)
+    if (valid[k]) by_start.emplace(slices[k].from, static_cast<int>(k));
+  std::vector<char> used(slices.size(), 0);
+  for (size_t k = 0; k < slices.size(); ++k) {
+    if (!valid[k] || used[k]) continue;
+    std::vector<Segment> chain;
+    int cur = static_cast<int>(k);
+    bool closed = false;
+    while (true) {
+      used[cur] = 1;
+      for (const auto& s : slices[cur].segs) chain.push_back(s);
+      const int end = slices[cur].to;
+      if (end == slices[k].from) {
+        closed = true;
+        break;
+      }
+      // Where two valid pieces cross (sharp-join spikes), turn onto the other curve: going straight
+      // would make the contour cross itself.
+      int next = -1;
+      for (auto [it, last] = by_start.equal_range(end); it != last; ++it)
+        if (!used[it->second] && (next < 0 || slices[it->second].first_seg != slices[cur].last_seg)) {
+          if (next >= 0 && slices[next].first_seg != slices[cur].last_seg) continue;
+          next = it->second;
+        }
+      if (next < 0) break;
+      cur = next;
+    }
+    if (!closed || chain.empty()) continue;  // an open chain: pieces of a loop judged inconsistently
+    for (size_t s = 0; s < chain.size(); ++s) chain[(s + 1) % chain.size()].a = chain[s].b;
+    if (std::abs(signed_area(chain)) <= tol * tol) continue;
+    contours.push_back(std::move(chain));
+  }
+  drop_nested_same_orientation(contours);
+  return contours;
+}
+
+OffsetResult offset_profile(const Profile& profile, const GapLaw& law, const OffsetOptions& options) {
+  OffsetResult result;
+  if (profile.elements.empty()) return result;
+  const double L = chain_length(profile.elements);
+  if (std::abs(gap_at(law, 0.0) - gap_at(law, L)) > 1e-9)
+    throw InputError(law.file, 0, "gap",
+                     "the gap at s = 0 (" + fixed(gap_at(law, 0.0), 6) + ") differs from the gap at the profile's end s = " +
+                         fixed(L, 6) + " (" + fixed(gap_at(law, L), 6) + "); a closed profile needs equal gaps there");
+  Eigen::AlignedBox2d box;
+  box.setEmpty();
+  for (const auto& e : profile.elements) box.extend(bounding_box(e));
+  double gmax = 0;
+  for (double g : law.gap) gmax = std::max(gmax, g);
+  const double scale = std::max(1.0, box.diagonal().norm() + 2 * gmax);
+  const double tol = 1e-10 * scale;
+  const double sigma = (signed_area(profile.elements) > 0 ? 1.0 : -1.0) * (options.side == Side::Inside ? 1.0 : -1.0);
+  const auto raw = raw_offset(profile, law, options, sigma, tol);
+  result.raw_segments = static_cast<int>(raw.size());
+  const auto field = make_clearance_field(profile, law);
+  const double eps = 1e-8 * scale + (is_constant(law) ? 0.0 : 5 * options.arc_tolerance);
+  result.contours = remove_loops(raw, *field, tol, eps, &result.crossings);
+  if (options.corner == Corner::Sharp) apply_sharp_corners(result.contours, *field, options.miter_limit, eps);
+  if (!is_constant(law)) mark_transitions(result.contours, *field, std::max(2.5 * options.arc_tolerance, 1e-9 * scale));
+  return result;
+}
+
+}  // namespace tf::offset

@@ -1,0 +1,104 @@
+// RS274/NGC text for a posted program (LinuxCNC reads the joint dialect as is).
+#include <array>
+#include <ostream>
+#include <string>
+
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/post/post.hpp"
+
+namespace tf {
+namespace {
+
+// Parentheses would end a comment early; keep comments to printable ASCII.
+std::string comment(const std::string& text) {
+  std::string s;
+  for (unsigned char ch : text) {
+    if (ch == '(') s += '[';
+    else if (ch == ')') s += ']';
+    else if (ch >= 32 && ch < 127) s += static_cast<char>(ch);
+    else s += '?';
+  }
+  return "(" + s + ")";
+}
+
+struct TcpCodes {
+  std::string on, off;
+};
+
+TcpCodes tcp_codes(const PostJob& job, const PostOptions& options) {
+  if (!job.machine.tcp_on_code.empty()) return {job.machine.tcp_on_code, job.machine.tcp_off_code};
+  const TcpStyle style = options.tcp_style.value_or(job.machine.tcp_style);
+  if (style == TcpStyle::M128) return {"M128", "M129"};
+  return {"G43.4 H" + std::to_string(options.tool_number), "G49"};
+}
+
+std::string describe_tool(const Tool& tool) {
+  std::string s = "tool: " + std::string(tool.type_name()) + " radius " + fixed(tool.radius(), 4) + " gauge length " +
+                  fixed(tool.length, 4) + " mm";
+  return s;
+}
+
+}  // namespace
+
+void write_gcode(std::ostream& out, const Program& program, const PostJob& job, const PostOptions& options) {
+  const Dialect dialect = effective_dialect(options, job.machine);
+  const bool tcp = dialect == Dialect::Tcp;
+  const std::string rot = job.machine.rotary_axes();
+  const TcpCodes codes = tcp_codes(job, options);
+
+  out << "%\n" << comment(job.title) << "\n";
+  out << comment("machine " + job.machine.name + ", kinematics " + std::string(to_string(job.machine.kinematics)) +
+                 ", " + (tcp ? "tcp: X Y Z are the tool tip in the part frame" : "joint: machine coordinates"))
+      << "\n";
+  out << comment(describe_tool(job.tool) + (tcp || job.machine.kinematics == KinematicsType::XYZ
+                                                 ? std::string()
+                                                 : ", X Y Z are the spindle nose, no tool length offset"))
+      << "\n";
+  out << "G21 G90 G17 G40 G49 G80 G94\n";
+  out << "T" << options.tool_number << " M6\n";
+  out << "S" << fixed(options.spindle_rpm, 1) << " M3\n";
+  if (tcp) out << codes.on << "\n";
+
+  // Axis words as last written; empty = not written yet, so the first block that moves an axis names it.
+  std::array<std::string, 6> last;
+  const char letters[6] = {'X', 'Y', 'Z', 'A', 'B', 'C'};
+  FeedMode mode = FeedMode::PerMinute;
+  std::string last_feed;
+  bool first = true;
+  for (const Block& b : program.blocks) {
+    const double v[6] = {b.target.x, b.target.y, b.target.z, b.target.a, b.target.b, b.target.c};
+    std::string words;
+    for (int k = 0; k < 6; ++k) {
+      if (k >= 3 && rot.find(letters[k]) == std::string::npos) continue;
+      if (first && k != 2) continue;  // the first move only lifts Z: the other axes' positions are unknown
+      const std::string w = fixed(v[k], 4);
+      if (w == last[k]) continue;
+      last[k] = w;
+      words += ' ';
+      words += letters[k];
+      words += w;
+    }
+    first = false;
+    if (words.empty()) continue;
+    if (b.motion == Motion::Rapid) {
+      out << "G0" << words << "\n";
+      continue;
+    }
+    std::string line;
+    if (b.feed_mode != mode) {
+      mode = b.feed_mode;
+      line += mode == FeedMode::InverseTime ? "G93 " : "G94 ";
+      last_feed.clear();
+    }
+    line += "G1" + words;
+    const std::string f = fixed(b.feed, mode == FeedMode::InverseTime ? 4 : 2);
+    if (mode == FeedMode::InverseTime || f != last_feed) line += " F" + f;  // G93 wants F on every move
+    last_feed = f;
+    out << line << "\n";
+  }
+  if (mode != FeedMode::PerMinute) out << "G94\n";
+  if (tcp && !codes.off.empty()) out << codes.off << "\n";
+  out << "M5\nM30\n%\n";
+}
+
+}  // namespace tf

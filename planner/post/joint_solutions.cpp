@@ -1,0 +1,263 @@
+// Choosing one joint solution per row: both solutions, limits, unwinding, the singular pole.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "post_internal.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf::post_detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double wrap180(double d) { return d - 360.0 * std::round(d / 360.0); }
+
+bool tilt_is_a(KinematicsType k) { return k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC; }
+char tilt_letter(KinematicsType k) { return tilt_is_a(k) ? 'A' : 'B'; }
+double tilt_of(const Joints& j, KinematicsType k) { return tilt_is_a(k) ? j.a : j.b; }
+void set_tilt(Joints& j, KinematicsType k, double v) { (tilt_is_a(k) ? j.a : j.b) = v; }
+
+const AxisLimit* limit(const MachineSpec& m, char letter) {
+  auto it = m.limits.find(letter);
+  return it == m.limits.end() ? nullptr : &it->second;
+}
+
+struct Candidate {
+  double tilt, c;
+};
+
+// Rotary distance of two candidates; continuous axes count the short way round.
+struct RotaryMetric {
+  bool tilt_continuous, c_continuous;
+  double tilt(double a, double b) const { return std::abs(tilt_continuous ? wrap180(a - b) : a - b); }
+  double c(double a, double b) const { return std::abs(c_continuous ? wrap180(a - b) : a - b); }
+};
+
+bool is_pole(const ToolPose& pose, double pole_tolerance_deg) {
+  return Kinematics::pole_angle_deg(pose.axis) < pole_tolerance_deg || std::hypot(pose.axis.x(), pose.axis.y()) < 1e-12;
+}
+
+// The candidates of a non-pole row: both solutions, and for a C axis with limits every turn inside them.
+std::vector<Candidate> candidates(const ToolPose& pose, const Kinematics& kin, const AxisLimit* c_limit) {
+  std::vector<Candidate> out;
+  const KinematicsType k = kin.machine().kinematics;
+  InverseOptions exact;
+  exact.pole_tolerance_deg = 0.0;
+  for (const Joints& j : kin.inverse(pose, Joints{}, exact)) {
+    if (!c_limit) {
+      out.push_back({tilt_of(j, k), wrap180(j.c)});
+      continue;
+    }
+    for (int turn = -3; turn <= 3; ++turn) {
+      const double c = j.c + 360.0 * turn;
+      if (c_limit->contains(c)) out.push_back({tilt_of(j, k), c});
+    }
+  }
+  return out;
+}
+
+// Angle (deg) from the pole +Z to the great-circle arc between unit axes a and b.
+double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double ends = std::min(Kinematics::pole_angle_deg(a), Kinematics::pole_angle_deg(b));
+  const Eigen::Vector3d n = a.cross(b);
+  if (n.norm() < 1e-12) return ends;
+  const Eigen::Vector3d u = n.normalized();
+  const Eigen::Vector3d w = Eigen::Vector3d(-u.z() * u.x(), -u.z() * u.y(), 1.0 - u.z() * u.z());  // ez off the plane
+  if (w.norm() < 1e-12) return ends;                                                             // arc on the equator
+  const Eigen::Vector3d wn = w.normalized();
+  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); };
+  if (std::abs(ang(a, wn) + ang(wn, b) - ang(a, b)) > 1e-9) return ends;  // the nearest point is off the arc
+  return std::asin(std::min(1.0, std::abs(u.z()))) * 180.0 / 3.14159265358979323846;
+}
+
+// A change between the two solutions across one move makes the tilt pass 0, so the joint-linear axis
+// passes the pole itself: fine when the wanted arc passes that close anyway, otherwise the move cannot
+// be linearised and would need a retract. Priced like one, so that it is taken only when forced.
+constexpr double kFlipPenalty = 1e6;
+
+}  // namespace
+
+std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near) {
+  InverseOptions exact;
+  exact.pole_tolerance_deg = 0.0;
+  std::vector<Joints> out;
+  const AxisLimit* c_limit = limit(kin.machine(), 'C');
+  for (const Joints& j : kin.inverse(pose, near, exact)) {
+    if (!c_limit) {
+      out.push_back(j);
+      continue;
+    }
+    for (int turn = -3; turn <= 3; ++turn)
+      if (auto t = kin.inverse_with_c(pose, j.c + 360.0 * turn, j)) out.push_back(*t);
+  }
+  return out;
+}
+
+std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, const PostOptions& options) {
+  const MachineSpec& m = kin.machine();
+  const double theta = Kinematics::pole_angle_deg(pose.axis);
+  std::ostringstream s;
+  s << "tool axis (" << fixed(pose.axis.x(), 6) << ", " << fixed(pose.axis.y(), 6) << ", " << fixed(pose.axis.z(), 6)
+    << ") at tip (" << fixed(pose.tip.x(), 4) << ", " << fixed(pose.tip.y(), 4) << ", " << fixed(pose.tip.z(), 4) << ")";
+  if (m.kinematics == KinematicsType::XYZ) {
+    s << " is " << fixed(theta, 4) << " deg from +Z; the 3-axis machine allows " << fixed(options.pole_tolerance_deg, 4)
+      << " deg (--pole-tol)";
+    return "unreachable pose: " + s.str();
+  }
+  const char t = tilt_letter(m.kinematics);
+  if (const AxisLimit* tl = limit(m, t)) {
+    auto fits = [&](double v) {
+      for (int turn = -1; turn <= 1; ++turn)
+        if (tl->contains(v + 360.0 * turn)) return true;
+      return false;
+    };
+    if (!fits(theta) && !fits(-theta)) {
+      s << " needs " << t << " = +-" << fixed(theta, 4) << " deg, outside the " << t << " limits [" << fixed(tl->min, 4)
+        << ", " << fixed(tl->max, 4) << "]";
+      return "unreachable pose: " + s.str();
+    }
+  }
+  // The rotaries fit: some other limit (C's turns, X, Y or Z) rules both solutions out.
+  MachineSpec free = m;
+  free.limits.clear();
+  const Kinematics unlimited(free, kin.gauge_length());
+  InverseOptions exact;
+  exact.pole_tolerance_deg = 0.0;
+  s << ":";
+  for (const Joints& j : unlimited.inverse(pose, Joints{}, exact)) {
+    s << " solution " << t << "=" << fixed(tilt_of(j, m.kinematics), 3) << " C=" << fixed(j.c, 3);
+    for (const auto& [letter, lim] : m.limits) {
+      double v = letter == 'X' ? j.x : letter == 'Y' ? j.y : letter == 'Z' ? j.z : j.rotary(letter);
+      if (letter == 'C' || letter == t) {
+        bool ok = false;
+        for (int turn = -3; turn <= 3 && !ok; ++turn) ok = lim.contains(v + 360.0 * turn);
+        if (ok) continue;
+      } else if (lim.contains(v)) {
+        continue;
+      }
+      s << " has " << letter << " " << fixed(v, 3) << " outside [" << fixed(lim.min, 3) << ", " << fixed(lim.max, 3) << "]";
+    }
+    s << ";";
+  }
+  return "unreachable pose: " + s.str();
+}
+
+std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options) {
+  const MachineSpec& m = kin.machine();
+  const KinematicsType k = m.kinematics;
+  const size_t n = poses.size();
+  std::vector<Joints> out(n);
+  if (k == KinematicsType::XYZ) {
+    InverseOptions io;
+    io.pole_tolerance_deg = options.pole_tolerance_deg;
+    for (size_t i = 0; i < n; ++i) {
+      auto j = kin.inverse_nearest(poses[i], Joints{}, io);
+      if (!j) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
+      out[i] = *j;
+    }
+    return out;
+  }
+  const AxisLimit* c_limit = limit(m, 'C');
+  const RotaryMetric metric{limit(m, tilt_letter(k)) == nullptr, c_limit == nullptr};
+
+  // Dynamic programming over the non-pole rows (the layers). cost[l][s]: least rotary motion up to
+  // layer l ending in candidate s; from[l][s]: the candidate of layer l - 1 it came from.
+  std::vector<size_t> layer_row;
+  std::vector<std::vector<Candidate>> cand;
+  std::vector<std::vector<double>> cost;
+  std::vector<std::vector<int>> from;
+  for (size_t i = 0; i < n; ++i) {
+    if (is_pole(poses[i], options.pole_tolerance_deg)) continue;
+    auto c = candidates(poses[i], kin, c_limit);
+    if (c.empty()) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
+    std::vector<double> lc(c.size(), kInf);
+    std::vector<int> lf(c.size(), -1);
+    if (layer_row.empty()) {
+      // Start near the rotaries' zero; the small weight only breaks ties.
+      for (size_t s = 0; s < c.size(); ++s) lc[s] = 1e-3 * (metric.tilt(c[s].tilt, 0) + metric.c(c[s].c, 0));
+    } else {
+      const bool through_pole = layer_row.back() + 1 != i;
+      const bool flip_is_costly = !through_pole && arc_pole_distance(poses[i - 1].axis, poses[i].axis) >
+                                                       options.axis_tolerance_deg + options.pole_tolerance_deg;
+      const auto& pc = cand.back();
+      const auto& pcost = cost.back();
+      for (size_t s = 0; s < c.size(); ++s) {
+        for (size_t p = 0; p < pc.size(); ++p) {
+          const double dt = through_pole ? metric.tilt(pc[p].tilt, 0) + metric.tilt(0, c[s].tilt)
+                                         : metric.tilt(pc[p].tilt, c[s].tilt);
+          double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
+          if (!through_pole && flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0)) v += kFlipPenalty;
+          if (v < lc[s]) {
+            lc[s] = v;
+            lf[s] = static_cast<int>(p);
+          }
+        }
+      }
+    }
+    layer_row.push_back(i);
+    cand.push_back(std::move(c));
+    cost.push_back(std::move(lc));
+    from.push_back(std::move(lf));
+  }
+
+  // Back-track, then unwind continuous axes along the path.
+  std::vector<Candidate> chosen(layer_row.size());
+  if (!layer_row.empty()) {
+    int s = static_cast<int>(std::min_element(cost.back().begin(), cost.back().end()) - cost.back().begin());
+    for (size_t l = layer_row.size(); l-- > 0;) {
+      chosen[l] = cand[l][s];
+      s = from[l][s];
+    }
+    for (size_t l = 1; l < chosen.size(); ++l) {
+      if (metric.c_continuous) chosen[l].c = chosen[l - 1].c + wrap180(chosen[l].c - chosen[l - 1].c);
+      if (metric.tilt_continuous) chosen[l].tilt = chosen[l - 1].tilt + wrap180(chosen[l].tilt - chosen[l - 1].tilt);
+    }
+  }
+
+  // C of every row: the chosen one, or for pole rows held / interpolated between the neighbours.
+  std::vector<double> c_of(n, 0.0), tilt_hint(n, 0.0);
+  std::vector<char> pole(n, 1);
+  for (size_t l = 0; l < layer_row.size(); ++l) {
+    c_of[layer_row[l]] = chosen[l].c;
+    tilt_hint[layer_row[l]] = chosen[l].tilt;
+    pole[layer_row[l]] = 0;
+  }
+  size_t i = 0;
+  while (i < n) {
+    if (!pole[i]) {
+      ++i;
+      continue;
+    }
+    size_t e = i;
+    while (e + 1 < n && pole[e + 1]) ++e;
+    const bool has_before = i > 0, has_after = e + 1 < n;
+    const double c0 = has_before ? c_of[i - 1] : has_after ? c_of[e + 1] : 0.0;
+    const double c1 = has_after ? c_of[e + 1] : c0;
+    // Path length along the tips from the row before the run to the row after it.
+    const size_t a = has_before ? i - 1 : i, b = has_after ? e + 1 : e;
+    std::vector<double> len(b - a + 1, 0.0);
+    for (size_t r = a + 1; r <= b; ++r) len[r - a] = len[r - a - 1] + (poses[r].tip - poses[r - 1].tip).norm();
+    for (size_t r = i; r <= e; ++r) {
+      double w = 0.0;
+      if (options.pole_mode == PoleMode::Interpolate && has_before && has_after)
+        w = len.back() > 1e-12 ? len[r - a] / len.back() : double(r - a) / double(b - a);
+      c_of[r] = c0 + (c1 - c0) * w;
+    }
+    i = e + 1;
+  }
+
+  Joints prev;
+  for (size_t r = 0; r < n; ++r) {
+    Joints hint = prev;
+    if (!pole[r]) set_tilt(hint, k, tilt_hint[r]);
+    auto j = kin.inverse_with_c(poses[r], c_of[r], hint);
+    if (!j) throw PostRowError(r, unreachable_reason(poses[r], kin, options));
+    out[r] = *j;
+    prev = *j;
+  }
+  return out;
+}
+
+}  // namespace tf::post_detail

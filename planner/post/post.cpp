@@ -1,0 +1,289 @@
+// The post-processor's main loop: rows -> tool poses -> joints -> linearised blocks, with the safe
+// approach, retract and (where the limits force one) change of configuration.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "post_internal.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf {
+using namespace post_detail;
+
+Dialect effective_dialect(const PostOptions& options, const MachineSpec& machine) {
+  if (options.dialect) return *options.dialect;
+  return machine.output == OutputMode::Tcp ? Dialect::Tcp : Dialect::Joint;
+}
+
+namespace {
+
+double max_projection(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& dir) {
+  const Eigen::Vector3d c = box.center(), h = 0.5 * box.sizes();
+  return c.dot(dir) + h.x() * std::abs(dir.x()) + h.y() * std::abs(dir.y()) + h.z() * std::abs(dir.z());
+}
+
+class Builder {
+ public:
+  Builder(const Kinematics& kin, const PostJob& job, const PostOptions& opt, bool tcp, Eigen::AlignedBox3d bounds)
+      : kin_(kin), job_(job), opt_(opt), tcp_(tcp), bounds_(bounds) {
+    zsafe_ = transit_height();
+    const auto zl = job.machine.limits.find('Z');
+    if (!tcp_ && zl != job.machine.limits.end() && zsafe_ > zl->second.max) {
+      prog_.warnings.push_back("the transit height Z " + fixed(zsafe_, 3) + " that clears every turn of the rotaries is above Z's limit " +
+                               fixed(zl->second.max, 3) + "; using the limit");
+      zsafe_ = zl->second.max;
+    }
+  }
+
+  Program& program() { return prog_; }
+
+  // Safe start: up to the transit height, turn the rotaries, over the first point, down its axis.
+  void start(const ToolPose& pose, const Joints& j, double feed) {
+    const Transit t = transit(pose, j);
+    prog_.start = t.high;
+    prog_.start.a = prog_.start.b = prog_.start.c = 0.0;
+    rapid(prog_.start);
+    rapid(t.high);
+    rapid(t.retract);
+    plunge(target(pose, j), feed);
+  }
+
+  // Back along the axis to the retract point and up to the transit height.
+  void finish(const ToolPose& pose, const Joints& j) {
+    const Transit t = transit(pose, j);
+    rapid(t.retract);
+    rapid(t.high);
+  }
+
+  // A change of configuration between two solutions of (possibly different) poses: retract, turn at the
+  // transit height, re-approach.
+  void reposition(const ToolPose& from_pose, const Joints& from, const ToolPose& to_pose, const Joints& to, double feed) {
+    const Transit a = transit(from_pose, from), b = transit(to_pose, to);
+    rapid(a.retract);
+    rapid(a.high);
+    Joints turned = a.high;
+    turned.a = b.high.a;
+    turned.b = b.high.b;
+    turned.c = b.high.c;
+    rapid(turned);
+    rapid(b.high);
+    rapid(b.retract);
+    plunge(target(to_pose, to), feed);
+  }
+
+  // A cutting block from (p0, j0) to (p1, j1) at `feed` mm/min along the tip path.
+  void cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1, double feed) {
+    feed = std::min(feed, job_.machine.max_feed);
+    const double d_tip = (p1.tip - p0.tip).norm();
+    const double d_rot = std::max({std::abs(j1.a - j0.a), std::abs(j1.b - j0.b), std::abs(j1.c - j0.c)});
+    const double d_xyz = Eigen::Vector3d(j1.x - j0.x, j1.y - j0.y, j1.z - j0.z).norm();
+    if (d_tip < 1e-9 && d_rot < 1e-9 && d_xyz < 1e-9) return;  // a repeated row
+    Block b = block(Motion::Linear, target(p1, j1));
+    if (tcp_ || d_rot < 1e-9) {
+      b.feed_mode = FeedMode::PerMinute;
+      b.feed = feed;
+    } else {
+      // Inverse time: the tip at the feed, unless an axis would exceed its top speed.
+      const double minutes = std::max({d_tip / feed, d_xyz / job_.machine.max_feed, d_rot / job_.machine.max_rotary_feed});
+      b.feed_mode = FeedMode::InverseTime;
+      b.feed = 1.0 / minutes;
+    }
+    prog_.blocks.push_back(b);
+  }
+
+  Joints target(const ToolPose& pose, const Joints& j) const {
+    if (!tcp_) return j;
+    Joints t = j;
+    t.x = pose.tip.x();
+    t.y = pose.tip.y();
+    t.z = pose.tip.z();
+    return t;
+  }
+
+ private:
+  struct Transit {
+    Joints retract;  // the tool backed off along its axis until it clears the part
+    Joints high;     // further along the axis up to the transit height
+  };
+
+  // The height (joint Z, or part Z for tcp) above which the rotaries may turn without hitting the part.
+  double transit_height() const {
+    const MachineSpec& m = job_.machine;
+    const double top = bounds_.max().z() + m.safe_z;
+    if (tcp_) return top;
+    const double L = kin_.gauge_length();
+    if (m.kinematics == KinematicsType::XYZ) return top;
+    if (m.kinematics == KinematicsType::TableTableAC || m.kinematics == KinematicsType::TableTableBC) {
+      // Any turn of the table keeps the part inside the sphere about the pivot that holds its bounds.
+      const double reach = (bounds_.center() - m.pivot).norm() + 0.5 * bounds_.sizes().norm() + 2.0 * m.tilt_offset.norm();
+      return m.pivot.z() + reach + m.safe_z + L;
+    }
+    return top + L;  // head machines: a vertical tool is the lowest; joint Z = tip Z + L there
+  }
+
+  Transit transit(const ToolPose& pose, const Joints& j) {
+    double lift = std::max(0.0, max_projection(bounds_, pose.axis) - pose.tip.dot(pose.axis)) + job_.machine.safe_z;
+    Transit t;
+    Eigen::Vector3d dir = pose.axis;  // how the programmed XYZ move when the tip moves along its axis
+    if (tcp_) {
+      t.retract = target(ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
+    } else {
+      // Back off along the axis; where the full lift leaves the limits, as far as they allow.
+      std::optional<Joints> r;
+      for (int tries = 0; tries < 8 && !r; ++tries, lift *= 0.5)
+        r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
+      if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
+      if (tries_warned_ == 0 && lift * 2.0 < job_.machine.safe_z) {
+        prog_.warnings.push_back("a retract is shortened to " + fixed(lift * 2.0, 3) + " mm by the machine's limits");
+        ++tries_warned_;
+      }
+      t.retract = *r;
+      dir = Eigen::Vector3d(r->x - j.x, r->y - j.y, r->z - j.z).normalized();
+    }
+    t.high = t.retract;
+    const double z = std::max(zsafe_, t.retract.z);  // zsafe_ is within Z's limits, retract too
+    if (dir.z() > 0.05) {
+      const double k = (z - t.retract.z) / dir.z();
+      t.high.x += k * dir.x();
+      t.high.y += k * dir.y();
+    }
+    t.high.z = z;
+    if (!tcp_ && !kin_.within_limits(t.high))
+      throw JobError("the safe transit height Z " + fixed(z, 3) + " is outside the machine's limits");
+    return t;
+  }
+
+  Block block(Motion motion, const Joints& target) const {
+    Block b;
+    b.motion = motion;
+    b.target = target;
+    b.tcp = tcp_;
+    b.spindle_rpm = opt_.spindle_rpm;
+    b.tool = opt_.tool_number;
+    return b;
+  }
+
+  void rapid(const Joints& target) { prog_.blocks.push_back(block(Motion::Rapid, target)); }
+
+  void plunge(const Joints& to, double feed) {
+    Block b = block(Motion::Linear, to);
+    b.feed_mode = FeedMode::PerMinute;
+    b.feed = std::min(feed, job_.machine.max_feed) * opt_.plunge_feed_fraction;
+    prog_.blocks.push_back(b);
+  }
+
+  const Kinematics& kin_;
+  const PostJob& job_;
+  const PostOptions& opt_;
+  bool tcp_;
+  Eigen::AlignedBox3d bounds_;
+  double zsafe_ = 0.0;
+  int tries_warned_ = 0;
+  Program prog_;
+};
+
+std::string segment_failure(size_t row, const LinearizeOptions& lo) {
+  return "cannot linearise the move from row " + std::to_string(row) + " to row " + std::to_string(row + 1) +
+         " within the tolerances (tip " + fixed(lo.tip_tolerance_mm, 4) + " mm, axis " + fixed(lo.axis_tolerance_deg, 4) +
+         " deg)";
+}
+
+}  // namespace
+
+Program post_program(const OrientedPath& path, const PostJob& job, const PostOptions& options, const Progress& progress) {
+  if (path.rows.empty()) throw JobError("the oriented path has no rows");
+  const Dialect dialect = effective_dialect(options, job.machine);
+  const Kinematics kin(job.machine, job.tool.length);
+  std::vector<ToolPose> poses(path.rows.size());
+  std::vector<double> feeds(path.rows.size());
+  Eigen::AlignedBox3d bounds = job.part_bounds;
+  for (size_t i = 0; i < path.rows.size(); ++i) {
+    const OrientedRow& r = path.rows[i];
+    poses[i] = ToolPose{row_tip(r, job.tool), r.axis.normalized()};
+    feeds[i] = std::isnan(r.feed) ? job.feed : r.feed;
+    bounds.extend(poses[i].tip);
+    bounds.extend(r.p);
+  }
+  if (dialect == Dialect::Apt) {
+    // APT carries the tool tips and axes themselves; the program lists them as tcp targets.
+    Program prog;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      Block b;
+      b.target.x = poses[i].tip.x();
+      b.target.y = poses[i].tip.y();
+      b.target.z = poses[i].tip.z();
+      b.tcp = true;
+      b.feed = feeds[i];
+      prog.blocks.push_back(b);
+    }
+    return prog;
+  }
+  report(progress, "post", 0.0);
+  const std::vector<Joints> joints = choose_joints(poses, kin, options);
+  report(progress, "post", 0.2);
+
+  const bool tcp = dialect == Dialect::Tcp;
+  LinearizeOptions lo;
+  lo.tip_tolerance_mm = tcp ? std::numeric_limits<double>::infinity() : options.tip_tolerance_mm;
+  lo.axis_tolerance_deg = options.axis_tolerance_deg;
+  lo.pole_tolerance_deg = options.pole_tolerance_deg;
+
+  Builder b(kin, job, options, tcp, bounds);
+  b.start(poses[0], joints[0], feeds[0]);
+  std::vector<PosedJoints> pieces;
+  for (size_t i = 1; i < poses.size(); ++i) {
+    pieces.clear();
+    ToolPose p0 = poses[i - 1];
+    Joints j0 = joints[i - 1];
+    if (!linearize(kin, p0, j0, poses[i], joints[i], lo, pieces)) {
+      // A discontinuous move (the limits force a change of configuration here). Either take the previous
+      // row again in a configuration that runs on to this one, or finish the move in the present
+      // configuration and change it at this row; either way through a retract.
+      auto by_distance = [](std::vector<Joints> v, const Joints& to) {
+        std::sort(v.begin(), v.end(), [&](const Joints& x, const Joints& y) {
+          return rotary_distance(x, to) < rotary_distance(y, to);
+        });
+        return v;
+      };
+      bool done = false;
+      for (const Joints& other : by_distance(all_solutions(p0, kin, joints[i]), joints[i])) {
+        if (rotary_distance(other, j0) < 1e-6 || !linearize(kin, p0, other, poses[i], joints[i], lo, pieces)) continue;
+        b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration before it (retract, turn, re-approach)");
+        b.reposition(p0, j0, p0, other, feeds[i]);
+        j0 = other;
+        done = true;
+        break;
+      }
+      if (!done) {
+        for (const Joints& same : by_distance(all_solutions(poses[i], kin, j0), j0)) {
+          if (!linearize(kin, p0, j0, poses[i], same, lo, pieces)) continue;
+          for (const PosedJoints& q : pieces) {
+            b.cut(p0, j0, q.pose, q.joints, feeds[i]);
+            p0 = q.pose;
+            j0 = q.joints;
+          }
+          pieces.clear();
+          b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration at it (retract, turn, re-approach)");
+          b.reposition(poses[i], j0, poses[i], joints[i], feeds[i]);
+          p0 = poses[i];
+          j0 = joints[i];
+          done = true;
+          break;
+        }
+      }
+      if (!done) throw JobError(segment_failure(i - 1, lo));
+    }
+    for (const PosedJoints& q : pieces) {
+      b.cut(p0, j0, q.pose, q.joints, feeds[i]);
+      p0 = q.pose;
+      j0 = q.joints;
+    }
+    if (i % 4096 == 0) report(progress, "post", 0.2 + 0.8 * double(i) / double(poses.size()));
+  }
+  b.finish(poses.back(), joints.back());
+  report(progress, "post", 1.0);
+  return std::move(b.program());
+}
+
+}  // namespace tf

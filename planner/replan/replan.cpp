@@ -1,0 +1,132 @@
+// Re-planning windows around verified collisions.
+#include "tiltfield/replan/replan.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/local_frame.hpp"
+
+namespace tf {
+
+namespace {
+
+size_t nearest_row(const ToolPath& path, const Eigen::Vector3d& c) {
+  size_t best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < path.rows.size(); ++i) {
+    const double d = (path.rows[i].p - c).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+// C1 weight: 0 with zero slope at x <= 0, 1 with zero slope at x >= 1.
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
+std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<double>& arc, const Tool& tool,
+                                      const std::vector<Collision>& collisions, double pad_mm) {
+  const double cl = tool.cl_height();
+  std::vector<ReplanWindow> w;
+  for (const auto& s : collisions) {
+    const size_t i0 = nearest_row(path, s.start.tip + cl * s.start.axis);
+    const size_t i1 = nearest_row(path, s.end.tip + cl * s.end.axis);
+    size_t a = std::min(i0, i1), b = std::max(i0, i1);
+    const double sa = arc[a] - pad_mm, sb = arc[b] + pad_mm;
+    while (a > 0 && arc[a - 1] >= sa) --a;
+    while (b + 1 < arc.size() && arc[b + 1] <= sb) ++b;
+    w.push_back({a, b, 1});
+  }
+  std::sort(w.begin(), w.end(), [](const ReplanWindow& x, const ReplanWindow& y) { return x.first < y.first; });
+  std::vector<ReplanWindow> merged;
+  for (const auto& x : w) {
+    if (!merged.empty() && x.first <= merged.back().last + 1) {
+      merged.back().last = std::max(merged.back().last, x.last);
+      merged.back().collisions += x.collisions;
+    } else {
+      merged.push_back(x);
+    }
+  }
+  return merged;
+}
+
+}  // namespace
+
+std::vector<Collision> read_replan_collisions(const std::filesystem::path& verify_json) {
+  VerifyReport report = read_verify_json(verify_json);
+  for (size_t i = 0; i < report.collisions.size(); ++i)
+    if (!report.collisions[i].has_poses)
+      throw InputError(verify_json.string(), 0, "collisions[" + std::to_string(i) + "].start_tip",
+                       "missing (re-planning needs the block's tool poses)");
+  return std::move(report.collisions);
+}
+
+ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
+                    const std::vector<const Mesh*>& extra_obstacles, const PlanOptions& plan_options,
+                    const ReplanOptions& options) {
+  const ToolPath& path = scene.path;
+  const size_t n = path.rows.size();
+  if (original.rows.size() != n)
+    throw InputError("", 0, "", "the oriented path has " + std::to_string(original.rows.size()) +
+                                    " rows but the scene's path has " + std::to_string(n));
+  ReplanResult result;
+  result.path = original;
+  if (collisions.empty() || n == 0) return result;
+
+  const double radius = scene.tool.radius();
+  const double response = plan_options.response_length_mm > 0 ? plan_options.response_length_mm : 4.0 * radius;
+  const double blend = options.blend_mm > 0 ? options.blend_mm : response;
+  // The dynamics need about one response length to turn the axis; the blend comes on top.
+  const double pad = (options.window_mm > 0 ? options.window_mm : response) + blend;
+  const std::vector<double> arc = path.arc_length();
+  result.windows = windows_for(path, arc, scene.tool, collisions, pad);
+
+  std::vector<const Mesh*> obstacles;
+  for (const auto& c : scene.check_surfaces) obstacles.push_back(&c);
+  obstacles.insert(obstacles.end(), extra_obstacles.begin(), extra_obstacles.end());
+  const std::vector<LocalFrame> frames = local_frames(path);
+
+  for (const ReplanWindow& w : result.windows) {
+    ToolPath sub;
+    sub.rows.assign(path.rows.begin() + static_cast<long>(w.first), path.rows.begin() + static_cast<long>(w.last) + 1);
+    const PlanResult planned = plan_path(sub, scene.tool, obstacles, scene.planner, scene.feed, plan_options);
+    const double s0 = arc[w.first], length = arc[w.last] - s0;
+    const double ramp = std::min(blend, 0.5 * length);
+    for (size_t i = w.first; i <= w.last; ++i) {
+      const double s = arc[i] - s0;
+      const double weight = ramp > 0 ? smoothstep(std::min(s, length - s) / ramp) : 1.0;
+      const Eigen::Vector3d& old_axis = original.rows[i].axis;
+      const Eigen::Vector3d& new_axis = planned.path.rows[i - w.first].axis;
+      OrientedRow& row = result.path.rows[i];
+      row.axis = slerp_axis(old_axis, new_axis, weight).normalized();
+      const Eigen::Vector2d lt = lead_tilt_from_axis(frames[i], row.axis);
+      row.lead_deg = lt.x();
+      row.tilt_deg = lt.y();
+      if ((row.axis - old_axis).norm() > 1e-12) ++result.rows_changed;
+    }
+  }
+
+  // The windows' clearances, exactly, against everything the re-planner knew.
+  std::vector<size_t> rows;
+  for (const ReplanWindow& w : result.windows)
+    for (size_t i = w.first; i <= w.last; ++i) rows.push_back(i);
+  const std::vector<RowClearance> clear = row_clearances(result.path, rows, scene.tool, scene.planner, obstacles);
+  result.min_clearance_mm = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    result.path.rows[rows[k]].clearance_mm = clear[k].distance_mm;
+    result.min_clearance_mm = std::min(result.min_clearance_mm, clear[k].distance_mm);
+    if (clear[k].margin_mm < -0.01) {
+      ++result.rows_below_safety;
+      result.uncleared.push_back(rows[k]);
+    }
+  }
+  return result;
+}
+
+}  // namespace tf

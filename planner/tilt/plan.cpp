@@ -1,0 +1,275 @@
+// The planning job: frames, nominal axes, the chosen method, guarantees, smoothing, metrics.
+#include "tiltfield/tilt/plan.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <thread>
+
+#include "dynamics.hpp"
+#include "plan_context.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Reported clearance when there is nothing to collide with (no check surfaces): JSON and CSV want a number.
+constexpr double kNoObstacle = 1e6;
+
+double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
+}  // namespace
+
+void axis_metrics(const OrientedPath& path, PlanMetrics& m) {
+  const auto& r = path.rows;
+  m.max_step_deg = 0;
+  m.max_deg_per_mm = 0;
+  double sum = 0;
+  size_t count = 0;
+  for (size_t i = 1; i < r.size(); ++i) {
+    const double ang = std::acos(std::clamp(r[i].axis.dot(r[i - 1].axis), -1.0, 1.0)) / kDeg;
+    m.max_step_deg = std::max(m.max_step_deg, ang);
+    const double ds = (r[i].p - r[i - 1].p).norm();
+    if (ds > 1e-9) m.max_deg_per_mm = std::max(m.max_deg_per_mm, ang / ds);
+    if (i + 1 < r.size()) {
+      sum += (r[i - 1].axis - 2 * r[i].axis + r[i + 1].axis).squaredNorm();
+      ++count;
+    }
+  }
+  m.rms_second_difference = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+                     const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
+                     const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult result;
+  auto last = t0;
+  auto stage = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    result.metrics.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - last).count());
+    last = now;
+  };
+  const size_t n = path.rows.size();
+  PlanContext ctx;
+  ctx.path = &path;
+  ctx.tool = &tool;
+  ctx.basics = basics;
+  ctx.options = options;
+  ctx.cos_max_tilt = std::cos(basics.max_tilt_deg * kDeg);
+  ctx.frames = local_frames(path);
+  ctx.arc = path.arc_length();
+  ctx.nominal.resize(n);
+  ctx.feed.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], basics.lead_deg, basics.tilt_deg);
+    ctx.feed[i] = std::isfinite(path.rows[i].feed) ? path.rows[i].feed : feed;
+  }
+  report(progress, "plan", 0.0);
+  ctx.bvh = ClearanceBvh(check_surfaces);
+  stage("bvh");
+  ctx.pieces = body_pieces(tool);
+  for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
+  merge_coaxial_pieces(ctx.pieces, ctx.required);
+  if (machine) {
+    bool limited = false;
+    for (char c : machine->rotary_axes()) {
+      const auto it = machine->limits.find(c);
+      limited |= it != machine->limits.end() && (std::isfinite(it->second.min) || std::isfinite(it->second.max));
+    }
+    if (limited) ctx.kinematics.emplace(*machine, tool.length);
+  }
+  report(progress, "plan", 0.05);
+
+  // How many rows the nominal axis leaves too close (for the report).
+  auto nominal_colliding = [&] {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, n, 64), size_t{0},
+        [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+          std::vector<int> hints;
+          for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
+          return acc;
+        },
+        std::plus<size_t>());
+  };
+
+  std::vector<Vector3d> axes;
+  std::vector<BodyClearance> clear;
+  if (options.method == PlanMethod::Pointwise) {
+    result.metrics.rows_nominal_colliding = nominal_colliding();
+    stage("nominal_check");
+    result.metrics.method = "pointwise";
+    axes = pointwise_axes(ctx, progress);
+    report(progress, "plan", 0.7);
+    stage("axes");
+    clear = all_clearances(ctx, axes);
+    stage("clearance");
+  } else {
+    result.metrics.method = "dynamic";
+    const BodySamples samples = make_body_samples(tool, basics, options.sample_spacing_mm);
+    double max_req = 0;
+    for (double r : ctx.required) max_req = std::max(max_req, r);
+    DistanceField field(ctx.bvh, options.field_cell_mm, options.influence_mm + max_req + 2 * options.field_cell_mm);
+    // Build in parallel the bricks the nominal poses will need: around every chunk of the body that is
+    // within reach of an obstacle, at rows about a brick apart.
+    {
+      std::vector<Vector3d> centres;
+      std::vector<double> radii;
+      const double brick = DistanceField::kBrick * field.cell();
+      double next = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (ctx.arc[i] < next && i + 1 != n) continue;
+        next = ctx.arc[i] + 0.5 * brick;
+        for (const auto& ch : samples.chunks) centres.push_back(path.rows[i].p + ch.hc * ctx.nominal[i]);
+      }
+      std::vector<char> near(centres.size(), 0);
+      const double reach = options.influence_mm + max_req;
+      tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
+        const auto& ch = samples.chunks[k % samples.chunks.size()];
+        near[k] = ctx.bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
+      });
+      std::vector<Vector3d> wanted;
+      for (size_t k = 0; k < centres.size(); ++k)
+        if (near[k]) wanted.push_back(centres[k]);
+      double rho = 0;
+      for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
+      field.prefetch(wanted, rho + field.cell());
+    }
+    stage("field");
+    report(progress, "plan", 0.1);
+    // The dynamics are sequential along the path. Meanwhile another thread counts the nominal
+    // collisions, then computes the exact clearances of the rows the integration has finished, a block
+    // at a time; what it has not reached when the dynamics end is done in parallel afterwards.
+    axes.resize(n);
+    clear.resize(n);
+    std::atomic<size_t> published{0}, cleared{0};
+    std::atomic<bool> stop{false};
+    double nominal_seconds = 0;
+    tbb::task_group background;
+    background.run([&] {
+      const auto t = std::chrono::steady_clock::now();
+      result.metrics.rows_nominal_colliding = nominal_colliding();
+      nominal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+      constexpr size_t kBlock = 256;
+      std::vector<int> hints;
+      size_t next = 0;
+      while (!stop.load(std::memory_order_acquire)) {
+        if (published.load(std::memory_order_acquire) < next + kBlock) {
+          std::this_thread::sleep_for(std::chrono::microseconds(100));
+          continue;
+        }
+        for (size_t i = next; i < next + kBlock; ++i) clear[i] = ctx.clearance(i, axes[i], &hints);
+        next += kBlock;
+        cleared.store(next, std::memory_order_release);
+      }
+    });
+    {
+      // Whatever way the integration ends (a progress callback may throw), the background stops first.
+      struct Join {
+        std::atomic<bool>& stop;
+        tbb::task_group& group;
+        bool waited = false;
+        void wait() {
+          stop.store(true, std::memory_order_release);
+          waited = true;
+          group.wait();
+        }
+        ~Join() {
+          if (waited) return;
+          stop.store(true, std::memory_order_release);
+          try {
+            group.wait();
+          } catch (...) {
+          }
+        }
+      } join{stop, background};
+      integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+                     dynamics_params(options, tool, basics), progress, axes, &published);
+      report(progress, "plan", 0.7);
+      stage("axes");
+      join.wait();
+    }
+    clearances(ctx, axes, cleared.load(std::memory_order_acquire), n, clear);
+    stage("clearance");
+    // Ran alongside "axes" (and is part of it in wall time).
+    result.metrics.stage_seconds.emplace_back("nominal_check", nominal_seconds);
+  }
+  report(progress, "plan", 0.8);
+  result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  stage("corrections");
+  if (options.smooth) {
+    result.metrics.smoothed = smooth_axes(ctx, axes, clear);
+    if (!result.metrics.smoothed) result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+    stage("smoothing");
+  }
+  if (!machine)
+    result.notes.push_back("no machine: only max_tilt_deg limits the axis");
+  else if (!ctx.kinematics)
+    result.notes.push_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+  std::vector<char> unreachable(n, 0);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) { unreachable[i] = ctx.reachable(i, axes[i]) ? 0 : 1; });
+
+  result.path.rows.resize(n);
+  double min_c = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < n; ++i) {
+    OrientedRow& o = result.path.rows[i];
+    o.p = path.rows[i].p;
+    o.axis = axes[i].normalized();
+    const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], o.axis);
+    o.lead_deg = lt.x();
+    o.tilt_deg = lt.y();
+    o.clearance_mm = finite_or(clear[i].distance, kNoObstacle);
+    o.feed = path.rows[i].feed;
+    min_c = std::min(min_c, o.clearance_mm);
+    if (clear[i].margin < 0 || unreachable[i])
+      result.uncleared.push_back({i, o.clearance_mm, clear[i].margin, unreachable[i] != 0});
+  }
+  result.metrics.rows = n;
+  result.metrics.min_clearance_mm = n ? min_c : kNoObstacle;
+  result.metrics.rows_below_safety = 0;
+  for (const auto& u : result.uncleared) result.metrics.rows_below_safety += u.margin_mm < 0 ? 1 : 0;
+  axis_metrics(result.path, result.metrics);
+  result.metrics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report(progress, "plan", 1.0);
+  return result;
+}
+
+PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress) {
+  std::vector<const Mesh*> meshes;
+  for (const auto& m : scene.check_surfaces) meshes.push_back(&m);
+  return plan_path(scene.path, scene.tool, meshes, scene.planner, scene.feed, options,
+                   scene.machine ? &*scene.machine : nullptr, progress);
+}
+
+nlohmann::json plan_report_json(const PlanResult& r) {
+  const auto& m = r.metrics;
+  nlohmann::json j;
+  j["method"] = m.method;
+  j["smoothed"] = m.smoothed;
+  j["rows"] = m.rows;
+  j["min_clearance_mm"] = m.min_clearance_mm;
+  j["rows_below_safety"] = m.rows_below_safety;
+  j["rows_nominal_colliding"] = m.rows_nominal_colliding;
+  j["corrected_rows"] = m.corrected_rows;
+  j["max_step_deg"] = m.max_step_deg;
+  j["max_deg_per_mm"] = m.max_deg_per_mm;
+  j["rms_second_difference"] = m.rms_second_difference;
+  j["seconds"] = m.seconds;
+  nlohmann::json st = nlohmann::json::object();
+  for (const auto& [k, v] : m.stage_seconds) st[k] = v;
+  j["stage_seconds"] = st;
+  nlohmann::json un = nlohmann::json::array();
+  for (const auto& u : r.uncleared)
+    un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}, {"unreachable", u.unreachable}});
+  j["uncleared"] = un;
+  j["notes"] = r.notes;
+  return j;
+}
+
+}  // namespace tf

@@ -1,0 +1,309 @@
+// Exact clearance of the posed tool body: GJK between each triangle and each convex piece.
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "clearance_bvh.hpp"
+#include "tiltfield/tilt/plan.hpp"
+#include "tool_body.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+std::vector<BodyPiece> body_pieces(const Tool& tool) {
+  std::vector<BodyPiece> out;
+  const double cl = tool.cl_height(), R = tool.radius();
+  auto cyl = [&](ToolComponent comp, int seg, double a, double b, double r) {
+    if (b - a > 1e-9 && r > 0) out.push_back({comp, seg, false, a - cl, b - cl, r});
+  };
+  if (std::holds_alternative<BallCutter>(tool.cutter)) {
+    out.push_back({ToolComponent::Ball, -1, true, 0.0, 0.0, R});
+  } else {
+    cyl(ToolComponent::Ball, -1, 0.0, std::max(tool.end_height(), 1e-6), R);
+  }
+  cyl(ToolComponent::Flute, -1, tool.end_height(), tool.flute_length, R);
+  cyl(ToolComponent::Shank, -1, tool.flute_length, tool.length, tool.shank_radius);
+  double h = tool.length;
+  for (size_t i = 0; i < tool.holder.size(); ++i) {
+    cyl(ToolComponent::Holder, static_cast<int>(i), h, h + tool.holder[i].length, tool.holder[i].radius);
+    h += tool.holder[i].length;
+  }
+  return out;
+}
+
+double required_clearance(const PlannerBasics& b, ToolComponent c) {
+  switch (c) {
+    case ToolComponent::Shank: return b.shank_clearance.value_or(b.safety_distance);
+    case ToolComponent::Holder: return b.holder_clearance.value_or(b.safety_distance);
+    default: return b.safety_distance;
+  }
+}
+
+namespace {
+
+// Closest point to the origin of the simplex y[0..n), by checking every face of it (Johnson's
+// sub-simplex enumeration, brute force: at most 15 subsets). Keeps in y only the vertices that support
+// the closest point. Returns the closest point; `inside` when the origin is inside a full tetrahedron.
+Vector3d closest_on_simplex(std::array<Vector3d, 4>& y, int& n, bool& inside) {
+  inside = false;
+  double best = std::numeric_limits<double>::infinity();
+  Vector3d best_v = y[0];
+  int best_mask = 1;
+  for (int mask = 1; mask < (1 << n); ++mask) {
+    int idx[4], k = 0;
+    for (int i = 0; i < n; ++i)
+      if (mask & (1 << i)) idx[k++] = i;
+    // Minimise |y0 + E mu| over the affine hull, then require barycentrics > 0.
+    const Vector3d& y0 = y[static_cast<size_t>(idx[0])];
+    double lambda[4] = {1, 0, 0, 0};
+    if (k > 1) {
+      using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+      using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> E(3, k - 1);
+      for (int j = 1; j < k; ++j) E.col(j - 1) = y[static_cast<size_t>(idx[j])] - y0;
+      const Mat G = E.transpose() * E;
+      const Vec rhs = -E.transpose() * y0;
+      // Skip degenerate sub-simplices (their faces are checked on their own).
+      if (std::abs(G.determinant()) < 1e-24 * std::pow(G.trace() + 1e-300, k - 1)) continue;
+      const Vec mu = G.partialPivLu().solve(rhs);
+      double s = 0;
+      bool ok = true;
+      for (int j = 1; j < k; ++j) {
+        lambda[j] = mu(j - 1);
+        s += mu(j - 1);
+        ok &= mu(j - 1) > 0;
+      }
+      lambda[0] = 1 - s;
+      if (!ok || lambda[0] <= 0) continue;
+    }
+    Vector3d v = Vector3d::Zero();
+    for (int j = 0; j < k; ++j) v += lambda[j] * y[static_cast<size_t>(idx[j])];
+    const double d = v.squaredNorm();
+    if (d < best) {
+      best = d;
+      best_v = v;
+      best_mask = mask;
+      if (k == 4) inside = true;
+    }
+  }
+  if (inside) return Vector3d::Zero();
+  std::array<Vector3d, 4> kept;
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (best_mask & (1 << i)) kept[static_cast<size_t>(m++)] = y[static_cast<size_t>(i)];
+  y = kept;
+  n = m;
+  return best_v;
+}
+
+}  // namespace
+
+double triangle_cylinder_distance(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double r) {
+  const Vector3d axis = (p1 - p0).normalized();
+  const Vector3d mid = 0.5 * (p0 + p1);
+  const double half = 0.5 * (p1 - p0).norm();
+  auto support_tri = [&](const Vector3d& d) {
+    const double a = t.a.dot(d), b = t.b.dot(d), c = t.c.dot(d);
+    return a >= b ? (a >= c ? t.a : t.c) : (b >= c ? t.b : t.c);
+  };
+  auto support_cyl = [&](const Vector3d& d) {
+    const double da = d.dot(axis);
+    Vector3d s = mid + (da >= 0 ? half : -half) * axis;
+    const Vector3d perp = d - da * axis;
+    const double pn = perp.norm();
+    if (pn > 1e-12) s += r * perp / pn;
+    return s;
+  };
+  // Minkowski difference triangle - cylinder; its closest point to the origin gives the distance.
+  auto support = [&](const Vector3d& d) -> Vector3d { return support_tri(d) - support_cyl(-d); };
+  std::array<Vector3d, 4> y;
+  int n = 0;
+  Vector3d v = (t.a + t.b + t.c) / 3.0 - mid;
+  if (v.squaredNorm() < 1e-24) v = Vector3d::UnitX();
+  v = support(-v);
+  constexpr double kTol = 1e-6;  // mm
+  for (int iter = 0; iter < 64; ++iter) {
+    const double vn = v.norm();
+    if (vn < 1e-12) return 0.0;
+    const Vector3d w = support(-v);
+    // Lower bound of the distance is v.w/|v|; stop when it is within kTol of |v|.
+    if (vn - v.dot(w) / vn <= kTol) return vn;
+    bool dup = false;
+    for (int i = 0; i < n; ++i) dup |= (y[static_cast<size_t>(i)] - w).squaredNorm() < 1e-20;
+    if (dup || n == 4) return vn;
+    y[static_cast<size_t>(n++)] = w;
+    bool inside = false;
+    v = closest_on_simplex(y, n, inside);
+    if (inside) return 0.0;
+  }
+  return v.norm();
+}
+
+namespace {
+
+// Exact distance from the cylinder [p0, p1] of radius R to triangle t, or a value >= best (a lower bound)
+// when it cannot beat `best`.
+double cylinder_leaf(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double R, double best) {
+  double s = 0;
+  const double capsule = segment_triangle_distance(p0, p1, t, &s) - R;  // the capsule encloses the cylinder
+  if (capsule >= best) return capsule;
+  // A closest axis point strictly inside the segment means the capsule's nearest point is on the
+  // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the capsule
+  // distance is the cylinder's, exactly. Only cap-side contacts need GJK.
+  if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
+  return triangle_cylinder_distance(t, p0, p1, R);
+}
+
+}  // namespace
+
+double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (piece.sphere) {
+    const Vector3d c = pose.c + piece.h0 * pose.axis;
+    const double R = piece.radius;
+    const double lim = limit + R;
+    const double d2 = bvh.minimum(
+        [&](const Vector3d& lo, const Vector3d& hi) { return box_distance_squared(c, lo, hi); },
+        [&](int i, double) { return (closest_point_on_triangle(c, bvh.triangle(i)) - c).squaredNorm(); },
+        lim * lim, first_below ? lim * lim : -inf);
+    if (d2 >= lim * lim) return limit;  // nothing nearer than the limit (exactly, not up to rounding)
+    return std::max(0.0, std::sqrt(d2) - R);
+  }
+  const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
+  const Vector3d mid = 0.5 * (p0 + p1);
+  const double half = 0.5 * (piece.h1 - piece.h0), R = piece.radius;
+  const Vector3d ax = pose.axis;
+  auto seg_point_distance = [&](const Vector3d& q) {
+    const double s = std::clamp((q - mid).dot(ax), -half, half);
+    return (mid + s * ax - q).norm();
+  };
+  const double d = bvh.minimum(
+      [&](const Vector3d& lo, const Vector3d& hi) {
+        // Sphere around the box against the capsule around the piece: a lower bound of the cylinder's.
+        const Vector3d c = 0.5 * (lo + hi);
+        return seg_point_distance(c) - 0.5 * (hi - lo).norm() - R;
+      },
+      [&](int i, double best) { return cylinder_leaf(bvh.triangle(i), p0, p1, R, best); },
+      limit, first_below ? limit : -inf);
+  return std::max(0.0, d);
+}
+
+
+void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& required) {
+  std::vector<BodyPiece> p;
+  std::vector<double> r;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const BodyPiece& q = pieces[i];
+    if (!p.empty() && !p.back().sphere && !q.sphere && p.back().radius == q.radius && r.back() == required[i] &&
+        std::abs(p.back().h1 - q.h0) <= 1e-12 * (1 + std::abs(q.h0))) {
+      p.back().h1 = q.h1;
+      continue;
+    }
+    p.push_back(q);
+    r.push_back(required[i]);
+  }
+  pieces = std::move(p);
+  required = std::move(r);
+}
+
+size_t piece_query_order(const std::vector<BodyPiece>& pieces, size_t k) {
+  const size_t n = pieces.size();
+  return pieces[0].sphere ? (k == 0 ? 0 : n - k) : n - 1 - k;
+}
+
+double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
+                      bool first_below, int* hint) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const int seed = hint && *hint >= 0 && *hint < static_cast<int>(bvh.size()) ? *hint : -1;
+  int arg = -1;
+  if (piece.sphere) {
+    const Vector3d c = pose.c + piece.h0 * pose.axis;
+    const double R = piece.radius;
+    const double lim = limit + R, lim2 = lim * lim;
+    auto leaf = [&](int i, double best) {
+      const double d2 = (closest_point_on_triangle(c, bvh.triangle(i)) - c).squaredNorm();
+      if (d2 < best) arg = i;
+      return d2;
+    };
+    double start = lim2;
+    if (seed >= 0) start = std::min(start, leaf(seed, start));
+    double d2 = start;
+    if (!(first_below && start < lim2))
+      d2 = bvh.minimum([&](const ClearanceBvh::Node& nd) { return point_node_bound_squared(nd, c); }, leaf, start,
+                       first_below ? lim2 : -inf);
+    if (hint && arg >= 0) *hint = arg;
+    if (d2 >= lim2) return limit;  // nothing nearer than the limit (exactly, not up to rounding)
+    return std::max(0.0, std::sqrt(d2) - R);
+  }
+  const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
+  const double R = piece.radius;
+  auto leaf = [&](int i, double best) {
+    const double d = cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+    if (d < best) arg = i;
+    return d;
+  };
+  double start = limit;
+  if (seed >= 0) start = std::min(start, leaf(seed, start));
+  double d = start;
+  if (!(first_below && start < limit))
+    d = bvh.minimum([&](const ClearanceBvh::Node& nd) { return segment_node_bound(nd, p0, p1) - R; }, leaf, start,
+                    first_below ? limit : -inf);
+  if (hint && arg >= 0) *hint = arg;
+  return std::max(0.0, d);
+}
+
+BodyClearance body_clearance(const ClearanceBvh& bvh, const std::vector<BodyPiece>& pieces,
+                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints) {
+  if (hints && hints->size() != pieces.size()) hints->assign(pieces.size(), -1);
+  BodyClearance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  out.margin = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const size_t i = piece_query_order(pieces, k);
+    const double limit = std::max(out.distance, out.margin + required[i]);
+    const double d = piece_distance(bvh, pieces[i], pose, limit, false, hints ? &(*hints)[i] : nullptr);
+    out.distance = std::min(out.distance, d);
+    if (d - required[i] < out.margin) {
+      out.margin = d - required[i];
+      out.piece = static_cast<int>(i);
+    }
+  }
+  return out;
+}
+
+BodyClearance body_clearance(const TriangleBvh& bvh, const std::vector<BodyPiece>& pieces,
+                             const std::vector<double>& required, const Pose& pose) {
+  BodyClearance out;
+  out.distance = std::numeric_limits<double>::infinity();
+  out.margin = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const double limit = std::max(out.distance, out.margin + required[i]);
+    const double d = piece_distance(bvh, pieces[i], pose, limit);
+    out.distance = std::min(out.distance, d);
+    if (d - required[i] < out.margin) {
+      out.margin = d - required[i];
+      out.piece = static_cast<int>(i);
+    }
+  }
+  return out;
+}
+
+std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::vector<size_t>& rows, const Tool& tool,
+                                        const PlannerBasics& basics, const std::vector<const Mesh*>& obstacles) {
+  const TriangleBvh bvh(obstacles);
+  const std::vector<BodyPiece> pieces = body_pieces(tool);
+  std::vector<double> required;
+  for (const auto& p : pieces) required.push_back(required_clearance(basics, p.component));
+  std::vector<RowClearance> out;
+  out.reserve(rows.size());
+  for (size_t i : rows) {
+    const OrientedRow& row = path.rows.at(i);
+    const BodyClearance c = body_clearance(bvh, pieces, required, {row.p, row.axis});
+    out.push_back({c.distance, c.margin});
+  }
+  return out;
+}
+
+}  // namespace tf

@@ -1,0 +1,42 @@
+// The closed loop: a stock obstacle the check surfaces omit is found by the verifier and removed from
+// the path by re-planning, without touching rows far from it.
+#include <gtest/gtest.h>
+
+#include "cli/job.hpp"
+#include "replan/hidden_post_scene.hpp"
+#include "test_support.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using tf::test::write_hidden_post_scene;
+
+TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
+  tf::test::TempDir dir;
+  const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
+  tf::JobOptions options;
+  options.out_dir = dir / "out";
+  options.resolution_mm = 0.4;
+  options.write_report = false;
+  const tf::JobSummary s = tf::run_job(scene, options);
+  EXPECT_GT(s.collisions_first, 0u) << tf::format_summary(s, scene);
+  EXPECT_EQ(s.collisions_final, 0u) << tf::format_summary(s, scene);
+  EXPECT_GE(s.rounds, 1);
+  for (const char* f : {"oriented.csv", "program.ngc", "verify.json", "blocks.csv", "stock.ply"})
+    EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+
+  // Rows far from the post keep the planner's axis exactly: the nominal vertical axis, since the planner
+  // saw no obstacle there.
+  const tf::OrientedPath final_path = tf::read_oriented_csv(dir / "out" / "oriented.csv");
+  ASSERT_EQ(final_path.rows.size(), scene.path.rows.size());
+  EXPECT_NEAR((final_path.rows.front().axis - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((final_path.rows.back().axis - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-9);
+  // Next to the post the axis leans away from it (toward -y).
+  const auto& mid = final_path.rows[120];  // x = 20, beside the post
+  EXPECT_LT(mid.axis.y(), -0.02) << mid.axis.transpose();
+}
+
+}  // namespace

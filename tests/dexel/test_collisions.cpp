@@ -1,0 +1,117 @@
+// Collisions (holder in the stock, a rapid through the stock, a fixture touched), a clean program and
+// gouges against the design.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "helpers.hpp"
+#include "moves.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace tf {
+namespace {
+
+// Ball R 3, flutes to 12, shank R 3 to the gauge length 20, holder R 10 x 30.
+Tool short_tool() { return test::ball_tool(3, 12, 3, 20, {{10, 30}}); }
+
+VerifyResult run(const Scene& s, const test::Moves& moves, VerifyOptions o = {}) {
+  o.resolution = 0.2;
+  return verify_program(s, moves.program(), forward_xyz, o);
+}
+
+TEST(Collisions, HolderDipsIntoTheStock) {
+  const Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
+  // Line 3 plunges the tip to z = 5: the holder face (tip + 20) is 5 mm below the top.
+  const VerifyResult r = run(s, test::Moves().rapid({25, 25, 60}).line({.z = 40}, 500).line({.z = 5}).line({.z = 40}));
+  ASSERT_FALSE(r.report.collisions.empty());
+  bool holder = false;
+  // The crash destroys the material the holder met, so the retract (block 4) is clean.
+  for (const Collision& c : r.report.collisions) {
+    EXPECT_EQ(c.block, 3);
+    EXPECT_EQ(c.line, 3);
+    EXPECT_FALSE(c.rapid);
+    EXPECT_EQ(c.with, HitWith::Stock);
+    EXPECT_NE(c.component, ToolComponent::Ball);  // the cutting end is no collision in a feed move
+    if (c.component == ToolComponent::Holder) {
+      holder = true;
+      EXPECT_NEAR(c.depth_mm, 5.0, 0.25);
+    }
+  }
+  EXPECT_TRUE(holder);
+  EXPECT_TRUE(r.report.per_block[2].collision);
+  EXPECT_FALSE(r.report.per_block[3].collision);
+}
+
+TEST(Collisions, RapidThroughTheStock) {
+  const Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
+  const VerifyResult r = run(s, test::Moves().rapid({-10, 25, 60}).rapid({.z = 25}).rapid({.x = 60}).rapid({.z = 60}));
+  ASSERT_FALSE(r.report.collisions.empty());
+  for (const Collision& c : r.report.collisions) {
+    EXPECT_EQ(c.block, 3);
+    EXPECT_EQ(c.line, 3);
+    EXPECT_TRUE(c.rapid);
+    EXPECT_EQ(c.with, HitWith::Stock);
+  }
+  EXPECT_EQ(r.report.collisions.front().component, ToolComponent::Ball);
+  EXPECT_NEAR(r.report.collisions.front().depth_mm, 5.0, 0.25);  // ball 5 mm into the top... across
+}
+
+TEST(Collisions, ToolTouchesAFixture) {
+  Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
+  s.fixtures.push_back(test::box_mesh({55, 0, 0}, {70, 50, 20}));  // a clamp beside the stock
+  const VerifyResult r = run(s, test::Moves().rapid({60, 25, 50}).line({.z = 25}, 500).line({.z = 18}).line({.z = 50}));
+  ASSERT_FALSE(r.report.collisions.empty());
+  EXPECT_EQ(r.report.collisions.front().block, 3);
+  for (const Collision& c : r.report.collisions) {
+    // The plunge into the clamp (line 3) and the retract out of it (line 4).
+    EXPECT_EQ(c.line, c.block);
+    EXPECT_TRUE(c.block == 3 || c.block == 4);
+    EXPECT_EQ(c.with, HitWith::Fixture);
+    EXPECT_EQ(c.component, ToolComponent::Ball);
+    EXPECT_NEAR(c.depth_mm, 2.0, 0.25);
+  }
+  VerifyOptions o;
+  o.stop_at_first_collision = true;
+  const VerifyResult stopped = run(s, test::Moves().rapid({60, 25, 50}).line({.z = 25}, 500).line({.z = 18}).line({.z = 50}).line({.z = 18}), o);
+  EXPECT_EQ(stopped.report.blocks, 3);
+  EXPECT_TRUE(stopped.report.stopped_early);
+}
+
+TEST(Collisions, CleanProgramReportsNone) {
+  Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
+  s.fixtures.push_back(test::box_mesh({55, 0, 0}, {70, 50, 20}));
+  s.check_surfaces.push_back(test::box_mesh({0, 60, 0}, {50, 70, 40}));
+  s.design = test::box_mesh({-1, -1, -1}, {51, 51, 27});  // the finished top at z = 27
+  const VerifyResult r = run(s, test::Moves()
+                                        .rapid({-5, 10, 40})
+                                        .line({.z = 27}, 800)
+                                        .line({.x = 55})
+                                        .line({.y = 20})
+                                        .line({.x = -5})
+                                        .rapid({.z = 40}));
+  EXPECT_TRUE(r.report.collisions.empty());
+  EXPECT_TRUE(r.report.gouges.empty());
+  EXPECT_LT(r.report.max_gouge_mm, 0.01);
+  EXPECT_GT(r.report.removed_volume_mm3, 0);
+  EXPECT_GT(r.report.excess.samples, 0u);
+  EXPECT_GT(r.report.excess.max_mm, 2.9);  // most of the top is still uncut (3 mm above the design)
+}
+
+TEST(Collisions, GougeAgainstTheDesign) {
+  Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
+  s.design = test::box_mesh({-1, -1, -1}, {51, 51, 27});
+  const VerifyResult r = run(s, test::Moves()
+                                        .rapid({10, 25, 40})
+                                        .line({.z = 27}, 800)
+                                        .line({.x = 20})
+                                        .line({.z = 26.5})
+                                        .line({.x = 30})
+                                        .rapid({.z = 40}));
+  ASSERT_EQ(r.report.gouges.size(), 2u);  // the plunge to 26.5 and the move at 26.5
+  EXPECT_EQ(r.report.gouges[0].line, 4);
+  EXPECT_EQ(r.report.gouges[1].line, 5);
+  EXPECT_NEAR(r.report.max_gouge_mm, 0.5, 0.02);
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,215 @@
+// Removed volumes of analytic cuts, and the tri-dexel stock itself.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "helpers.hpp"
+#include "moves.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace tf {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+TEST(Volume, BoxAndCylinderStock) {
+  Stock box;
+  box.kind = Stock::Kind::Box;
+  box.box = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, 20, 5)};
+  const TriDexel td = make_stock(box, lattice_for(Eigen::AlignedBox3d(box.box.min, box.box.max), 0.5, 1));
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(td.volume(d), 1000.0, 1e-3);
+  Stock cyl;
+  cyl.kind = Stock::Kind::Cylinder;
+  cyl.cylinder = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1), 10.0, 20.0};
+  const TriDexel tc = make_stock(cyl, lattice_for(Eigen::AlignedBox3d(Eigen::Vector3d(-10, -10, 0), Eigen::Vector3d(10, 10, 20)), 0.1, 1));
+  EXPECT_NEAR(tc.volume(), kPi * 100 * 20, kPi * 100 * 20 * 0.002);
+}
+
+TEST(Volume, SphereMeshRebuiltFrom147Rays) {
+  // Seed 000: a sphere R = 10 on 3 x 7 x 7 rays. Rays at -8.57 .. 8.57 (spacing 20/7).
+  const Mesh sphere = test::icosphere(10.0, 5);
+  const Lattice L = lattice_for(Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-10), Eigen::Vector3d::Constant(10)), 20.0 / 7.0, 1);
+  const TriDexel td = dexels_from_mesh(sphere, L);
+  EXPECT_EQ(L.n[0], 9);  // 7 inside + 2 padding
+  size_t inner = 0;
+  double end_error = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for (int iv = 1; iv < 8; ++iv)
+      for (int iu = 1; iu < 8; ++iu) {
+        ++inner;
+        const Dexel& r = td.ray(d, iu, iv);
+        for (const Interval& iv_ : r) {
+          Eigen::Vector3d p = L.origin;
+          p[Lattice::u_axis(d)] += L.h * iu;
+          p[Lattice::v_axis(d)] += L.h * iv;
+          for (double t : {double(iv_.lo), double(iv_.hi)}) {
+            Eigen::Vector3d q = p;
+            q[d] += t;
+            end_error = std::max(end_error, std::abs(q.norm() - 10.0));
+          }
+        }
+      }
+  EXPECT_EQ(inner, 147u);
+  EXPECT_LT(end_error, 0.01);  // the icosphere's own chordal error
+  StockMeshOptions mo;
+  mo.refine = 2;
+  const Mesh m = reconstruct_stock(td, nullptr, mo);
+  EXPECT_TRUE(is_closed(m));
+  double vmax = 0.0, fmax = 0.0;
+  for (auto v : m.vertices()) vmax = std::max(vmax, std::abs(to_eigen(m.point(v)).norm() - 10.0));
+  for (auto f : m.faces()) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> P;
+    for (auto v : m.fv_range(f)) P.push_back(to_eigen(m.point(v)));
+    for (int i = 0; i < 3; ++i) {
+      fmax = std::max(fmax, std::abs((0.5 * (P[i] + P[(i + 1) % 3])).norm() - 10.0));
+      c += P[i] / 3.0;
+    }
+    fmax = std::max(fmax, std::abs(c.norm() - 10.0));
+  }
+  RecordProperty("sphere_vertex_error_mm", std::to_string(vmax));
+  RecordProperty("sphere_face_error_mm", std::to_string(fmax));
+  std::cout << "sphere R=10 at 147 rays: vertex error " << vmax << " mm, face error " << fmax << " mm, "
+            << m.n_faces() << " faces\n";
+  EXPECT_LE(std::max(vmax, fmax), 0.1);
+}
+
+TEST(Volume, BallEndSlot) {
+  // Ball R = 5, centre on the top face z = 20, along x for 40 mm: half a capsule.
+  const Scene s = test::box_scene({0, 0, 0}, {60, 40, 20}, test::ball_tool(5, 20, 5, 50, {{15, 30}}));
+  const Program p = test::Moves().rapid({10, 20, 30}).line({.z = 15}, 500).line({.x = 50}, 1000).program();
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  const double expected = kPi * 25 * 40 / 2 + 2.0 / 3.0 * kPi * 125;
+  EXPECT_NEAR(r.report.removed_volume_mm3, expected, expected * 0.005);
+  EXPECT_TRUE(r.report.collisions.empty());
+  ASSERT_EQ(r.report.per_block.size(), 3u);
+  // The plunge takes the lower hemisphere; the feed move the half cylinder and the far quarter spheres
+  // less the near ones already gone: the half cylinder exactly.
+  EXPECT_NEAR(r.report.per_block[1].removed_mm3, 2.0 / 3.0 * kPi * 125, 2.0 / 3.0 * kPi * 125 * 0.005);
+  EXPECT_NEAR(r.report.per_block[2].removed_mm3, kPi * 25 * 20, kPi * 25 * 20 * 0.005);
+  EXPECT_NEAR(r.report.per_block[2].minutes, 40.0 / 1000.0, 1e-12);
+  EXPECT_NEAR(r.report.stock_volume_start_mm3 - r.report.stock_volume_end_mm3, r.report.removed_volume_mm3, 1e-6 * expected + 0.01);
+}
+
+TEST(Volume, FlatEndSlot) {
+  Tool t;
+  t.cutter = FlatCutter{5};
+  t.flute_length = 15;
+  t.shank_radius = 5;
+  t.length = 50;
+  const Scene s = test::box_scene({0, 0, 0}, {60, 40, 20}, t);
+  const Program p = test::Moves().rapid({10, 20, 30}).line({.z = 15}, 500).line({.x = 50}, 1000).program();
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  const double expected = (2 * 5 * 40 + kPi * 25) * 5;
+  EXPECT_NEAR(r.report.removed_volume_mm3, expected, expected * 0.005);
+  EXPECT_TRUE(r.report.collisions.empty());
+}
+
+TEST(Volume, BullEndPocketFloor) {
+  // A bull tool plunged 3 mm into the top and moved 30 mm: the swept cross-section is the tool's
+  // outline below the top face (a rectangle minus the two corner fillets) times the length, plus the
+  // tool's solid of revolution below the top.
+  Tool t;
+  t.cutter = BullCutter{5, 1};
+  t.flute_length = 15;
+  t.shank_radius = 5;
+  t.length = 50;
+  const Scene s = test::box_scene({0, 0, 0}, {60, 40, 20}, t);
+  const Program p = test::Moves().rapid({15, 20, 30}).line({.z = 17}, 500).line({.x = 45}, 1000).program();
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  const double fillet = (1.0 - kPi / 4.0);                 // area outside a quarter circle r = 1 in its square
+  const double section = 10 * 3 - 2 * fillet;             // mm^2
+  // Revolved body below the top: cylinder r = 5, h = 3 minus the corner ring (Pappus: area * 2 pi * centroid).
+  const double xc = 4.0 + (1.0 - 2.0 / (3.0 * (4.0 - kPi)) * 1.0) * 1.0;  // centroid radius of the fillet region
+  const double body = kPi * 25 * 3 - fillet * 2 * kPi * xc;
+  const double expected = section * 30 + body;
+  EXPECT_NEAR(r.report.removed_volume_mm3, expected, expected * 0.005);
+}
+
+// A tool axis tilting by 30 degrees about the tip (TCP block, tip fixed), flat end R = 5 with its tip
+// 5 mm below the top. The removed volume is integrated independently on a fine point grid with exact
+// membership: a point is swept when its angular window about the tip, half-width asin(w / rho) with
+// w the chord half-width of the cylinder at its x, meets the axis' angular range.
+TEST(Volume, FiveAxisTiltAboutTheTip) {
+  Tool t;
+  t.cutter = FlatCutter{5};
+  t.flute_length = 15;
+  t.shank_radius = 5;
+  t.length = 60;
+  const double alpha = 30.0 * kPi / 180.0;
+  const Eigen::Vector3d P(30, 20, 15);
+  const double top = 20;
+  Scene s = test::box_scene({0, 0, 0}, {60, 40, top}, t);
+  // Joint "A" tilts the axis about x: axis = (0, -sin A, cos A).
+  const ForwardFn fwd = [](const Joints& j) {
+    const double a = j.a * kPi / 180.0;
+    return ToolPose{Eigen::Vector3d(j.x, j.y, j.z), Eigen::Vector3d(0, -std::sin(a), std::cos(a))};
+  };
+  const Program p =
+      test::Moves().tcp().rapid({30, 20, 40, 0}).line({.z = 15}, 500).inverse_time({.a = 30}, 10).program();
+  VerifyOptions o;
+  o.resolution = 0.1;
+  o.sweep.tolerance = 0.02;
+  const VerifyResult r = verify_program(s, p, fwd, o);
+  // Independent integral (midpoint rule, 0.04 mm in y and z, 0.05 in x).
+  double vol = 0.0;
+  const double hx = 0.05, hyz = 0.04;
+  for (double x = -5 + hx / 2; x < 5; x += hx) {
+    const double w = std::sqrt(25 - x * x);
+    for (double z = P.z() - 6 + hyz / 2; z < top; z += hyz)
+      for (double y = P.y() - 12; y < P.y() + 6; y += hyz) {
+        const double dy = y + hyz / 2 - P.y(), dz = z - P.z();
+        const double rho = std::hypot(dy, dz);
+        const double phi = std::atan2(-dy, dz);  // angle of the point from +z toward -y (the tilt direction)
+        const double half = rho <= w ? kPi / 2 : std::asin(w / rho);
+        if (phi + half >= 0.0 && phi - half <= alpha) vol += hx * hyz * hyz;
+      }
+  }
+  EXPECT_EQ(r.report.per_block.back().substeps > 100, true);
+  EXPECT_LE(r.report.sweep_error_mm, 0.02 + 1e-9);
+  // The plunge block removed the tool's footprint at A = 0, part of the same union.
+  EXPECT_NEAR(r.report.removed_volume_mm3, vol, vol * 0.005) << "independent " << vol;
+  EXPECT_TRUE(r.report.collisions.empty());
+  std::cout << "5-axis tilt: verifier " << r.report.removed_volume_mm3 << " mm3 (" << r.report.seconds << " s, " << r.report.per_block.back().substeps << " sub-steps), independent " << vol << " mm3\n";
+}
+
+}  // namespace
+}  // namespace tf
+
+namespace tf {
+namespace {
+
+TEST(Volume, StockMeshAfterCutsIsClosedAndMatchesTheDexels) {
+  Scene s = test::box_scene({0, 0, 0}, {30, 20, 10}, test::ball_tool(3, 12, 3, 40, {}));
+  s.design = test::box_mesh({-1, -1, -1}, {31, 21, 8});
+  const Program p =
+      test::Moves().rapid({5, 10, 20}).line({.z = 7}, 500).line({.x = 25}).line({.y = 15}).line({.x = 5}).program();
+  VerifyOptions o;
+  o.resolution = 0.25;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  const Mesh m = reconstruct_stock(r.stock, &s.design);
+  EXPECT_TRUE(is_closed(m));
+  EXPECT_TRUE(m.has_vertex_colors());
+  const double vol = signed_volume(m);
+  EXPECT_NEAR(vol, r.report.stock_volume_end_mm3, r.report.stock_volume_end_mm3 * 0.01);
+  // The cut floor (1 mm above the design at z = 7) and the top are green to red, not blue; the stock's
+  // sides and bottom lie inside the (larger) design box and are blue.
+  int blue_top = 0, blue_side = 0;
+  for (auto v : m.vertices()) {
+    const Eigen::Vector3d q = to_eigen(m.point(v));
+    const bool blue = m.color(v)[2] > 128;
+    if (q.z() > 6.5 && q.x() > 1 && q.x() < 29 && q.y() > 1 && q.y() < 19) blue_top += blue;
+    if (q.z() < 0.1) blue_side += blue;
+  }
+  EXPECT_EQ(blue_top, 0);
+  EXPECT_GT(blue_side, 0);
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,137 @@
+// Grinding scene and program input: bad input is refused with file and field or line (exit 2, no output).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/grind/grind.hpp"
+#include "tiltfield/core/mesh.hpp"
+
+namespace tf::grind {
+namespace {
+
+using nlohmann::json;
+
+json valid_scene() {
+  return json::parse(R"({"units": "mm", "blank": {"radius": 3, "length": 6},
+    "wheel": {"radius": 20, "thickness": 3, "edge_radius": 0.5},
+    "start": {"y": 60}, "program": "prog.ngc"})");
+}
+
+const char* kProgram = "; test\nOP fluting slot\nG0 X0 Y40 Z30\nG1 Y21.5 F100\nG1 Z0\nG0 Y40\n";
+
+struct Case {
+  std::string name;
+  std::function<void(json&, std::string&)> mutate;
+  std::string expect;  // substring of the error line
+};
+
+std::vector<Case> cases() {
+  return {
+      {"missing blank radius", [](json& j, std::string&) { j["blank"].erase("radius"); }, "field 'blank.radius': missing"},
+      {"negative blank radius", [](json& j, std::string&) { j["blank"]["radius"] = -2; }, "blank.radius"},
+      {"negative wheel radius", [](json& j, std::string&) { j["wheel"]["radius"] = -20; }, "wheel.radius"},
+      {"negative edge radius", [](json& j, std::string&) { j["wheel"]["edge_radius"] = -1; }, "wheel.edge_radius"},
+      {"string length", [](json& j, std::string&) { j["blank"]["length"] = "six"; }, "blank.length"},
+      {"unknown key", [](json& j, std::string&) { j["wheel"]["colour"] = 1; }, "wheel.colour"},
+      {"missing wheel", [](json& j, std::string&) { j.erase("wheel"); }, "field 'wheel'"},
+      {"missing program file", [](json& j, std::string&) { j["program"] = "nope.ngc"; }, "nope.ngc"},
+      {"unknown axis word", [](json&, std::string& p) { p += "G1 Q5\n"; }, "prog.ngc:7: field 'Q5'"},
+      {"garbage number", [](json&, std::string& p) { p += "G1 X1.2.3\n"; }, "prog.ngc:7: field 'X'"},
+      {"unknown G code", [](json&, std::string& p) { p += "G2 X1\n"; }, "prog.ngc:7: field 'G2'"},
+      {"unknown operation", [](json&, std::string& p) { p += "OP drilling\nG1 X1\n"; }, "prog.ngc:7: field 'OP'"},
+      {"motion before OP", [](json&, std::string& p) { p = "G1 X1\n" + p; }, "prog.ngc:1"},
+      {"concave profile",
+       [](json& j, std::string&) {
+         j["wheel"].erase("edge_radius");
+         j["wheel"]["profile"] = json::parse("[[-1.5, 20], [0, 18], [1.5, 20]]");
+       },
+       "wheel.profile[1]"},
+  };
+}
+
+TEST(GrindInput, LoaderNamesFileAndField) {
+  for (const Case& c : cases()) {
+    test::TempDir dir;
+    json j = valid_scene();
+    std::string prog = kProgram;
+    c.mutate(j, prog);
+    test::write_text(dir / "grind.json", j.dump());
+    test::write_text(dir / "prog.ngc", prog);
+    try {
+      load_grind_scene(dir / "grind.json");
+      ADD_FAILURE() << c.name << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << c.name << ": " << e.what();
+    }
+  }
+}
+
+TEST(GrindInput, CliExitsTwoWithOneLineAndNoOutput) {
+  for (const Case& c : cases()) {
+    test::TempDir dir;
+    json j = valid_scene();
+    std::string prog = kProgram;
+    c.mutate(j, prog);
+    test::write_text(dir / "grind.json", j.dump());
+    test::write_text(dir / "prog.ngc", prog);
+    const auto r = test::run_tiltfield("grind grind.json -o tool.ply --sections s.svg", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.name << ": " << r.out;
+    EXPECT_EQ(test::count_lines(r.out), 1) << c.name << ": " << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply")) << c.name;
+    EXPECT_FALSE(std::filesystem::exists(dir / "s.svg")) << c.name;
+  }
+}
+
+TEST(GrindInput, CliWritesAClosedPlyAndTheSectionsSvg) {
+  test::TempDir dir;
+  test::write_text(dir / "grind.json", valid_scene().dump());
+  test::write_text(dir / "prog.ngc", kProgram);
+  const auto r = test::run_tiltfield("grind grind.json -o tool.ply --sections s.svg --spacing 0.2", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const Mesh mesh = load_mesh(dir / "tool.ply");
+  EXPECT_TRUE(is_closed(mesh));
+  // A 3 mm slot 1.5 mm deep through a radius-3 blank leaves less than the blank.
+  EXPECT_LT(signed_volume(mesh), M_PI * 9 * 6);
+  EXPECT_GT(signed_volume(mesh), 0.4 * M_PI * 9 * 6);
+  const std::string svg = test::read_text(dir / "s.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("fluting: slot"), std::string::npos);
+}
+
+TEST(GrindInput, ProgramModesAndComments) {
+  const auto ops = parse_grind_program(
+      "OP gashing g (comment) \nN10 G91 G1 X1 Y2 ; rest\nX1\nG90 G0 A30 W-5\nOP notching\nU2\n", "p", Axes{});
+  ASSERT_EQ(ops.size(), 2u);
+  EXPECT_EQ(ops[0].label, "g");
+  ASSERT_EQ(ops[0].moves.size(), 3u);
+  EXPECT_DOUBLE_EQ(ops[0].moves[1].target.x, 2.0);  // incremental
+  EXPECT_DOUBLE_EQ(ops[0].moves[1].target.y, 2.0);
+  EXPECT_TRUE(ops[0].moves[2].rapid);
+  EXPECT_DOUBLE_EQ(ops[0].moves[2].target.a, 30.0);
+  EXPECT_DOUBLE_EQ(ops[0].moves[2].target.w, -5.0);
+  EXPECT_EQ(ops[1].label, "notching");
+  EXPECT_DOUBLE_EQ(ops[1].moves[0].target.u, 2.0);
+  EXPECT_DOUBLE_EQ(ops[1].moves[0].target.x, 2.0);  // modal position carried over
+}
+
+TEST(GrindInput, KinematicsOfTheAxes) {
+  // W swivels the spindle axis from x toward z; A turns the blank, so the wheel turns the other way in B.
+  Axes ax;
+  ax.w = 90;
+  EXPECT_NEAR((wheel_pose(ax).axis - Eigen::Vector3d(0, 0, 1)).norm(), 0, 1e-12);
+  ax = {};
+  ax.y = 10;
+  ax.a = 90;
+  EXPECT_NEAR((wheel_pose(ax).centre - Eigen::Vector3d(10, 0, 0)).norm(), 0, 1e-12);
+  ax = {};
+  ax.u = 4;
+  EXPECT_NEAR((wheel_pose(ax).centre - Eigen::Vector3d(0, 0, -4)).norm(), 0, 1e-12);
+  // Increments bound the relative motion: a 90 deg turn of a radius-5 blank at step 0.1 mm.
+  EXPECT_EQ(increments(Axes{}, Axes{0, 0, 0, 0, 90, 0}, Blank{5, 10}, 0.1), static_cast<int>(std::ceil(5 * M_PI / 2 / 0.1)));
+}
+
+}  // namespace
+}  // namespace tf::grind

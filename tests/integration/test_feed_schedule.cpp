@@ -1,0 +1,246 @@
+// Feed scheduling: the F-word rewrite keeps every other character; scheduled programs (G94, G93, and
+// `post --max-mrr`) never exceed the MRR limit when verified again, and LinuxCNC's interpreter reads them.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+#include "test_support.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/engagement/feed_schedule.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/scene.hpp"
+
+namespace tf {
+namespace {
+
+using test::read_text;
+using test::run_tiltfield;
+using test::TempDir;
+using test::write_text;
+
+// A design surface well below every cut (the CLI's scenes need one).
+void write_design(const std::filesystem::path& file) {
+  Stock s;
+  s.kind = Stock::Kind::Box;
+  s.box = {Eigen::Vector3d(-1, -21, -2), Eigen::Vector3d(101, 31, -1)};
+  write_mesh(stock_to_mesh(s), file);
+}
+
+TEST(FeedSchedule, RewriteTouchesOnlyFeedWords) {
+  const std::string text =
+      "%\n(header F100 in a comment)\nG21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F600 (cut F1)\ng1 x50 f 600 ; comment F7\n"
+      "G1 X60\nM30\n%\n";
+  const Program p = parse_gcode(text, "t.ngc", MachineSpec{});
+  ASSERT_EQ(p.blocks.size(), 4u);
+  FeedSchedule fs;
+  fs.feed = {0.0, 300.0, 250.5, 5000.0};
+  const std::string out = rewrite_feeds(text, p, fs);
+  EXPECT_EQ(out,
+            "%\n(header F100 in a comment)\nG21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F300 (cut F1)\ng1 x50 F250.5 ; comment F7\n"
+            "G1 X60 F5000\nM30\n%\n");
+  // The rewritten text reads back with the new feeds.
+  const Program q = parse_gcode(out, "t.ngc", MachineSpec{});
+  EXPECT_DOUBLE_EQ(q.blocks[1].feed, 300.0);
+  EXPECT_DOUBLE_EQ(q.blocks[2].feed, 250.5);
+  EXPECT_DOUBLE_EQ(q.blocks[3].feed, 5000.0);
+}
+
+TEST(FeedSchedule, RejectsBadLimits) {
+  FeedScheduleOptions o;
+  o.max_mrr = -1.0;
+  EXPECT_THROW(schedule_feeds(Program{}, VerifyReport{}, o), InputError);
+  o.max_mrr = 100.0;
+  o.min_feed = 0.0;
+  EXPECT_THROW(schedule_feeds(Program{}, VerifyReport{}, o), InputError);
+}
+
+class ScheduleCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    write_design(dir / "design.stl");
+    write_text(dir / "scene.json", R"({
+      "units": "mm", "design": "design.stl",
+      "stock": {"box": {"min": [0, -20, 0], "max": [100, 20, 10]}},
+      "tool": {"type": "flat", "radius": 5, "flute_length": 20, "shank_radius": 5, "length": 40,
+               "holder": [{"radius": 12, "length": 30}]},
+      "path": {"file": "path.csv", "feed": 600},
+      "machine": {"kinematics": "xyz", "max_feed": 5000}
+    })");
+    write_text(dir / "path.csv", "x,y,z,nx,ny,nz\n5,5,11,0,0,1\n");
+  }
+  // Verifies `program` and returns the blocks.csv rows as (line, mrr, feed-relevant cells).
+  std::vector<std::vector<std::string>> blocks_of(const std::string& program) {
+    const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + program + " -o " +
+                                 (dir / "v.json").string() + " --blocks " + (dir / "b.csv").string());
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    std::stringstream in(read_text(dir / "b.csv"));
+    std::vector<std::vector<std::string>> rows;
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::vector<std::string> c;
+      std::stringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+      rows.push_back(c);
+    }
+    return rows;
+  }
+  double max_mrr(const std::string& program) {
+    double m = 0.0;
+    for (const auto& c : blocks_of(program))
+      if (c.size() > 3 && !c[3].empty()) m = std::max(m, std::stod(c[3]));
+    return m;
+  }
+  TempDir dir;
+};
+
+// A 2 mm deep full slot (12000 mm3/min at F600), a half-width pass, a retract and an air move back.
+const char* kSlot =
+    "G21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F600\nG1 X50\nG1 Y5 X90\nG1 Z15\nG1 X-10 Y10\nM30\n";
+
+TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
+  write_text(dir / "p.ngc", kSlot);
+  const double before = max_mrr((dir / "p.ngc").string());
+  EXPECT_NEAR(before, 12000.0, 120.0);
+  const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                               " --schedule-feed 6000 -o " + (dir / "p2.ngc").string() + " --report " +
+                               (dir / "v1.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::string text = read_text(dir / "p2.ngc");
+  const Program p2 = parse_gcode(text, "p2.ngc", MachineSpec{});
+  const Program p1 = parse_gcode(read_text(dir / "p.ngc"), "p.ngc", MachineSpec{});
+  ASSERT_EQ(p2.blocks.size(), p1.blocks.size());
+  for (size_t i = 1; i <= 3; ++i) {  // the cutting blocks: slowed, never faster, never below the minimum
+    EXPECT_LE(p2.blocks[i].feed, p1.blocks[i].feed) << "block " << i + 1;
+    EXPECT_GE(p2.blocks[i].feed, 10.0) << "block " << i + 1;
+  }
+  EXPECT_DOUBLE_EQ(p2.blocks[4].feed, 5000.0);
+  // A limit that is not positive: exit 2 naming the option, no program.
+  const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                                 " --schedule-feed -3 -o " + (dir / "p3.ngc").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--schedule-feed"), std::string::npos) << bad.out;
+  EXPECT_EQ(test::count_lines(bad.out), 1) << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));  // the retract and the move back cut nothing: the machine's max feed
+  EXPECT_DOUBLE_EQ(p2.blocks.back().feed, 5000.0);  // the air move at the machine's max feed
+  const double after = max_mrr((dir / "p2.ngc").string());
+  std::cout << "max MRR " << before << " -> " << after << " mm3/min (limit 6000)\n";
+  EXPECT_LE(after, 6000.0 + 0.005);
+  EXPECT_GE(after, 6000.0 * 0.99);  // the limit is used, not undercut
+  TF_REQUIRE_RS274();
+  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
+}
+
+TEST_F(ScheduleCli, InverseTimeProgram) {
+  write_text(dir / "p.ngc", "G21 G90\nG0 X-10 Y0 Z8\nG93 G1 X30 F15\nG1 X50 F30\nG1 Z15 F60\nG94\nM30\n");
+  const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                               " --schedule-feed 4000 -o " + (dir / "p2.ngc").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const double after = max_mrr((dir / "p2.ngc").string());
+  std::cout << "G93: max MRR " << max_mrr((dir / "p.ngc").string()) << " -> " << after << "\n";
+  EXPECT_LE(after, 4000.0 + 0.005);
+  EXPECT_GE(after, 4000.0 * 0.99);
+  TF_REQUIRE_RS274();
+  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
+}
+
+TEST_F(ScheduleCli, PostMaxMrr) {
+  // A ball-end pass 2 mm deep along x, posted with a limit.
+  write_text(dir / "scene.json", R"({
+      "units": "mm", "design": "design.stl",
+      "stock": {"box": {"min": [0, 0, 0], "max": [40, 30, 10]}},
+      "tool": {"type": "ball", "radius": 3, "flute_length": 12, "shank_radius": 3, "length": 30,
+               "holder": [{"radius": 10, "length": 30}]},
+      "path": {"file": "path.csv", "feed": 1200},
+      "machine": {"kinematics": "xyz", "max_feed": 4000}
+    })");
+  std::string csv = "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n";
+  for (int k = 0; k <= 50; ++k) csv += std::to_string(-5.0 + k) + ",15,11,0,0,1,0,0,1\n";
+  write_text(dir / "o.csv", csv);
+  const std::string post = "post " + (dir / "scene.json").string() + " " + (dir / "o.csv").string() + " -o ";
+  auto r = run_tiltfield(post + (dir / "p.ngc").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const double before = max_mrr((dir / "p.ngc").string());
+  const double limit = std::floor(before / 3);
+  r = run_tiltfield(post + (dir / "p2.ngc").string() + " --max-mrr " + std::to_string(int(limit)));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const double after = max_mrr((dir / "p2.ngc").string());
+  std::cout << "post --max-mrr: " << before << " -> " << after << " (limit " << limit << ")\n";
+  EXPECT_LE(after, limit + 0.005);  // blocks.csv rounds to 0.01
+  EXPECT_GE(after, limit * 0.98);
+  // Bad limits: exit 2, one line naming the option, no program written.
+  r = run_tiltfield(post + (dir / "p3.ngc").string() + " --max-mrr -5");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("--max-mrr"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
+  TF_REQUIRE_RS274();
+  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
+}
+
+}  // namespace
+}  // namespace tf
+
+namespace tf {
+namespace {
+
+// Mutated programs: whatever reads, the rewrite of its F words reads back to the same blocks with the
+// scheduled feeds; nothing else changes.
+TEST(FeedSchedule, RewriteFuzz) {
+  const std::string base =
+      "%\nO100 (fuzz)\nN10 G21 G90 G94 (F in a comment)\nN20 G0 X-10 Y0 Z8\nN30 G1 X30 F600 ; F7\n"
+      "N40 G2 X40 Y10 I5 J5 F450\nN50 G1 Z12\nN60 G93 G1 X20 F12.5\nN70 G1 Y-4 F3\nN80 G94 G1 X0 F800\nM30\n%\n";
+  const std::string alphabet = "GXYZFIJKRN0123456789.-+ ();%/\n";
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (int k = 0; k < 600; ++k) {
+    std::string text = base;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0: text.erase(at, 1); break;
+        case 1: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+        default: text[at] = alphabet[rng() % alphabet.size()];
+      }
+    }
+    Program p;
+    try {
+      p = parse_gcode(text, "fuzz.ngc", MachineSpec{});
+    } catch (const InputError&) {
+      continue;
+    }
+    FeedSchedule fs;
+    fs.feed.resize(p.blocks.size());
+    std::map<int, int> per_line;
+    for (size_t i = 0; i < p.blocks.size(); ++i) {
+      fs.feed[i] = p.blocks[i].motion == Motion::Rapid ? 0.0 : 1.0 + double(rng() % 5000) / 4.0;
+      ++per_line[p.blocks[i].line];
+    }
+    const std::string out = rewrite_feeds(text, p, fs);
+    Program q;
+    ASSERT_NO_THROW(q = parse_gcode(out, "fuzz.ngc", MachineSpec{})) << text << "\n---\n" << out;
+    ASSERT_EQ(q.blocks.size(), p.blocks.size()) << text << "\n---\n" << out;
+    for (size_t i = 0; i < p.blocks.size(); ++i) {
+      EXPECT_EQ(q.blocks[i].motion, p.blocks[i].motion);
+      EXPECT_NEAR(q.blocks[i].target.x, p.blocks[i].target.x, 1e-9);
+      EXPECT_NEAR(q.blocks[i].target.y, p.blocks[i].target.y, 1e-9);
+      // A line holding one block gets exactly its feed (lines with several take their smallest).
+      if (fs.feed[i] > 0 && per_line[p.blocks[i].line] == 1) {
+        EXPECT_NEAR(q.blocks[i].feed, fs.feed[i], 0.005) << out;
+      }
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,84 @@
+// Re-planning: windows around verified collisions, blended back smoothly; the stock as an obstacle for the
+// non-cutting part of the tool; the collisions read back from a verification report.
+#include <gtest/gtest.h>
+
+#include "replan/hidden_post_scene.hpp"
+#include "test_support.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/report.hpp"
+#include "tiltfield/replan/replan.hpp"
+
+namespace {
+using tf::test::write_hidden_post_scene;
+
+TEST(Replan, RowsOutsideTheWindowsAreUnchangedAndEndsAreSmooth) {
+  tf::test::TempDir dir;
+  const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
+  const tf::PlanOptions po =
+      tf::parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
+  const tf::PlanResult planned = tf::plan(scene, po);
+  // A holder collision at x = 20, as the verifier would report it.
+  tf::Collision site;
+  site.component = tf::ToolComponent::Holder;
+  site.with = tf::HitWith::Stock;
+  site.start = {Eigen::Vector3d(19.5, 0, 0), Eigen::Vector3d::UnitZ()};
+  site.end = {Eigen::Vector3d(20, 0, 0), Eigen::Vector3d::UnitZ()};
+  const tf::Mesh obstacle = tf::stock_obstacle(tf::stock_to_mesh(scene.stock), scene.path, scene.tool, scene.planner, 1.5, 0.5);
+  const tf::ReplanOptions ro;
+  const tf::ReplanResult r = tf::replan(scene, planned.path, {site}, {&obstacle}, po, ro);
+  ASSERT_EQ(r.windows.size(), 1u);
+  const auto& w = r.windows[0];
+  EXPECT_LE(w.first, 119u);
+  EXPECT_GE(w.last, 120u);
+  EXPECT_GT(w.first, 0u);
+  EXPECT_LT(w.last, r.path.rows.size() - 1);
+  EXPECT_GT(r.rows_changed, 0u);
+  EXPECT_EQ(r.rows_below_safety, 0u);
+  for (size_t i = 0; i < r.path.rows.size(); ++i) {
+    if (i >= w.first && i <= w.last) continue;
+    EXPECT_EQ(r.path.rows[i].axis, planned.path.rows[i].axis) << "row " << i;
+  }
+  // C1 at the window ends: with a smoothstep blend over n rows the first step is about 3/n^2 of the
+  // change and the largest about 1.5/n, so the end steps stay below a fifth of the largest step; a C0
+  // (linear) blend would make them two thirds of it.
+  auto step = [&](size_t i) { return std::acos(std::clamp(r.path.rows[i].axis.dot(r.path.rows[i + 1].axis), -1.0, 1.0)); };
+  double largest = 0;
+  for (size_t i = w.first; i < w.last; ++i) largest = std::max(largest, step(i));
+  ASSERT_GT(largest, 0.0);
+  if (w.first > 0) {
+    EXPECT_LT(step(w.first), 0.2 * largest + 1e-9);
+  }
+  if (w.last + 1 < r.path.rows.size()) {
+    EXPECT_LT(step(w.last - 1), 0.2 * largest + 1e-9);
+  }
+}
+
+TEST(Replan, StockObstacleKeepsOnlyWhatTheCuttingPartCannotReach) {
+  tf::test::TempDir dir;
+  const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
+  const tf::Mesh obstacle = tf::stock_obstacle(tf::stock_to_mesh(scene.stock), scene.path, scene.tool, scene.planner, 1.5, 0.5);
+  ASSERT_GT(obstacle.n_faces(), 0u);
+  const double reach = std::hypot(12.0 - 3.0, 3.0) + 1.0 + 0.5;
+  for (auto v : obstacle.vertices()) {
+    const Eigen::Vector3d p = tf::to_eigen(obstacle.point(v));
+    double nearest = 1e9;
+    for (const auto& r : scene.path.rows) nearest = std::min(nearest, (r.p - p).norm());
+    EXPECT_GE(nearest, reach - 1e-9);
+  }
+  // The post's faces toward the pass survive.
+  EXPECT_GT(tf::bounding_box(obstacle).max().z(), 70.0);
+}
+
+TEST(Replan, BadVerifyReportNamesTheField) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "v.json", R"({"collisions": [{"block": 3, "line": 12, "component": "holder", "with": "stock",
+    "rapid": false, "depth_mm": 0.4}]})");
+  try {
+    tf::read_replan_collisions(dir / "v.json");
+    FAIL();
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.field(), "collisions[0].start_tip");
+  }
+}
+
+}  // namespace

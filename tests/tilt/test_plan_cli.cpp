@@ -1,0 +1,98 @@
+// `tiltfield plan` as a user runs it: outputs, exit codes 0 / 1 / 2, no partial output on bad input.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "synthetic.hpp"
+#include "tiltfield/core/oriented_path.hpp"
+
+namespace tf {
+namespace {
+namespace fs = std::filesystem;
+
+struct CliScene {
+  fs::path dir;
+  fs::path scene;
+};
+
+// A floor (design), a block next to the path (check surface) and the path; `planner` is the scene's
+// planner object as JSON text, `y` the path's offset from the block.
+CliScene write_scene(const std::string& name, const std::string& planner, double y = 0) {
+  CliScene s;
+  s.dir = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / name;
+  fs::remove_all(s.dir);
+  fs::create_directories(s.dir);
+  write_mesh(test::box_mesh({-10, -30, -5}, {90, 30, 0}, 20), s.dir / "floor.stl");
+  write_mesh(test::box_mesh({20, 8, 0}, {60, 30, 80}, 4), s.dir / "block.stl");
+  write_toolpath_csv(test::polyline_path({{0, y, 3}, {80, y, 3}}, 0.5, {0, 0, 1}), s.dir / "path.csv");
+  std::ofstream(s.dir / "scene.json") << R"({"units": "mm", "design": "floor.stl", "check_surfaces": ["block.stl"],
+    "stock": {"box": {"min": [-10, -30, -5], "max": [90, 30, 10]}},
+    "tool": {"type": "ball", "radius": 3, "flute_length": 12, "shank_radius": 3, "length": 60,
+             "holder": [{"radius": 12, "length": 40}]},
+    "path": {"file": "path.csv", "feed": 1000}, "planner": )" << planner << "}\n";
+  s.scene = s.dir / "scene.json";
+  return s;
+}
+
+int run(const std::string& args, std::string* err = nullptr) {
+  const fs::path log = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / "stderr.txt";
+  const int rc = std::system((std::string(TILTFIELD_EXE) + " --quiet " + args + " 2> " + log.string()).c_str());
+  if (err) {
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    *err = ss.str();
+  }
+  return WEXITSTATUS(rc);
+}
+
+TEST(PlanCli, WritesOrientedPathAndMetrics) {
+  const CliScene s = write_scene("ok", R"({"safety_distance": 1.0, "response_length_mm": 12})");
+  const fs::path out = s.dir / "oriented.csv", json = s.dir / "plan.json";
+  ASSERT_EQ(run("plan " + s.scene.string() + " -o " + out.string() + " --json " + json.string()), 0);
+  const OrientedPath p = read_oriented_csv(out);
+  EXPECT_EQ(p.rows.size(), 161u);
+  for (const auto& r : p.rows) EXPECT_GE(r.clearance_mm, 1.0 - 1e-9);
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("rows").get<int>(), 161);
+  EXPECT_EQ(j.at("rows_below_safety").get<int>(), 0);
+  EXPECT_GT(j.at("rows_nominal_colliding").get<int>(), 0);
+  for (const char* k : {"min_clearance_mm", "max_step_deg", "max_deg_per_mm", "rms_second_difference", "seconds"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  // The baseline through the command line as well.
+  ASSERT_EQ(run("plan " + s.scene.string() + " -o " + out.string() + " --method pointwise"), 0);
+}
+
+TEST(PlanCli, UnknownPlannerKeyIsBadInput) {
+  const CliScene s = write_scene("badkey", R"({"safety_distance": 1.0, "repulsion_gian": 2})");
+  const fs::path out = s.dir / "oriented.csv";
+  std::string err;
+  EXPECT_EQ(run("plan " + s.scene.string() + " -o " + out.string(), &err), 2);
+  EXPECT_NE(err.find("planner.repulsion_gian"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out));
+  const CliScene t = write_scene("badvalue", R"({"influence_mm": -3})");
+  EXPECT_EQ(run("plan " + t.scene.string() + " -o " + out.string(), &err), 2);
+  EXPECT_NE(err.find("planner.influence_mm"), std::string::npos) << err;
+}
+
+TEST(PlanCli, UnclearableRowsExitOneAfterWriting) {
+  // The path runs 3.5 mm from the block's face: the ball itself (radius 3) is inside the safety distance,
+  // which no tilt can cure.
+  const CliScene s = write_scene("uncleared", R"({"safety_distance": 1.0})", 4.5);
+  const fs::path out = s.dir / "oriented.csv", json = s.dir / "plan.json";
+  std::string err;
+  EXPECT_EQ(run("plan " + s.scene.string() + " -o " + out.string() + " --json " + json.string(), &err), 1);
+  EXPECT_NE(err.find("could not be cleared"), std::string::npos) << err;
+  ASSERT_TRUE(fs::exists(out));
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GT(j.at("uncleared").size(), 0u);
+  EXPECT_EQ(j.at("uncleared").size(), j.at("rows_below_safety").get<size_t>());
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,46 @@
+// tiltfield CLI: what every sub-command file shares.
+//
+// Each cmd_*.cpp defines one add_*_command(CLI::App&) that registers its options and a callback. The
+// callback throws tf::InputError (exit 2), tf::JobError (exit 1) or returns normally (exit 0); main()
+// maps them, so no command prints its own error line or calls exit().
+#pragma once
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <string>
+
+#include "tiltfield/engagement/feed_schedule.hpp"
+#include "tiltfield/core/progress.hpp"
+
+namespace tf::cli {
+
+struct GlobalOptions {
+  bool quiet = false;
+};
+
+// The options shared by all commands (--quiet); valid for the process' lifetime.
+GlobalOptions& global_options();
+
+// A progress callback that draws a bar on stderr when stderr is a terminal and --quiet is off.
+Progress terminal_progress();
+
+// One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
+void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);
+
+// The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
+// executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.
+std::filesystem::path bundled_scene(const std::string& name);
+
+// For sub-commands that a later issue delivers: throws InputError saying so (exit 2).
+[[noreturn]] void not_yet_delivered(const std::string& command, int issue);
+
+void add_run_command(CLI::App& app);
+void add_plan_command(CLI::App& app);
+void add_post_command(CLI::App& app);
+void add_verify_command(CLI::App& app);
+void add_replan_command(CLI::App& app);
+void add_offset_command(CLI::App& app);
+void add_grind_command(CLI::App& app);
+void add_scene_command(CLI::App& app);
+void add_check_command(CLI::App& app);
+
+}  // namespace tf::cli

@@ -1,0 +1,52 @@
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf::cli {
+namespace fs = std::filesystem;
+
+GlobalOptions& global_options() {
+  static GlobalOptions options;  // the process' command line: one per process by nature
+  return options;
+}
+
+void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, const FeedSchedule& fs) {
+  if (global_options().quiet) return;
+  std::cerr << who << ": feeds scheduled for " << fixed(o.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
+            << fs.sped_up << " air blocks at " << fixed(o.air_feed, 0) << " mm/min\n";
+  for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+Progress terminal_progress() {
+  if (global_options().quiet || !::isatty(STDERR_FILENO)) return {};
+  return [last = -1](std::string_view stage, double fraction) mutable {
+    const int pct = static_cast<int>(fraction * 100.0 + 0.5);
+    if (pct == last) return;
+    last = pct;
+    const int width = 30, filled = pct * width / 100;
+    std::fprintf(stderr, "\r%-8.*s [%.*s%*s] %3d%%", static_cast<int>(stage.size()), stage.data(), filled,
+                 "##############################", width - filled, "", pct);
+    if (pct >= 100) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+fs::path bundled_scene(const std::string& name) {
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path scene = (ec ? fs::path(".") : exe.parent_path()) / "scenes" / name / "scene.json";
+  if (!fs::exists(scene))
+    throw InputError(scene.string(), 0, "", "bundled scene not found (build the 'bundled_scenes' target)");
+  return scene;
+}
+
+void not_yet_delivered(const std::string& command, int issue) {
+  throw InputError("", 0, "", "'tiltfield " + command + "' is not delivered yet (issue " + std::to_string(issue) + ")");
+}
+
+}  // namespace tf::cli

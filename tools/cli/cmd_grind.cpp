@@ -1,0 +1,44 @@
+// tiltfield grind: cross-section simulation of tool grinding (docs/grinding.md).
+#include <iostream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/grind/sections.hpp"
+
+namespace tf::cli {
+
+void add_grind_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("grind", "cross-section simulation of tool grinding");
+  struct Args {
+    std::string scene, out, svg;
+    grind::SectionOptions sections;
+  };
+  static Args args;  // CLI11 binds to storage that outlives the parse; one command line per process
+  cmd->add_option("GRIND", args.scene, "grinding scene JSON")->required();
+  cmd->add_option("-o,--output", args.out, "tool mesh (PLY; .stl/.obj/.off also accepted)")->required();
+  cmd->add_option("--sections", args.svg, "also write the sections as an SVG");
+  cmd->add_option("--spacing", args.sections.spacing, "section spacing, mm")->capture_default_str();
+  cmd->add_option("--step", args.sections.step, "largest relative motion per increment, mm")->capture_default_str();
+  cmd->callback([] {
+    if (!(args.sections.spacing >= 0.001)) throw InputError("", 0, "--spacing", "must be at least 0.001 mm");
+    if (!(args.sections.step >= 0.001)) throw InputError("", 0, "--step", "must be at least 0.001 mm");
+    const grind::GrindScene scene = grind::load_grind_scene(args.scene);
+    if (scene.blank.length / args.sections.spacing > 1e6)
+      throw InputError("", 0, "--spacing", "more than a million sections: use a larger spacing");
+    const Progress progress = terminal_progress();
+    const grind::SectionStack stack = grind::simulate_sections(scene, args.sections, progress);
+    grind::TilingStats stats;
+    const Mesh mesh = grind::tile_sections(stack, {}, &stats);
+    if (mesh.n_faces() == 0) throw JobError("the program grinds the whole blank away: no tool left");
+    if (!is_closed(mesh)) throw JobError("the rebuilt tool surface is not closed (please report this scene)");
+    if (!args.svg.empty()) grind::write_sections_svg(stack, args.svg);
+    write_mesh(mesh, args.out);
+    if (!global_options().quiet)
+      std::cerr << "grind: " << stack.sections.size() << " sections, " << mesh.n_faces() << " triangles, volume "
+                << fixed(signed_volume(mesh), 3) << " mm3, " << stats.branching_groups << " branching groups, "
+                << stats.fallback_slabs << " stair-stepped slabs\n";
+  });
+}
+
+}  // namespace tf::cli

@@ -1,0 +1,131 @@
+// `tiltfield offset`: offset-profile trajectory for copy milling or ECM (issue 7, docs/offset.md).
+#include <algorithm>
+#include <memory>
+#include <cctype>
+#include <sstream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/offset/offset.hpp"
+#include "tiltfield/offset/offset_program.hpp"
+#include "tiltfield/offset/offset_section.hpp"
+
+namespace tf::cli {
+namespace {
+struct OffsetCliOptions {
+  std::string profile, gap_law, side = "inside", corner = "round", target = "milling", out, svg, mesh, plane = "z=0",
+      profile_out;
+  double gap = 0, gap_blend = 0, lead = 2.0, fit_tolerance = 0.01;
+  offset::MillingOptions milling;
+  offset::EcmOptions ecm;
+};
+
+void check_positive(double v, const char* field) {
+  if (!(v > 0)) throw InputError("", 0, field, "must be positive, got " + fixed(v, 9));
+}
+void check_mcode(const std::string& code, const char* field) {
+  const bool digits = code.size() >= 2 && code.size() <= 4 &&
+                      std::all_of(code.begin() + 1, code.end(), [](unsigned char c) { return std::isdigit(c); });
+  if (code.empty() || code[0] != 'M' || !digits)
+    throw InputError("", 0, field, "expected an M-code like M8, got '" + code + "'");
+}
+
+void run_offset(const OffsetCliOptions& o) {
+  check_positive(o.gap, "gap");
+  check_positive(o.milling.feed, "feed");
+  check_positive(o.ecm.feed, "ecm-feed");
+  check_mcode(o.ecm.electrolyte_on, "ecm-electrolyte-on");
+  check_mcode(o.ecm.electrolyte_off, "ecm-electrolyte-off");
+  if (o.lead < 0) throw InputError("", 0, "lead", "must not be negative");
+  if (o.gap_blend < 0) throw InputError("", 0, "gap-blend", "must not be negative");
+
+  offset::Profile profile;
+  if (!o.mesh.empty()) {
+    if (!o.profile.empty()) throw InputError("", 0, "PROFILE", "give either a PROFILE or --mesh, not both");
+    check_positive(o.fit_tolerance, "fit-tolerance");
+    const double z = offset::parse_plane(o.plane);
+    offset::SectionOptions so;
+    so.tolerance = o.fit_tolerance;
+    profile = offset::profile_from_mesh(o.mesh, z, so);
+  } else {
+    if (o.profile.empty()) throw InputError("", 0, "PROFILE", "a PROFILE file or --mesh PART --plane z=H is required");
+    profile = offset::read_profile(o.profile);
+  }
+
+  offset::GapLaw law = offset::constant_gap(o.gap);
+  if (!o.gap_law.empty()) {
+    law = offset::read_gap_law(o.gap_law);
+    law.blend = o.gap_blend;
+  }
+  offset::OffsetOptions oo;
+  oo.side = o.side == "outside" ? offset::Side::Outside : offset::Side::Inside;
+  oo.corner = o.corner == "sharp" ? offset::Corner::Sharp : offset::Corner::Round;
+  const auto result = offset::offset_profile(profile, law, oo);
+  if (result.contours.empty())
+    throw JobError("the " + o.side + " offset at this gap is empty (the gap is too large for the profile)");
+  const auto field = offset::make_clearance_field(profile, law);
+  const auto contours = offset::plan_leads(result, *field, o.lead);
+
+  offset::ProgramInfo info;
+  info.profile_file = o.mesh.empty() ? o.profile : o.mesh + " at " + o.plane;
+  info.gap_text = o.gap_law.empty() ? fixed(o.gap, 6) + " mm" : "law " + o.gap_law;
+  info.side = o.side;
+  info.corner = o.corner;
+  std::ostringstream program, svg;
+  if (o.target == "ecm") {
+    offset::EcmOptions ecm = o.ecm;
+    ecm.gap = o.gap;
+    ecm.voltage_follows_gap = ecm.voltage_follows_gap && !o.gap_law.empty();
+    offset::write_ecm_program(program, contours, info, ecm);
+  } else {
+    offset::write_milling_program(program, contours, info, o.milling);
+  }
+  if (!o.svg.empty()) offset::write_svg(svg, profile, contours);
+  // Everything is computed before the first file is written, so bad input leaves no output behind.
+  write_file_atomic(o.out, [&](std::ostream& f) { f << program.str(); });
+  if (!o.svg.empty()) write_file_atomic(o.svg, [&](std::ostream& f) { f << svg.str(); });
+  if (!o.profile_out.empty())
+    write_file_atomic(o.profile_out, [&](std::ostream& f) { f << offset::format_profile(profile); });
+}
+}  // namespace
+
+void add_offset_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("offset", "offset-profile trajectory for copy milling or ECM");
+  auto o = std::make_shared<OffsetCliOptions>();
+  cmd->add_option("PROFILE", o->profile, "profile text file (START x y, then R DX DY [LONG] a line)");
+  cmd->add_option("-d,--gap", o->gap, "gap (offset distance, tool radius or ECM gap), mm")->required();
+  cmd->add_option("--gap-law", o->gap_law, "CSV s,gap: gap along the profile's arc length (overrides -d's value)");
+  cmd->add_option("--gap-blend", o->gap_blend, "half-width of the parabolic blend at gap-law knots, mm (0: linear)");
+  cmd->add_option("--side", o->side, "inside or outside the figure")->check(CLI::IsMember({"inside", "outside"}));
+  cmd->add_option("--corner", o->corner, "round (constant gap) or sharp (intersection joins)")
+      ->check(CLI::IsMember({"round", "sharp"}));
+  cmd->add_option("--target", o->target, "milling or ecm")->check(CLI::IsMember({"milling", "ecm"}));
+  cmd->add_option("-o,--output", o->out, "NC program (.ngc)")->required();
+  cmd->add_option("--svg", o->svg, "SVG plot of profile and trajectory");
+  cmd->add_option("--mesh", o->mesh, "slice this part mesh instead of reading a PROFILE");
+  cmd->add_option("--plane", o->plane, "section plane for --mesh, z=H")->capture_default_str();
+  cmd->add_option("--fit-tolerance", o->fit_tolerance, "--mesh: line/arc fitting tolerance, mm")->default_val(0.01);
+  cmd->add_option("--profile-out", o->profile_out, "also write the profile used (e.g. fitted from --mesh)");
+  cmd->add_option("--lead", o->lead, "lead-in/out arc radius, mm")->default_val(2.0);
+  cmd->add_option("--feed", o->milling.feed, "milling feed, mm/min")->default_val(600);
+  cmd->add_option("--plunge-feed", o->milling.plunge_feed, "milling plunge feed, mm/min")->default_val(200);
+  cmd->add_option("--spindle", o->milling.spindle_rpm, "spindle speed, rpm")->default_val(8000);
+  cmd->add_option("--z-safe", o->milling.z_safe, "clearance height, mm")->default_val(5);
+  cmd->add_option("--z-cut", o->milling.z_cut, "milling depth (section plane height), mm")->default_val(0);
+  cmd->add_option("--ecm-feed", o->ecm.feed, "ECM electrode feed, mm/min")->default_val(20);
+  cmd->add_option("--ecm-voltage", o->ecm.voltage, "ECM voltage at the nominal gap, V")->default_val(12);
+  cmd->add_option("--ecm-electrolyte-on", o->ecm.electrolyte_on, "M-code: electrolyte on")->default_val("M8");
+  cmd->add_option("--ecm-electrolyte-off", o->ecm.electrolyte_off, "M-code: electrolyte off")->default_val("M9");
+  cmd->add_option("--ecm-flush", o->ecm.flush_dwell_s, "electrolyte flush before voltage, s")->default_val(2);
+  cmd->add_option("--ecm-dwell", o->ecm.start_dwell_s, "dwell with voltage on before moving, s")->default_val(1);
+  cmd->add_option("--ecm-end-dwell", o->ecm.end_dwell_s, "dwell after voltage off, s")->default_val(1);
+  cmd->add_option("--ecm-retract-every", o->ecm.retract_every_mm, "retract and flush every so many mm (0: never)")
+      ->default_val(0);
+  cmd->add_option("--ecm-retract-height", o->ecm.retract_height, "retract lift, mm")->default_val(2);
+  cmd->add_option("--ecm-z-work", o->ecm.z_work, "ECM working height, mm")->default_val(0);
+  cmd->add_option("--ecm-z-safe", o->ecm.z_safe, "ECM clearance height, mm")->default_val(10);
+  cmd->callback([o] { run_offset(*o); });
+}
+
+}  // namespace tf::cli

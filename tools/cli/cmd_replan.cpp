@@ -1,0 +1,70 @@
+// tiltfield replan SCENE ORIENTED.csv VERIFY.json -o ORIENTED2.csv [--stock-mesh STOCK.ply]
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/replan/replan.hpp"
+
+namespace tf::cli {
+
+namespace {
+struct ReplanArgs {
+  std::string scene, oriented, verify, out, stock_mesh;
+  ReplanOptions options;
+};
+
+void run_replan(const ReplanArgs& a) {
+  const Scene scene = load_scene(a.scene);
+  const OrientedPath original = read_oriented_csv(a.oriented);
+  if (original.rows.size() != scene.path.rows.size())
+    throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +
+                                            std::to_string(scene.path.rows.size()));
+  const std::vector<Collision> collisions = read_replan_collisions(a.verify);
+  const PlanOptions plan_options =
+      parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
+  // The stock as an obstacle for shank and holder: the in-process stock the verifier exported, or the raw
+  // stock (a superset of any in-process stock, so never optimistic).
+  const bool stock_hit =
+      std::any_of(collisions.begin(), collisions.end(), [](const Collision& c) { return c.with == HitWith::Stock; });
+  Mesh obstacle;
+  std::vector<const Mesh*> extra;
+  if (stock_hit) {
+    const Mesh stock = a.stock_mesh.empty() ? stock_to_mesh(scene.stock) : load_mesh(a.stock_mesh);
+    obstacle = stock_obstacle(stock, scene.path, scene.tool, scene.planner, scene.tool.radius() / 2.0,
+                              a.options.crop_margin_mm);
+    extra.push_back(&obstacle);
+  }
+  const ReplanResult r = replan(scene, original, collisions, extra, plan_options, a.options);
+  write_oriented_csv(r.path, a.out);
+  if (!global_options().quiet)
+    std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
+              << " rows changed, min clearance in the windows " << fixed(r.min_clearance_mm, 3) << " mm\n";
+  if (!r.uncleared.empty()) {
+    std::ostringstream msg;
+    msg << r.uncleared.size() << " re-planned row(s) still below their clearance (rows:";
+    for (size_t k = 0; k < r.uncleared.size() && k < 10; ++k) msg << " " << r.uncleared[k];
+    msg << (r.uncleared.size() > 10 ? " ...)" : ")");
+    throw JobError(msg.str());
+  }
+}
+}  // namespace
+
+void add_replan_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("replan", "re-plans the windows around detected collisions");
+  static ReplanArgs a;  // CLI11 binds options to storage living as long as the app
+  cmd->add_option("SCENE", a.scene, "scene JSON")->required();
+  cmd->add_option("ORIENTED", a.oriented, "oriented path CSV that was posted and verified")->required();
+  cmd->add_option("VERIFY", a.verify, "the verifier's report JSON")->required();
+  cmd->add_option("-o,--output", a.out, "re-planned oriented path CSV")->required();
+  cmd->add_option("--stock-mesh", a.stock_mesh, "in-process stock mesh from `verify --stock-mesh` (default: the raw stock)");
+  cmd->add_option("--window", a.options.window_mm, "rows within this arc length of a collision are re-planned, mm (0: derived)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--blend", a.options.blend_mm, "blend length at each window end, mm (0: derived)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([] { run_replan(a); });
+}
+
+}  // namespace tf::cli

@@ -1,0 +1,35 @@
+// tiltfield run [SCENE] [-o DIR]: the main job (see job.hpp).
+#include <iostream>
+
+#include "cli.hpp"
+#include "job.hpp"
+#include "tiltfield/core/error.hpp"
+
+namespace tf::cli {
+
+void add_run_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("run", "the main job: plan, post, verify, re-plan what collides, verify again, report");
+  struct Args {
+    std::string scene, dir = "out";
+    JobOptions options;
+    bool fail_on_collision = false;
+  };
+  static Args a;  // CLI11 binds options to storage living as long as the app
+  cmd->add_option("SCENE", a.scene, "scene JSON (default: the bundled impeller)");
+  cmd->add_option("-o,--output", a.dir, "output folder")->capture_default_str();
+  cmd->add_option("--resolution", a.options.resolution_mm, "verification dexel spacing, mm")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--rounds", a.options.max_rounds, "re-plan rounds at most")->capture_default_str()->check(CLI::Range(0, 20));
+  cmd->add_flag("--fail-on-collision", a.fail_on_collision, "exit 1 when collisions are left after re-planning");
+  cmd->callback([] {
+    const Scene scene = load_scene(a.scene.empty() ? bundled_scene("impeller") : std::filesystem::path(a.scene));
+    a.options.out_dir = a.dir;
+    a.options.progress = terminal_progress();
+    const JobSummary s = run_job(scene, a.options);
+    std::cout << format_summary(s, scene);
+    if (a.fail_on_collision && s.collisions_final > 0)
+      throw JobError(std::to_string(s.collisions_final) + " collision(s) left after re-planning");
+  });
+}
+
+}  // namespace tf::cli

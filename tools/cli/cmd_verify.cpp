@@ -1,0 +1,111 @@
+// `tiltfield verify SCENE PROGRAM.ngc -o VERIFY.json [--blocks BLOCKS.csv] [--stock-mesh STOCK.ply]
+//  [--resolution MM] [--engagement PAIRS.csv]`: tri-dexel material-removal simulation of a G-code program
+// (docs/verifier.md). With `--schedule-feed V`, -o names the rewritten program instead (docs/engagement.md).
+#include <iostream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/engagement/feed_schedule.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/scene.hpp"
+#include "tiltfield/dexel/verify.hpp"
+#include "tiltfield/engagement/engagement.hpp"
+
+namespace tf::cli {
+namespace {
+
+struct VerifyArgs {
+  std::string scene, program, out, blocks, stock_mesh, pairs, report;
+  double schedule_mrr = 0.0;
+  FeedScheduleOptions schedule;
+  bool no_engagement = false;
+  double resolution = 0.1;
+  double tolerance = 0.01;
+  int mesh_refine = 0;
+  bool stop_at_first = false;
+  bool fail_on_collision = false;
+};
+
+void run_verify(const VerifyArgs& a) {
+  if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
+  if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
+  const Scene scene = load_scene(a.scene);
+  const MachineSpec machine = scene.machine.value_or(MachineSpec{});
+  const Program program = read_gcode(a.program, machine);
+  VerifyOptions opt;
+  opt.resolution = a.resolution;
+  opt.sweep.tolerance = a.tolerance;
+  opt.stop_at_first_collision = a.stop_at_first;
+  if (!a.no_engagement) {
+    EngagementOptions eo;
+    eo.keep_pairs = !a.pairs.empty();
+    opt.engagement = engagement_probe(scene.tool, eo);
+  }
+  opt.progress = terminal_progress();
+  const bool scheduling = a.schedule_mrr != 0.0;
+  FeedScheduleOptions so = a.schedule;
+  so.max_mrr = a.schedule_mrr;
+  if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
+  if (scheduling) {
+    check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
+    if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
+  }
+  const VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
+  // Every output is written to a temporary name and renamed; the mesh first (slowest), the report last.
+  if (!a.stock_mesh.empty()) {
+    StockMeshOptions mo;
+    mo.refine = a.mesh_refine;
+    write_mesh(reconstruct_stock(result.stock, scene.design.n_faces() ? &scene.design : nullptr, mo), a.stock_mesh);
+  }
+  if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
+  if (!a.pairs.empty()) write_engagement_csv(result.report, a.pairs);
+  if (scheduling) {
+    // -o is the rewritten program here (the issue's `verify --schedule-feed V -o PROGRAM2.ngc`).
+    const FeedSchedule fs = schedule_feeds(program, result.report, so);
+    const std::string text = read_text_file(a.program, "G-code file");
+    if (!a.report.empty()) write_verify_json(result.report, a.report);
+    write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
+    print_feed_schedule("verify", so, fs);
+  } else {
+    write_verify_json(result.report, a.out);
+  }
+  const VerifyReport& r = result.report;
+  if (!global_options().quiet) {
+    std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "
+              << r.collisions.size() << " collisions, " << r.gouges.size() << " gouges (max " << fixed(r.max_gouge_mm, 3)
+              << " mm), " << fixed(r.seconds, 2) << " s\n";
+    for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
+  }
+  if (a.fail_on_collision && !r.collisions.empty())
+    throw JobError("verify: " + std::to_string(r.collisions.size()) + " collisions (first at line " +
+                   std::to_string(r.collisions.front().line) + ")");
+}
+
+}  // namespace
+
+void add_verify_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("verify", "tri-dexel material-removal simulation of a G-code program on the scene's machine");
+  static VerifyArgs args;  // CLI11 binds options to storage living as long as the app
+  cmd->add_option("SCENE", args.scene, "scene JSON")->required();
+  cmd->add_option("PROGRAM", args.program, "G-code program")->required();
+  cmd->add_option("-o,--output", args.out, "verification report JSON (with --schedule-feed: the rewritten program)")->required();
+  cmd->add_option("--blocks", args.blocks, "per-block CSV");
+  cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
+  cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
+  cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
+  cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
+      ->check(CLI::Range(0, 4));
+  cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");
+  cmd->add_flag("--no-engagement", args.no_engagement, "skip the engagement measurement (angles, area, depths)");
+  cmd->add_option("--schedule-feed", args.schedule_mrr,
+                  "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
+  cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();
+  cmd->add_option("--air-feed", args.schedule.air_feed, "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
+  cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON");
+  cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
+  cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
+  cmd->callback([] { run_verify(args); });
+}
+
+}  // namespace tf::cli

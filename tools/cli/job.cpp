@@ -1,0 +1,181 @@
+#include "job.hpp"
+
+#include "report/report.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/tilt/plan.hpp"
+#include "tiltfield/post/post.hpp"
+#include "tiltfield/replan/replan.hpp"
+#include "tiltfield/dexel/verify.hpp"
+#include "tiltfield/engagement/engagement.hpp"
+
+namespace tf {
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One posted and verified state of the path.
+struct Round {
+  OrientedPath path;
+  std::string program_text;
+  Program program;  // as read back from program_text, so block lines are the file's lines
+  VerifyResult verified;
+};
+
+void write_job_report(const Scene& scene, const OrientedPath& first_plan, const Round& final_round,
+                      const std::vector<reporting::RowWindow>& replanned, const Mesh& stock_mesh,
+                      const JobSummary& summary, double resolution_mm, const fs::path& file) {
+  using namespace reporting;
+  const VerifyReport& report = final_round.verified.report;
+  ReportInputs in;
+  in.scene = &scene;
+  in.oriented = &final_round.path;
+  in.first_plan = &first_plan;
+  in.replanned = replanned;
+  in.axes = block_axes(final_round.program);
+  for (const BlockResult& b : report.per_block) in.blocks.push_back(block_row(b));
+  in.collisions = report.collisions;
+  in.gouges = report.gouges;
+  in.stock = &stock_mesh;
+  if (scene.design.n_faces()) in.stock_deviation_mm = stock_deviation(stock_mesh, scene.design);
+  in.summary.title = scene.file.parent_path().filename().string();
+  in.summary.collisions_found = static_cast<int>(summary.collisions_first);
+  in.summary.collisions_fixed =
+      static_cast<int>(summary.collisions_first - std::min(summary.collisions_first, summary.collisions_final));
+  in.summary.min_clearance_mm = std::isfinite(summary.min_clearance_mm) ? summary.min_clearance_mm : -1.0;
+  in.summary.removed_volume_mm3 = report.removed_volume_mm3;
+  in.summary.max_gouge_mm = report.max_gouge_mm;
+  in.summary.resolution_mm = resolution_mm;
+  in.summary.stages = {{"plan", summary.seconds.plan},
+                       {"post", summary.seconds.post},
+                       {"verify", summary.seconds.verify},
+                       {"replan", summary.seconds.replan}};
+  write_html_report(in, file);
+}
+
+}  // namespace
+
+JobSummary run_job(const Scene& scene, const JobOptions& options) {
+  if (!scene.machine) throw InputError(scene.file.string(), 0, "machine", "the scene names no machine; `run` posts for one");
+  const MachineSpec& machine = *scene.machine;
+  JobSummary summary;
+  summary.rows = scene.path.rows.size();
+
+  // Plan.
+  auto t0 = std::chrono::steady_clock::now();
+  const PlanOptions plan_options =
+      parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
+  const PlanResult planned = plan(scene, plan_options, options.progress);
+  summary.nominal_colliding_rows = planned.metrics.rows_nominal_colliding;
+  summary.uncleared_rows = planned.uncleared.size();
+  summary.seconds.plan = seconds_since(t0);
+
+  PostJob post_job;
+  post_job.machine = machine;
+  post_job.tool = scene.tool;
+  post_job.feed = scene.feed;
+  post_job.part_bounds = scene_bounds(scene);
+  post_job.title = "tiltfield run: " + scene.file.filename().string();
+  const PostOptions post_options;
+  const ForwardFn forward = scene_forward(scene);
+  VerifyOptions verify_options;
+  verify_options.resolution = options.resolution_mm;
+  verify_options.progress = options.progress;
+  verify_options.engagement = engagement_probe(scene.tool);
+
+  auto post_and_verify = [&](OrientedPath path) {
+    auto t = std::chrono::steady_clock::now();
+    const Program posted = post_program(path, post_job, post_options, options.progress);
+    std::ostringstream text;
+    write_gcode(text, posted, post_job, post_options);
+    // Verify the text exactly as it will be written, so collisions name its lines.
+    Program read_back = parse_gcode(text.str(), (options.out_dir / "program.ngc").string(), machine);
+    summary.seconds.post += seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    VerifyResult verified = verify_program(scene, read_back, forward, verify_options);
+    summary.seconds.verify += seconds_since(t);
+    return Round{std::move(path), text.str(), std::move(read_back), std::move(verified)};
+  };
+
+  Round current = post_and_verify(planned.path);
+  std::vector<reporting::RowWindow> replanned;
+  summary.collisions_first = current.verified.report.collisions.size();
+
+  // Re-plan while collisions remain and each round reduces them.
+  while (!current.verified.report.collisions.empty() && summary.rounds < options.max_rounds) {
+    auto t = std::chrono::steady_clock::now();
+    StockMeshOptions mesh_options;
+    mesh_options.colour_by_deviation = false;
+    const Mesh in_process = reconstruct_stock(current.verified.stock, nullptr, mesh_options);
+    const Mesh obstacle = stock_obstacle(in_process, scene.path, scene.tool, scene.planner, scene.tool.radius() / 2.0, 0.5);
+    const ReplanResult re = replan(scene, current.path, current.verified.report.collisions, {&obstacle}, plan_options);
+    summary.seconds.replan += seconds_since(t);
+    ++summary.rounds;
+    Round next = post_and_verify(re.path);
+    if (next.verified.report.collisions.size() >= current.verified.report.collisions.size()) break;
+    summary.rows_replanned += re.rows_changed;
+    for (const auto& w : re.windows) replanned.push_back({static_cast<int>(w.first), static_cast<int>(w.last)});
+    current = std::move(next);
+  }
+
+  const VerifyReport& report = current.verified.report;
+  summary.collisions_final = report.collisions.size();
+  summary.gouges_final = report.gouges.size();
+  summary.max_gouge_mm = report.max_gouge_mm;
+  summary.blocks = static_cast<size_t>(report.blocks);
+  summary.removed_volume_mm3 = report.removed_volume_mm3;
+  summary.min_clearance_mm = std::numeric_limits<double>::infinity();
+  for (const auto& row : current.path.rows) summary.min_clearance_mm = std::min(summary.min_clearance_mm, row.clearance_mm);
+
+  // Outputs, each atomically; report.html last since it draws on the rest.
+  std::error_code ec;
+  fs::create_directories(options.out_dir, ec);
+  if (!fs::is_directory(options.out_dir)) throw InputError(options.out_dir.string(), 0, "-o", "cannot create the output folder");
+  auto wrote = [&](const char* name) {
+    summary.files.push_back((options.out_dir / name).string());
+    return options.out_dir / name;
+  };
+  write_oriented_csv(current.path, wrote("oriented.csv"));
+  write_file_atomic(wrote("program.ngc"), [&](std::ostream& out) { out << current.program_text; });
+  write_verify_json(report, wrote("verify.json"));
+  write_blocks_csv(report, wrote("blocks.csv"));
+  const Mesh stock_mesh = reconstruct_stock(current.verified.stock, scene.design.n_faces() ? &scene.design : nullptr);
+  write_mesh(stock_mesh, wrote("stock.ply"));
+  if (options.write_report) {
+    const auto t = std::chrono::steady_clock::now();
+    write_job_report(scene, planned.path, current, replanned, stock_mesh, summary, options.resolution_mm,
+                     wrote("report.html"));
+    summary.seconds.report = seconds_since(t);
+  }
+  return summary;
+}
+
+std::string format_summary(const JobSummary& s, const Scene& scene) {
+  std::ostringstream o;
+  o << "tiltfield run: " << scene.file.string() << "\n"
+    << "  path         " << s.rows << " rows; nominal axis too close on " << s.nominal_colliding_rows << " rows\n"
+    << "  plan         min clearance " << (std::isfinite(s.min_clearance_mm) ? fixed(s.min_clearance_mm, 3) : "inf")
+    << " mm (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n"
+    << "  program      " << s.blocks << " blocks\n"
+    << "  collisions   " << s.collisions_first << " found, " << (s.collisions_first - std::min(s.collisions_first, s.collisions_final))
+    << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n"
+    << "  gouges       " << s.gouges_final << " (max " << fixed(s.max_gouge_mm, 3) << " mm)\n"
+    << "  removed      " << fixed(s.removed_volume_mm3, 1) << " mm3\n"
+    << "  time (s)     plan " << fixed(s.seconds.plan, 2) << ", post " << fixed(s.seconds.post, 2) << ", verify "
+    << fixed(s.seconds.verify, 2) << ", replan " << fixed(s.seconds.replan, 2) << ", report " << fixed(s.seconds.report, 2)
+    << "\n";
+  for (const auto& f : s.files) o << "  wrote        " << f << "\n";
+  return o.str();
+}
+
+}  // namespace tf

@@ -1,0 +1,43 @@
+// tiltfield: 5-axis tool-axis planning, posting and verification. See README.md.
+#include <iostream>
+
+#include "cli.hpp"
+#include "tiltfield/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"tiltfield: 5-axis tool-axis planning, posting and verification (mm, deg, mm/min)", "tiltfield"};
+  app.set_version_flag("--version", std::string("tiltfield ") + TILTFIELD_VERSION);
+  app.add_flag("-q,--quiet", tf::cli::global_options().quiet, "no progress output");
+  app.require_subcommand(1);
+  tf::cli::add_run_command(app);
+  tf::cli::add_plan_command(app);
+  tf::cli::add_post_command(app);
+  tf::cli::add_verify_command(app);
+  tf::cli::add_replan_command(app);
+  tf::cli::add_offset_command(app);
+  tf::cli::add_grind_command(app);
+  tf::cli::add_scene_command(app);
+  tf::cli::add_check_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "tiltfield: " << e.what() << " (see --help)\n";
+    return 2;
+  } catch (const tf::InputError& e) {
+    std::cerr << "tiltfield: " << e.what() << "\n";
+    return 2;
+  } catch (const tf::JobError& e) {
+    std::cerr << "tiltfield: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "tiltfield: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

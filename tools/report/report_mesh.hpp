@@ -1,0 +1,47 @@
+// tiltfield report: meshes for the 3-D view, decimated to a triangle budget and packed compactly
+// (quantised Uint16 positions, Uint16/Uint32 indices, Float32 per-vertex values, base64) for the
+// embedded JSON that the viewer script decodes.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tiltfield/core/mesh.hpp"
+
+namespace tf::reporting {
+
+// A shared-vertex triangle mesh in single precision with an optional scalar per vertex.
+struct IndexedMesh {
+  std::vector<Eigen::Vector3f> V;             // mm
+  std::vector<std::array<uint32_t, 3>> F;     // counter-clockwise from outside
+  std::vector<float> values;                  // empty, or one per vertex (e.g. deviation, mm)
+};
+
+// Copies a mesh; `values` (may be null) must then hold one entry per vertex.
+IndexedMesh to_indexed(const Mesh& mesh, const std::vector<double>* values);
+
+// Vertex clustering on a grid of `cell` mm. Vertices of one cell merge only when their normals face the
+// same way (dominant axis and sign), so the two sides of a wall thinner than a cell stay apart. Merged
+// positions and values are the means; collapsed triangles are dropped. cell <= 0 returns a copy.
+IndexedMesh cluster_decimate(const IndexedMesh& mesh, double cell);
+
+// Decimates with a growing cell until at most `max_triangles` remain (returns the mesh unchanged when it
+// already fits). The cell starts from the mesh's area so a few passes suffice.
+IndexedMesh decimate_to_budget(const IndexedMesh& mesh, size_t max_triangles);
+
+// Standard base64 (RFC 4648, with padding) of raw bytes.
+std::string base64(const void* data, size_t bytes);
+
+// The viewer's mesh record: {"positions": b64 Uint16 x3, "origin": [..], "scale": [..] (mm per unit),
+// "indices": b64, "index_bits": 16|32, "values": b64 Float32 (only when present), "triangles": n}.
+// Quantisation error is at most half a unit: bounding-box size / 131070 per axis.
+nlohmann::json encode_mesh(const IndexedMesh& mesh);
+
+// Float32 array as base64 (line segments, points).
+std::string base64_floats(const std::vector<float>& v);
+
+}  // namespace tf::reporting

@@ -1,0 +1,256 @@
+// tiltfield report: the 3-D view's data. Meshes are decimated to the options' triangle budget and
+// packed by report_mesh; lines and points go as base64 Float32 arrays.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "report_internal.hpp"
+#include "report_mesh.hpp"
+#include "tiltfield/core/io.hpp"
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/triangle_bvh.hpp"
+
+namespace tf::reporting {
+
+namespace {
+
+IndexedMesh merged(const std::vector<Mesh>& meshes) {
+  IndexedMesh out;
+  for (const auto& m : meshes) {
+    IndexedMesh part = to_indexed(m, nullptr);
+    const auto base = uint32_t(out.V.size());
+    out.V.insert(out.V.end(), part.V.begin(), part.V.end());
+    for (auto f : part.F) out.F.push_back({f[0] + base, f[1] + base, f[2] + base});
+  }
+  return out;
+}
+
+// Value at fraction q of the sorted values (nearest rank).
+double quantile(std::vector<float> v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+struct MeshLayer {
+  std::string id, label, color;
+  double opacity = 1.0;
+  bool visible = true;
+  double weight = 1.0;  // share of the triangle budget per triangle
+  IndexedMesh mesh;
+};
+
+// The tool's outline as (radius, height) pairs from the tip up, steps at the component changes, for a
+// lathe (surface of revolution) in the viewer.
+nlohmann::json tool_profile(const Tool& tool) {
+  nlohmann::json pts = nlohmann::json::array();
+  const double eps = 1e-6;
+  const double end = tool.end_height();
+  for (int i = 0; i <= 16; ++i) {
+    const double h = end * i / 16.0;
+    pts.push_back({tool.radius_at(std::max(h, eps)), h});
+  }
+  std::vector<double> steps{tool.flute_length, tool.length};
+  double h = tool.length;
+  for (const auto& seg : tool.holder) steps.push_back(h += seg.length);
+  for (double s : steps) {
+    if (s <= end) continue;
+    pts.push_back({tool.radius_at(s - eps), s});
+    pts.push_back({s >= tool.total_length() - eps ? 0.0 : tool.radius_at(s + eps), s});
+  }
+  return pts;
+}
+
+// Tool tips of the posted blocks in the part frame, by block index (needs the machine for joint programs).
+std::map<int, ToolPose> block_poses(const ReportInputs& in) {
+  std::map<int, ToolPose> poses;
+  std::optional<Kinematics> kin;
+  if (in.scene->machine) kin.emplace(*in.scene->machine, in.scene->tool.length);
+  for (const auto& b : in.axes) {
+    ToolPose pose;
+    if (kin) {
+      pose = kin->forward(b.joints);
+      if (b.tcp) pose.tip = {b.joints.x, b.joints.y, b.joints.z};
+    } else {
+      pose.tip = {b.joints.x, b.joints.y, b.joints.z};
+    }
+    poses[b.block] = pose;
+  }
+  return poses;
+}
+
+void push(std::vector<float>& v, const Eigen::Vector3d& p) {
+  v.push_back(float(p.x()));
+  v.push_back(float(p.y()));
+  v.push_back(float(p.z()));
+}
+
+nlohmann::json pose_json(const ToolPose& pose, const std::string& label) {
+  return {{"tip", {pose.tip.x(), pose.tip.y(), pose.tip.z()}},
+          {"axis", {pose.axis.x(), pose.axis.y(), pose.axis.z()}},
+          {"label", label}};
+}
+
+}  // namespace
+
+std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design) {
+  std::vector<double> dev(stock.n_vertices(), 0.0);
+  if (design.n_faces() == 0) return dev;
+  const TriangleBvh bvh({&design});
+  int hint = -1;
+  for (auto vh : stock.vertices()) {
+    const Eigen::Vector3d p = to_eigen(stock.point(vh));
+    const ClosestHit hit = bvh.closest(p, std::numeric_limits<double>::infinity(), hint);
+    if (hit.triangle < 0) continue;
+    hint = hit.triangle;
+    const Triangle& t = bvh.triangle(hit.triangle);
+    const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
+    dev[size_t(vh.idx())] = (p - hit.point).dot(n) >= 0.0 ? hit.distance : -hit.distance;
+  }
+  return dev;
+}
+
+nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& options) {
+  const Scene& scene = *in.scene;
+  nlohmann::json layers = nlohmann::json::array();
+
+  std::vector<MeshLayer> meshes;
+  if (in.stock && in.stock->n_faces() > 0) {
+    const bool colored = !in.stock_deviation_mm.empty();
+    meshes.push_back({"stock", colored ? "Machined stock, coloured by deviation" : "Machined stock", "#c9b37e", 1.0,
+                      true, 1.0, to_indexed(*in.stock, colored ? &in.stock_deviation_mm : nullptr)});
+  } else {
+    meshes.push_back({"raw-stock", "Raw stock", "#c9b37e", 0.18, false, 0.3, to_indexed(stock_to_mesh(scene.stock, 64), nullptr)});
+  }
+  if (!scene.check_surfaces.empty())
+    meshes.push_back({"check", "Check surfaces", "#6f9fd8", 0.85, true, 1.0, merged(scene.check_surfaces)});
+  if (options.include_design && scene.design.n_faces() > 0)
+    // Under a machined stock the design is mostly hidden: a smaller share of the budget, off by default.
+    meshes.push_back({"design", "Design surface", "#b9bec6", 1.0, !in.stock, in.stock ? 0.5 : 1.0,
+                      to_indexed(scene.design, nullptr)});
+  // Water-filling: a mesh below its weighted share of the budget keeps every triangle and leaves the rest
+  // to the others, so a small check surface stays exact next to a million-triangle stock.
+  std::vector<size_t> budget(meshes.size(), 0);
+  std::vector<bool> open(meshes.size(), true);
+  double remaining = double(options.max_triangles);
+  for (bool changed = true; changed;) {
+    changed = false;
+    double weights = 0.0;
+    for (size_t i = 0; i < meshes.size(); ++i)
+      if (open[i]) weights += meshes[i].weight;
+    for (size_t i = 0; i < meshes.size() && weights > 0.0; ++i)
+      if (open[i] && double(meshes[i].mesh.F.size()) <= remaining * meshes[i].weight / weights) {
+        budget[i] = meshes[i].mesh.F.size();
+        remaining -= double(budget[i]);
+        open[i] = false;
+        changed = true;
+      }
+    if (!changed)
+      for (size_t i = 0; i < meshes.size(); ++i)
+        if (open[i]) budget[i] = size_t(std::max(0.0, remaining * meshes[i].weight / weights));
+  }
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    auto& m = meshes[i];
+    const size_t original = m.mesh.F.size();
+    if (original > budget[i]) m.mesh = decimate_to_budget(m.mesh, budget[i]);
+    nlohmann::json layer{{"id", m.id},           {"label", m.label},     {"kind", "mesh"},
+                         {"color", m.color},     {"opacity", m.opacity}, {"visible", m.visible},
+                         {"original_triangles", original}, {"mesh", encode_mesh(m.mesh)}};
+    if (!m.mesh.values.empty()) {
+      const double lo = std::min(quantile(m.mesh.values, 0.01), -0.01);
+      const double hi = std::max(quantile(m.mesh.values, 0.99), 0.01);
+      layer["value_label"] = "deviation from the design (mm): \u2212 over-cut, + material left";
+      layer["value_range"] = {lo, hi};
+    }
+    layers.push_back(std::move(layer));
+  }
+
+  // Path and tool axes at evenly spaced rows, coloured by clearance.
+  const double safety = scene.planner.safety_distance;
+  std::vector<Eigen::Vector3d> path_points;
+  if (in.oriented)
+    for (const auto& r : in.oriented->rows) path_points.push_back(r.p);
+  else
+    for (const auto& r : scene.path.rows) path_points.push_back(r.p);
+  if (!path_points.empty()) {
+    std::vector<float> line;
+    const size_t stride = std::max<size_t>(1, path_points.size() / 40000);
+    for (size_t i = 0; i < path_points.size(); i += stride) push(line, path_points[i]);
+    if ((path_points.size() - 1) % stride != 0) push(line, path_points.back());
+    layers.push_back({{"id", "path"}, {"label", "Tool path (cutter locations)"}, {"kind", "line"},
+                      {"color", "#e0301e"}, {"visible", true}, {"positions", base64_floats(line)}});
+  }
+  nlohmann::json tool_poses = nlohmann::json::array();
+  if (in.oriented && !in.oriented->rows.empty()) {
+    const auto& rows = in.oriented->rows;
+    const size_t n = rows.size();
+    const size_t samples = std::min<size_t>(n, size_t(std::max(options.axis_samples, 1)));
+    std::vector<float> seg, clearance;
+    for (size_t k = 0; k < samples; ++k) {
+      const size_t i = samples == 1 ? 0 : (k * (n - 1) + (samples - 1) / 2) / (samples - 1);
+      const Eigen::Vector3d tip = row_tip(rows[i], scene.tool);
+      push(seg, tip);
+      push(seg, tip + rows[i].axis.normalized() * scene.tool.length);  // tip to holder face
+      // +inf: nothing near (drawn as clear); NaN: not known (drawn grey).
+      const double c = rows[i].clearance_mm;
+      clearance.push_back(std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : std::isinf(c) ? 1e9f : float(c));
+    }
+    layers.push_back({{"id", "axes"},
+                      {"label", "Tool axes at " + std::to_string(samples) + " rows, coloured by clearance"},
+                      {"kind", "segments"},
+                      {"visible", true},
+                      {"positions", base64_floats(seg)},
+                      {"values", base64_floats(clearance)},
+                      {"value_label", "clearance to the check surfaces (mm)"},
+                      {"value_range", {0.0, std::max(3.0 * safety, 0.1)}},
+                      {"safety_distance", safety}});
+    size_t tight = 0;
+    for (size_t i = 0; i < n; ++i)
+      if (std::isfinite(rows[i].clearance_mm) && !(rows[tight].clearance_mm <= rows[i].clearance_mm)) tight = i;
+    if (std::isfinite(rows[tight].clearance_mm))
+      tool_poses.push_back(pose_json({row_tip(rows[tight], scene.tool), rows[tight].axis.normalized()},
+                                     "tightest row " + std::to_string(tight + 1) + ": clearance " +
+                                         fixed(rows[tight].clearance_mm, 3) + " mm"));
+  }
+
+  // Collision and gouge sites at the tool tip of their block's end point.
+  const auto poses = block_poses(in);
+  auto sites = [&](auto const& items, const std::string& id, const std::string& label, const std::string& color,
+                   auto describe) {
+    std::vector<float> pts;
+    nlohmann::json titles = nlohmann::json::array();
+    std::map<int, bool> seen;
+    for (const auto& item : items) {
+      auto it = poses.find(item.block);
+      if (it == poses.end() || seen[item.block]) continue;
+      seen[item.block] = true;
+      push(pts, it->second.tip);
+      titles.push_back(describe(item));
+    }
+    if (pts.empty()) return;
+    layers.push_back({{"id", id}, {"label", label}, {"kind", "points"}, {"color", color}, {"visible", true},
+                      {"positions", base64_floats(pts)}, {"titles", titles}});
+  };
+  sites(in.collisions, "collisions", "Collision sites (tool tip at the block end)", "#ff1744", [](const Collision& c) {
+    return "block " + std::to_string(c.block) + ", line " + std::to_string(c.line) + ": " + collision_kind(c) + " " + fixed(c.depth_mm, 3) + " mm";
+  });
+  sites(in.gouges, "gouges", "Gouge sites", "#ff9100", [](const Gouge& g) {
+    return "block " + std::to_string(g.block) + ", line " + std::to_string(g.line) + ": gouge " + fixed(g.depth_mm, 3) + " mm";
+  });
+  if (!in.collisions.empty()) {
+    auto it = poses.find(in.collisions.front().block);
+    if (it != poses.end())
+      tool_poses.push_back(pose_json(it->second, "first collision, block " + std::to_string(in.collisions.front().block)));
+  }
+  if (!tool_poses.empty())
+    layers.push_back({{"id", "tool"}, {"label", "Tool body at the tightest row / first collision"}, {"kind", "tool"},
+                      {"color", "#f2c14e"}, {"visible", true}, {"profile", tool_profile(scene.tool)},
+                      {"poses", tool_poses}});
+  return {{"up", {0, 0, 1}}, {"layers", layers}};
+}
+
+}  // namespace tf::reporting

@@ -1,0 +1,51 @@
+// tiltfield report: the report's inputs from a program and from the files of a `tiltfield run` folder.
+#include <cmath>
+
+#include "report.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf::reporting {
+
+std::vector<BlockAxes> block_axes(const Program& program) {
+  std::vector<BlockAxes> axes;
+  axes.reserve(program.blocks.size());
+  for (size_t i = 0; i < program.blocks.size(); ++i) {
+    const Block& b = program.blocks[i];
+    axes.push_back({int(i) + 1, b.line, b.target, b.motion == Motion::Rapid, b.tcp});
+  }
+  return axes;
+}
+
+std::unique_ptr<RunFolder> load_run_folder(const Scene& scene, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  auto run = std::make_unique<RunFolder>();
+  ReportInputs& in = run->inputs;
+  in.scene = &scene;
+  if (fs::exists(dir / "oriented.csv")) {
+    run->oriented = read_oriented_csv(dir / "oriented.csv");
+    in.oriented = &run->oriented;
+  }
+  if (fs::exists(dir / "program.ngc"))
+    in.axes = block_axes(read_gcode(dir / "program.ngc", scene.machine.value_or(MachineSpec{})));
+  if (fs::exists(dir / "verify.json")) {
+    VerifyReport v = read_verify_json(dir / "verify.json");
+    in.collisions = std::move(v.collisions);
+    in.gouges = std::move(v.gouges);
+    // Figures the file does not give are NaN: the page shows them as unknown.
+    auto known = [](double x) { return std::isnan(x) ? -1.0 : x; };
+    in.summary.removed_volume_mm3 = known(v.removed_volume_mm3);
+    in.summary.max_gouge_mm = known(v.max_gouge_mm);
+    in.summary.resolution_mm = known(v.resolution_mm);
+  }
+  if (fs::exists(dir / "blocks.csv")) in.blocks = read_blocks_csv(dir / "blocks.csv");
+  if (fs::exists(dir / "stock.ply")) {
+    run->stock = load_mesh(dir / "stock.ply");
+    in.stock = &run->stock;
+    in.stock_deviation_mm = stock_deviation(run->stock, scene.design);
+  }
+  return run;
+}
+
+}  // namespace tf::reporting

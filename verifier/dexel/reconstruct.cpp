@@ -1,0 +1,371 @@
+// Stock mesh from the tri-dexel: dual contouring on the lattice (surface nets). Node occupancy comes from
+// the z rays; every lattice edge whose two nodes differ is crossed by the surface at the dexel end lying on
+// that edge (its exact position, from the ray along the edge); each cell with such edges gets one vertex
+// from its crossings, and each crossed edge one quad joining the four cells around it. The result is
+// closed by construction (the lattice has empty padding nodes on every side). Processed one z layer of
+// cells at a time, so memory stays proportional to a layer plus the output.
+// GCC 12 reports -Wmaybe-uninitialized inside OpenMesh's colour property code (a value-initialised
+// colour vector) when request_vertex_colors() is inlined here; it is a false positive in a system header.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include <Eigen/Eigenvalues>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "raycast.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace tf {
+namespace {
+
+// The coordinate (relative to the lattice origin) where ray r has an interval end within [a, b].
+float crossing(const Dexel& r, float a, float b) {
+  for (const Interval& iv : r) {
+    if (iv.lo >= a && iv.lo <= b) return iv.lo;
+    if (iv.hi >= a && iv.hi <= b) return iv.hi;
+  }
+  return 0.5f * (a + b);  // occupancy and ray disagree (a sub-cell feature): the edge midpoint
+}
+
+struct Builder {
+  const TriDexel& td;
+  const Lattice& L;
+  int nx, ny, nz;
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> faces;
+  std::vector<Eigen::Vector3d> points;   // the exact crossings of every vertex's cell
+  std::vector<uint32_t> point_start{0};  // vertex v owns points[point_start[v], point_start[v + 1])
+  std::vector<uint8_t> occ0, occ1;   // node layers k and k+1
+  std::vector<int> cells_prev, cells_cur;  // vertex ids of cell layers k-1 and k (-1: none)
+  std::vector<uint32_t> cursor;            // per z ray: its first interval not below the current layer
+  std::vector<uint8_t> column;             // per node column of the cell layer: occ0 | occ1 << 1
+
+  explicit Builder(const TriDexel& t) : td(t), L(t.lattice()), nx(L.n[0]), ny(L.n[1]), nz(L.n[2]) {}
+
+  // Node occupancy of layer k from the z rays. Layers come in increasing k, so each ray keeps a cursor
+  // to its first interval not wholly below the layer: O(1) a node, not a walk along the ray.
+  void fill_layer(std::vector<uint8_t>& occ, int k) {
+    occ.assign(size_t(nx) * ny, 0);
+    cursor.resize(size_t(nx) * ny, 0);
+    const float t = float(k * L.h);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Dexel& r = td.ray(2, i, j);
+        uint32_t& c = cursor[size_t(j) * nx + i];
+        while (c < r.size() && r.begin()[c].hi <= t) ++c;
+        occ[size_t(j) * nx + i] = c < r.size() && t >= r.begin()[c].lo;
+      }
+  }
+
+  // Exact crossing points on the edges of cell (i, j, k); corners from the two occupancy layers.
+  bool cell_vertex(int i, int j, int k, Eigen::Vector3d& out) {
+    auto o = [&](int di, int dj, int dk) {
+      return (dk ? occ1 : occ0)[size_t(j + dj) * nx + (i + di)] != 0;
+    };
+    // Most cells lie wholly inside or outside: all eight corners alike, no crossing.
+    const bool c0 = o(0, 0, 0);
+    if (o(1, 0, 0) == c0 && o(0, 1, 0) == c0 && o(1, 1, 0) == c0 && o(0, 0, 1) == c0 && o(1, 0, 1) == c0 &&
+        o(0, 1, 1) == c0 && o(1, 1, 1) == c0)
+      return false;
+    const float h = float(L.h);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        // x edges at (j + a, k + b)
+        if (o(0, a, b) != o(1, a, b)) {
+          const float x = crossing(td.ray(0, j + a, k + b), i * h, (i + 1) * h);
+          sum += Eigen::Vector3d(x, (j + a) * L.h, (k + b) * L.h);
+          points.push_back(L.origin + Eigen::Vector3d(x, (j + a) * L.h, (k + b) * L.h));
+          ++n;
+        }
+        // y edges at (x = i + a, z = k + b): grid 1 has u = z, v = x
+        if (o(a, 0, b) != o(a, 1, b)) {
+          const float y = crossing(td.ray(1, k + b, i + a), j * h, (j + 1) * h);
+          sum += Eigen::Vector3d((i + a) * L.h, y, (k + b) * L.h);
+          points.push_back(L.origin + Eigen::Vector3d((i + a) * L.h, y, (k + b) * L.h));
+          ++n;
+        }
+        // z edges at (i + a, j + b)
+        if (o(a, b, 0) != o(a, b, 1)) {
+          const float z = crossing(td.ray(2, i + a, j + b), k * h, (k + 1) * h);
+          sum += Eigen::Vector3d((i + a) * L.h, (j + b) * L.h, z);
+          points.push_back(L.origin + Eigen::Vector3d((i + a) * L.h, (j + b) * L.h, z));
+          ++n;
+        }
+      }
+    if (n == 0) return false;
+    out = L.origin + sum / n;
+    return true;
+  }
+
+  void quad(int a, int b, int c, int d, bool flip) {
+    if (a < 0 || b < 0 || c < 0 || d < 0) return;  // cannot happen inside the padded lattice
+    if (flip) std::swap(b, d);
+    faces.emplace_back(a, b, c);
+    faces.emplace_back(a, c, d);
+  }
+
+  void run() {
+    const size_t layer = size_t(nx) * ny;
+    cells_prev.assign(layer, -1);
+    std::vector<uint8_t> occ_next;
+    fill_layer(occ0, 0);
+    for (int k = 0; k + 1 < nz; ++k) {
+      fill_layer(occ1, k + 1);
+      cells_cur.assign(layer, -1);
+      // Per node column of this cell layer: 0 (both nodes out), 3 (both in), else mixed.
+      column.resize(layer);
+      for (size_t c = 0; c < layer; ++c) column[c] = static_cast<uint8_t>(occ0[c] | (occ1[c] << 1));
+      for (int j = 0; j + 1 < ny; ++j) {
+        const uint8_t *r0 = &column[size_t(j) * nx], *r1 = r0 + nx;
+        for (int i = 0; i + 1 < nx;) {
+          // Eight cells at once where their nine columns on both rows are alike and not mixed (most of the
+          // lattice is wholly in or out): a, b, c, d equal means r0[i..i+8] and r1[i..i+8] all one value.
+          if (i + 9 <= nx) {
+            uint64_t a, b, c, d;
+            std::memcpy(&a, r0 + i, 8);
+            std::memcpy(&b, r0 + i + 1, 8);
+            std::memcpy(&c, r1 + i, 8);
+            std::memcpy(&d, r1 + i + 1, 8);
+            if (a == b && c == d && a == c && (a == 0 || a == 0x0303030303030303ull)) {
+              i += 8;
+              continue;
+            }
+          }
+          Eigen::Vector3d p;
+          if (cell_vertex(i, j, k, p)) {
+            cells_cur[size_t(j) * nx + i] = static_cast<int>(vertices.size());
+            vertices.push_back(p);
+            point_start.push_back(static_cast<uint32_t>(points.size()));
+          }
+          ++i;
+        }
+      }
+      auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
+        if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return -1;
+        return layer_ids[size_t(j) * nx + i];
+      };
+      // z edges (i, j, k)-(i, j, k+1): cells (i-1..i, j-1..j) of layer k. Material below: normal +z.
+      for (int j = 1; j + 1 < ny; ++j)
+        for (int i = 1; i + 1 < nx; ++i) {
+          const bool lo = occ0[size_t(j) * nx + i], hi = occ1[size_t(j) * nx + i];
+          if (lo == hi) continue;
+          quad(cell(cells_cur, i - 1, j - 1), cell(cells_cur, i, j - 1), cell(cells_cur, i, j), cell(cells_cur, i - 1, j), !lo);
+        }
+      // x and y edges on node layer k (k >= 1): cells of layers k-1 and k.
+      if (k >= 1) {
+        for (int j = 1; j + 1 < ny; ++j)
+          for (int i = 0; i + 1 < nx; ++i) {
+            // x edge (i, j, k)-(i+1, j, k): cells (i, j-1..j, k-1..k). Material at i: normal +x.
+            const bool lo = occ0[size_t(j) * nx + i], hi = occ0[size_t(j) * nx + i + 1];
+            if (lo == hi) continue;
+            quad(cell(cells_prev, i, j - 1), cell(cells_prev, i, j), cell(cells_cur, i, j), cell(cells_cur, i, j - 1), !lo);
+          }
+        for (int j = 0; j + 1 < ny; ++j)
+          for (int i = 1; i + 1 < nx; ++i) {
+            // y edge (i, j, k)-(i, j+1, k): cells (i-1..i, j, k-1..k). Material at j: normal +y.
+            const bool lo = occ0[size_t(j) * nx + i], hi = occ0[size_t(j + 1) * nx + i];
+            if (lo == hi) continue;
+            quad(cell(cells_prev, i - 1, j), cell(cells_cur, i - 1, j), cell(cells_cur, i, j), cell(cells_prev, i, j), !lo);
+          }
+      }
+      std::swap(cells_prev, cells_cur);
+      std::swap(occ0, occ1);
+    }
+  }
+};
+
+// A local algebraic sphere (a plane when flat) fitted to the exact crossings around a vertex (the
+// vertex's cell and its neighbours): u0 + u.x + u4 |x|^2 = 0 on points centred and scaled for conditioning.
+struct LocalFit {
+  bool valid = false;
+  bool plane = false;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // sphere centre, or plane normal
+  double r = 0.0;                               // sphere radius, or plane offset (n.x = r)
+  Eigen::Vector3d project(const Eigen::Vector3d& p) const {
+    if (plane) return p - (c.dot(p) - r) * c;
+    const Eigen::Vector3d d = p - c;
+    const double n = d.norm();
+    return n > 0 ? Eigen::Vector3d(c + d * (r / n)) : p;
+  }
+  double distance(const Eigen::Vector3d& p) const { return plane ? std::abs(c.dot(p) - r) : std::abs((p - c).norm() - r); }
+};
+
+LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
+  LocalFit f;
+  if (P.size() < 6) return f;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : P) mean += p;
+  mean /= double(P.size());
+  double scale = 0.0;
+  for (const auto& p : P) scale += (p - mean).squaredNorm();
+  scale = std::sqrt(scale / double(P.size()));
+  if (scale <= 0) return f;
+  Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
+  for (const auto& p : P) {
+    const Eigen::Vector3d q = (p - mean) / scale;
+    Eigen::Matrix<double, 5, 1> a;
+    a << 1.0, q.x(), q.y(), q.z(), q.squaredNorm();
+    M += a * a.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(M);
+  const Eigen::Matrix<double, 5, 1> u = es.eigenvectors().col(0);
+  const Eigen::Vector3d g = u.segment<3>(1);
+  if (std::abs(u[4]) < 1e-9 * g.norm() || std::abs(u[4]) < 1e-12) {
+    if (g.norm() < 1e-12) return f;
+    f.plane = true;
+    f.c = g.normalized();
+    // u0 + g.q = 0 with q = (x - mean) / scale  ->  n.x = n.mean - u0 scale / |g|
+    f.r = f.c.dot(mean) - u[0] * scale / g.norm();
+  } else {
+    const Eigen::Vector3d cq = -g / (2.0 * u[4]);
+    const double r2 = cq.squaredNorm() - u[0] / u[4];
+    if (!(r2 > 0)) return f;
+    f.c = mean + scale * cq;
+    f.r = scale * std::sqrt(r2);
+  }
+  for (const auto& p : P)
+    if (f.distance(p) > tolerance) return f;
+  f.valid = true;
+  return f;
+}
+
+// Moves each vertex onto the surface fitted to its neighbourhood's exact crossings where that fit is
+// good (smooth regions); keeps the mass point near edges and corners, where no sphere fits.
+std::vector<LocalFit> smooth_vertices(Builder& b) {
+  const size_t nv = b.vertices.size();
+  std::vector<std::vector<int>> ring(nv);
+  for (const auto& f : b.faces)
+    for (int k = 0; k < 3; ++k) {
+      ring[f[k]].push_back(f[(k + 1) % 3]);
+      ring[f[k]].push_back(f[(k + 2) % 3]);
+    }
+  std::vector<LocalFit> fits(nv);
+  const double tol = 0.05 * b.L.h;
+  // Each vertex's fit depends on its own neighbourhood only: in parallel.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 1024), [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<Eigen::Vector3d> P;
+    for (size_t v = range.begin(); v != range.end(); ++v) {
+      auto& r = ring[v];
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      P.clear();
+      for (int w : r) P.insert(P.end(), b.points.begin() + b.point_start[w], b.points.begin() + b.point_start[w + 1]);
+      P.insert(P.end(), b.points.begin() + b.point_start[v], b.points.begin() + b.point_start[v + 1]);
+      std::sort(P.begin(), P.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& c) {
+        return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
+      });
+      P.erase(std::unique(P.begin(), P.end()), P.end());
+      fits[v] = fit_points(P, tol);
+    }
+  });
+  for (size_t v = 0; v < nv; ++v) {
+    if (!fits[v].valid) continue;
+    const Eigen::Vector3d q = fits[v].project(b.vertices[v]);
+    if ((q - b.vertices[v]).norm() <= b.L.h) b.vertices[v] = q;
+    else fits[v].valid = false;
+  }
+  return fits;
+}
+
+// Splits every triangle in four; the new edge midpoints go onto the vertices' fitted surfaces.
+void refine(std::vector<Eigen::Vector3d>& V, std::vector<Eigen::Vector3i>& F, std::vector<LocalFit>& fits) {
+  std::map<std::pair<int, int>, int> mid;
+  std::vector<Eigen::Vector3i> G;
+  G.reserve(F.size() * 4);
+  auto midpoint = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    auto it = mid.find(key);
+    if (it != mid.end()) return it->second;
+    const Eigen::Vector3d m = 0.5 * (V[a] + V[b]);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int e : {a, b})
+      if (fits[e].valid) {
+        sum += fits[e].project(m);
+        ++n;
+      }
+    V.push_back(n ? Eigen::Vector3d(sum / n) : m);
+    fits.push_back(fits[a].valid ? fits[a] : fits[b]);
+    const int id = static_cast<int>(V.size()) - 1;
+    mid.emplace(key, id);
+    return id;
+  };
+  for (const auto& f : F) {
+    const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+    G.emplace_back(f[0], a, c);
+    G.emplace_back(f[1], b, a);
+    G.emplace_back(f[2], c, b);
+    G.emplace_back(a, b, c);
+  }
+  F.swap(G);
+}
+
+Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F) {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> vh(V.size());
+  for (size_t i = 0; i < V.size(); ++i) vh[i] = mesh.add_vertex(to_om(V[i]));
+  omerr().disable();  // OpenMesh reports each non-manifold face; they are handled below
+  for (const auto& f : F) {
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) continue;
+    auto fh = mesh.add_face(vh[f[0]], vh[f[1]], vh[f[2]]);
+    if (!fh.is_valid()) {
+      // A non-manifold spot (two sheets meeting in one cell): keep the face on its own vertex copies so
+      // the surface stays closed geometrically.
+      mesh.add_face(mesh.add_vertex(to_om(V[f[0]])), mesh.add_vertex(to_om(V[f[1]])), mesh.add_vertex(to_om(V[f[2]])));
+    }
+  }
+  omerr().enable();
+  mesh.update_face_normals();
+  return mesh;
+}
+
+}  // namespace
+
+Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options) {
+  Builder b(stock);
+  b.run();
+  if (options.smooth || options.refine > 0) {
+    std::vector<LocalFit> fits = smooth_vertices(b);
+    if (!options.smooth)
+      for (auto& f : fits) f.valid = false;
+    for (int level = 0; level < options.refine; ++level) refine(b.vertices, b.faces, fits);
+  }
+  Mesh mesh = to_mesh(b.vertices, b.faces);
+  if (design && design->n_faces() > 0 && options.colour_by_deviation && mesh.n_vertices() > 0) {
+    const RayMesh rm(*design);
+    std::vector<double> dev(mesh.n_vertices(), 0.0);
+    const double far = bounding_box(*design).sizes().norm() + bounding_box(mesh).sizes().norm() + 1.0;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.n_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const Eigen::Vector3d p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
+        Eigen::Vector3d q, n;
+        if (!rm.closest(p, far, q, n)) continue;
+        const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
+        dev[i] = s * (p - q).norm();
+      }
+    });
+    double largest = 0.0;
+    for (const double x : dev) largest = std::max(largest, std::abs(x));
+    const double range = options.colour_range_mm > 0 ? options.colour_range_mm : std::max(0.05, largest);
+    mesh.request_vertex_colors();
+    for (auto v : mesh.vertices()) {
+      const double t = std::clamp(dev[v.idx()] / range, -1.0, 1.0);
+      // green at 0, red for material left (t > 0), blue for over-cut (t < 0)
+      const auto c = [&](double x) { return static_cast<unsigned char>(std::lround(255.0 * std::clamp(x, 0.0, 1.0))); };
+      mesh.set_color(v, Mesh::Color(c(t), c(1.0 - std::abs(t)), c(-t)));
+    }
+  }
+  return mesh;
+}
+
+}  // namespace tf

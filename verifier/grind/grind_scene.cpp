@@ -1,0 +1,225 @@
+// Grinding scene loader: JSON scene + G-code-like program (format in docs/grinding.md).
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "tiltfield/core/internal/json_fields.hpp"
+#include "tiltfield/core/error.hpp"
+#include "tiltfield/grind/grind.hpp"
+#include "tiltfield/core/io.hpp"
+
+namespace tf::grind {
+namespace {
+
+using namespace tf::json_fields;
+namespace fs = std::filesystem;
+
+const char* const kKinds[] = {"fluting", "gashing", "od_sharpening", "end_face", "notching"};
+
+Wheel parse_wheel(const json& j, const std::string& file) {
+  require_object(j, file, "wheel");
+  only_keys(j, {"radius", "thickness", "edge_radius", "profile"}, file, "wheel");
+  Wheel w;
+  w.radius = positive(required_number(j, "radius", file, "wheel"), file, "wheel.radius");
+  w.thickness = positive(required_number(j, "thickness", file, "wheel"), file, "wheel.thickness");
+  w.edge_radius = number_or(j, "edge_radius", 0.0, file, "wheel");
+  if (w.edge_radius < 0.0) throw InputError(file, 0, "wheel.edge_radius", "must not be negative");
+  if (w.edge_radius > 0.5 * w.thickness || w.edge_radius > w.radius)
+    throw InputError(file, 0, "wheel.edge_radius", "must not exceed half the thickness nor the radius");
+  if (!j.contains("profile")) {
+    w.profile = make_wheel_profile(w.radius, w.thickness, w.edge_radius);
+    return w;
+  }
+  if (j.contains("edge_radius"))
+    throw InputError(file, 0, "wheel.profile", "give either edge_radius or profile, not both");
+  const json& p = j.at("profile");
+  if (!p.is_array() || p.size() < 2) throw InputError(file, 0, "wheel.profile", "must be an array of >= 2 [t, rho] pairs");
+  for (size_t i = 0; i < p.size(); ++i) {
+    const std::string f = "wheel.profile[" + std::to_string(i) + "]";
+    if (!p[i].is_array() || p[i].size() != 2) throw InputError(file, 0, f, "must be a pair [t, rho]");
+    const Eigen::Vector2d q(number(p[i][0], file, f + "[0]"), number(p[i][1], file, f + "[1]"));
+    if (q.y() < 0.0 || q.y() > w.radius + 1e-9) throw InputError(file, 0, f, "rho must be in [0, wheel.radius]");
+    if (std::abs(q.x()) > 0.5 * w.thickness + 1e-9) throw InputError(file, 0, f, "t must be within +-thickness/2");
+    if (!w.profile.empty() && !(q.x() > w.profile.back().x()))
+      throw InputError(file, 0, f, "t must increase along the profile");
+    w.profile.push_back(q);
+  }
+  // The hull of the rings is the wheel's section only for a convex wheel: rho must be concave in t.
+  for (size_t i = 1; i + 1 < w.profile.size(); ++i) {
+    const Eigen::Vector2d a = w.profile[i] - w.profile[i - 1], b = w.profile[i + 1] - w.profile[i];
+    if (a.x() * b.y() - a.y() * b.x() > 1e-9 * (a.norm() * b.norm()))
+      throw InputError(file, 0, "wheel.profile[" + std::to_string(i) + "]", "profile must be convex (rho concave in t)");
+  }
+  return w;
+}
+
+Axes parse_start(const json& j, const std::string& file) {
+  require_object(j, file, "start");
+  only_keys(j, {"x", "y", "z", "u", "a", "w"}, file, "start");
+  Axes s;
+  s.x = number_or(j, "x", 0.0, file, "start");
+  s.y = number_or(j, "y", 0.0, file, "start");
+  s.z = number_or(j, "z", 0.0, file, "start");
+  s.u = number_or(j, "u", 0.0, file, "start");
+  s.a = number_or(j, "a", 0.0, file, "start");
+  s.w = number_or(j, "w", 0.0, file, "start");
+  return s;
+}
+
+std::string read_text(const fs::path& path, const std::string& shown) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(shown, 0, "", "cannot open the grinding program");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Strips "( ... )" and ";" comments; an unclosed "(" is an error.
+std::string strip_comments(const std::string& line, const std::string& file, int n) {
+  std::string out;
+  bool in_paren = false;
+  for (char c : line) {
+    if (in_paren) {
+      in_paren = c != ')';
+      continue;
+    }
+    if (c == ';') break;
+    if (c == '(') {
+      in_paren = true;
+      continue;
+    }
+    out += c;
+  }
+  if (in_paren) throw InputError(file, n, "", "unclosed comment '('");
+  return out;
+}
+
+double& axis_ref(Axes& a, char w) {
+  switch (w) {
+    case 'X': return a.x;
+    case 'Y': return a.y;
+    case 'Z': return a.z;
+    case 'U': return a.u;
+    case 'A': return a.a;
+    default: return a.w;
+  }
+}
+
+}  // namespace
+
+std::vector<Operation> parse_grind_program(const std::string& text, const std::string& file, const Axes& start) {
+  std::vector<Operation> ops;
+  std::istringstream in(text);
+  std::string raw;
+  int n = 0;
+  Axes pos = start;
+  bool incremental = false, rapid = false;
+  while (std::getline(in, raw)) {
+    ++n;
+    std::string line = strip_comments(raw, file, n);
+    std::istringstream words(line);
+    std::string first;
+    if (!(words >> first)) continue;
+    std::string upper = first;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (upper == "OP") {
+      Operation op;
+      op.line = n;
+      if (!(words >> op.kind)) throw InputError(file, n, "OP", "missing operation kind");
+      bool known = false;
+      for (const char* k : kKinds) known |= op.kind == k;
+      if (!known)
+        throw InputError(file, n, "OP", "unknown operation kind '" + op.kind +
+                                             "' (fluting, gashing, od_sharpening, end_face, notching)");
+      std::string rest;
+      std::getline(words, rest);
+      const auto b = rest.find_first_not_of(" \t\r");
+      op.label = b == std::string::npos ? op.kind : rest.substr(b, rest.find_last_not_of(" \t\r") - b + 1);
+      ops.push_back(std::move(op));
+      continue;
+    }
+    // Motion line: split into letter + number words ("G1", "X-2.5"); spaces between words optional.
+    Axes target = pos;
+    bool has_axis = false;
+    size_t i = 0;
+    while (i < line.size()) {
+      const unsigned char ch = static_cast<unsigned char>(line[i]);
+      if (std::isspace(ch)) {
+        ++i;
+        continue;
+      }
+      const char letter = static_cast<char>(std::toupper(ch));
+      size_t j = i + 1;
+      while (j < line.size() && !std::isalpha(static_cast<unsigned char>(line[j])) &&
+             !std::isspace(static_cast<unsigned char>(line[j])))
+        ++j;
+      const std::string word = line.substr(i, j - i);
+      const std::string num = line.substr(i + 1, j - i - 1);
+      i = j;
+      if (!std::isalpha(ch)) throw InputError(file, n, word, "expected a word like X12.5");
+      if (num.empty()) throw InputError(file, n, word, "word without a number");
+      if (letter == 'N') continue;  // block number
+      const double v = parse_number(num, file, n, std::string(1, letter));
+      if (letter == 'G') {
+        if (v == 0.0) rapid = true;
+        else if (v == 1.0) rapid = false;
+        else if (v == 90.0) incremental = false;
+        else if (v == 91.0) incremental = true;
+        else throw InputError(file, n, word, "unsupported G code (G0, G1, G90, G91)");
+        continue;
+      }
+      if (letter == 'F') {
+        if (!(v > 0.0)) throw InputError(file, n, word, "feed must be positive");
+        continue;
+      }
+      if (std::string("XYZUAW").find(letter) == std::string::npos)
+        throw InputError(file, n, word, "unknown axis word (X, Y, Z, U, A, W, G, F, N)");
+      double& ref = axis_ref(target, letter);
+      ref = incremental ? ref + v : v;
+      has_axis = true;
+    }
+    if (!has_axis) continue;
+    if (ops.empty()) throw InputError(file, n, "", "motion before the first OP statement");
+    ops.back().moves.push_back(Move{target, n, rapid});
+    pos = target;
+  }
+  for (const Operation& op : ops)
+    if (op.moves.empty()) throw InputError(file, op.line, "OP", "operation '" + op.label + "' has no motion");
+  return ops;
+}
+
+GrindScene load_grind_scene(const fs::path& path) {
+  const std::string file = path.string();
+  const json j = parse_file(file, "grinding scene");
+  require_object(j, file, "");
+  only_keys(j, {"units", "blank", "wheel", "start", "program"}, file, "");
+  if (j.contains("units") && string(j.at("units"), file, "units") != "mm")
+    throw InputError(file, 0, "units", "only \"mm\" is supported");
+  GrindScene s;
+  s.file = file;
+  if (!j.contains("blank")) throw InputError(file, 0, "blank", "missing");
+  const json& b = j.at("blank");
+  require_object(b, file, "blank");
+  only_keys(b, {"radius", "length"}, file, "blank");
+  s.blank.radius = positive(required_number(b, "radius", file, "blank"), file, "blank.radius");
+  s.blank.length = positive(required_number(b, "length", file, "blank"), file, "blank.length");
+  if (!j.contains("wheel")) throw InputError(file, 0, "wheel", "missing");
+  s.wheel = parse_wheel(j.at("wheel"), file);
+  if (j.contains("start")) s.start = parse_start(j.at("start"), file);
+  if (!j.contains("program")) throw InputError(file, 0, "program", "missing");
+  const json& p = j.at("program");
+  if (p.is_string()) {
+    const fs::path prog = path.parent_path() / p.get<std::string>();
+    s.operations = parse_grind_program(read_text(prog, prog.string()), prog.string(), s.start);
+  } else if (p.is_array()) {
+    std::string text;
+    for (size_t i = 0; i < p.size(); ++i) text += string(p[i], file, "program[" + std::to_string(i) + "]") + "\n";
+    s.operations = parse_grind_program(text, file + " (program)", s.start);
+  } else {
+    throw InputError(file, 0, "program", "must be a file name or an array of lines");
+  }
+  if (s.operations.empty()) throw InputError(file, 0, "program", "has no operation");
+  return s;
+}
+
+}  // namespace tf::grind

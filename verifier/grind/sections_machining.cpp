@@ -1,0 +1,296 @@
+// Cross-section machining (seed 003, section 4.2): per section and per operation, the wheel's plane sections
+// at consecutive increments are hulled pairwise and the union of the hulls is subtracted with Clipper.
+// Material removal commutes, so one subtraction per section and operation is exact.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <polyclipping/clipper.hpp>
+#include <unordered_map>
+
+#include "wheel_section.hpp"
+#include "tiltfield/grind/sections.hpp"
+
+namespace tf::grind {
+namespace {
+
+using ClipperLib::cInt;
+using ClipperLib::IntPoint;
+using ClipperLib::Path;
+using ClipperLib::Paths;
+using detail::PoseInfo;
+
+constexpr double kScale = 1e6;  // Clipper units per mm (1 nm)
+
+struct PointHash {
+  size_t operator()(const IntPoint& p) const {
+    return std::hash<long long>()(p.X * 0x9E3779B97F4A7C15LL ^ (p.Y + (p.Y << 21)));
+  }
+};
+
+// One section during simulation: Clipper paths and the label of each path's edges.
+struct Slice {
+  Paths paths;
+  std::vector<std::vector<int>> labels;
+};
+
+IntPoint to_int(const Eigen::Vector2d& p) {
+  return {static_cast<cInt>(std::llround(p.x() * kScale)), static_cast<cInt>(std::llround(p.y() * kScale))};
+}
+
+// True when q lies on the segment a-b within `tol` Clipper units.
+bool on_segment(const IntPoint& a, const IntPoint& b, const IntPoint& q, double tol) {
+  const double dx = double(b.X - a.X), dy = double(b.Y - a.Y), qx = double(q.X - a.X), qy = double(q.Y - a.Y);
+  const double len2 = dx * dx + dy * dy;
+  if (len2 == 0.0) return qx * qx + qy * qy <= tol * tol;
+  const double cr = dx * qy - dy * qx;
+  if (cr * cr > tol * tol * len2) return false;
+  const double dot = dx * qx + dy * qy;
+  return dot >= -tol * std::sqrt(len2) && dot <= len2 + tol * std::sqrt(len2);
+}
+
+// Labels the edges of `result` (the old slice minus new cuts): an edge lying on an old edge keeps that
+// edge's label, any other edge was made by the cut and gets `label`. Candidate old edges are those at
+// either end of the new edge; the new edge's midpoint must lie on one (within the cleaning tolerance, as
+// cleaning may have dropped the old vertex between a cut point and the next old vertex).
+std::vector<std::vector<int>> relabel(const Slice& old, const Paths& result, int label, double clean) {
+  struct Link {
+    IntPoint prev, next;
+    int prev_label, next_label;
+  };
+  std::unordered_map<IntPoint, Link, PointHash> links;
+  for (size_t i = 0; i < old.paths.size(); ++i) {
+    const Path& p = old.paths[i];
+    const size_t n = p.size();
+    for (size_t k = 0; k < n; ++k)
+      links[p[k]] = {p[(k + n - 1) % n], p[(k + 1) % n], old.labels[i][(k + n - 1) % n], old.labels[i][k]};
+  }
+  const double tol = 2.0 * clean + 3.0;
+  std::vector<std::vector<int>> labels(result.size());
+  for (size_t i = 0; i < result.size(); ++i) {
+    const Path& p = result[i];
+    labels[i].resize(p.size(), label);
+    for (size_t k = 0; k < p.size(); ++k) {
+      const IntPoint &a = p[(k)], &b = p[(k + 1) % p.size()];
+      const IntPoint m{(a.X + b.X) / 2, (a.Y + b.Y) / 2};
+      for (const IntPoint* end : {&a, &b}) {
+        auto it = links.find(*end);
+        if (it == links.end()) continue;
+        const Link& l = it->second;
+        if (on_segment(*end, l.next, m, tol)) {
+          labels[i][k] = l.next_label;
+          break;
+        }
+        if (on_segment(l.prev, *end, m, tol)) {
+          labels[i][k] = l.prev_label;
+          break;
+        }
+      }
+    }
+  }
+  return labels;
+}
+
+Path blank_circle(const Blank& blank, double tol) {
+  const double r = blank.radius;
+  const double dphi = 2.0 * std::acos(std::max(-1.0, 1.0 - tol / r));
+  const int n = std::max(16, static_cast<int>(std::ceil(2.0 * M_PI / std::max(dphi, 1e-6))));
+  Path p;
+  for (int i = 0; i < n; ++i) {
+    const double phi = 2.0 * M_PI * i / n;
+    p.push_back(to_int({r * std::cos(phi), r * std::sin(phi)}));
+  }
+  return p;
+}
+
+// The wheel poses of one operation: the increments of all its moves, chained, starting where the previous
+// operation ended.
+std::vector<PoseInfo> operation_poses(const Operation& op, const Axes& before, const GrindScene& scene,
+                                      double step) {
+  std::vector<PoseInfo> poses{detail::pose_info(wheel_pose(before), scene.wheel, scene.blank)};
+  Axes from = before;
+  for (const Move& m : op.moves) {
+    const int n = increments(from, m.target, scene.blank, step);
+    for (int i = 1; i <= n; ++i)
+      poses.push_back(detail::pose_info(wheel_pose(interpolate(from, m.target, double(i) / n)), scene.wheel,
+                                        scene.blank));
+    from = m.target;
+  }
+  return poses;
+}
+
+// Sutherland-Hodgman clip of a convex polygon to an axis-aligned box.
+std::vector<Eigen::Vector2d> clip_to_box(std::vector<Eigen::Vector2d> poly, double x0, double x1, double y0,
+                                         double y1) {
+  auto clip = [&](int axis, double v, bool keep_below) {
+    std::vector<Eigen::Vector2d> out;
+    const size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d &p = poly[i], &q = poly[(i + 1) % n];
+      const bool pin = keep_below ? p[axis] <= v : p[axis] >= v;
+      const bool qin = keep_below ? q[axis] <= v : q[axis] >= v;
+      if (pin) out.push_back(p);
+      if (pin != qin) out.push_back(p + (q - p) * ((v - p[axis]) / (q[axis] - p[axis])));
+    }
+    poly = std::move(out);
+  };
+  clip(0, x0, false);
+  if (poly.size() >= 3) clip(0, x1, true);
+  if (poly.size() >= 3) clip(1, y0, false);
+  if (poly.size() >= 3) clip(1, y1, true);
+  return poly;
+}
+
+// Union of many overlapping polygons, by a tree of small unions: consecutive hulls overlap heavily, and
+// Clipper's cost grows with the number of edges active at once, so small batches are much faster.
+Paths union_tree(Paths polys, double clean) {
+  constexpr size_t kBatch = 8;
+  while (polys.size() > 1) {
+    Paths next;
+    for (size_t i = 0; i < polys.size(); i += kBatch) {
+      ClipperLib::Clipper c;
+      for (size_t k = i; k < std::min(polys.size(), i + kBatch); ++k) c.AddPath(polys[k], ClipperLib::ptSubject, true);
+      Paths r;
+      c.Execute(ClipperLib::ctUnion, r, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+      ClipperLib::CleanPolygons(r, clean);
+      for (auto& p : r)
+        if (p.size() >= 3) next.push_back(std::move(p));
+    }
+    if (next.size() >= polys.size()) return next;  // disjoint pieces: nothing left to merge
+    polys = std::move(next);
+  }
+  return polys;
+}
+
+// Cuts one operation into one section: returns whether anything was removed.
+bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, const Wheel& wheel,
+                 const std::vector<Eigen::Vector2d>& trig, const SectionOptions& opt, int label) {
+  if (slice.paths.empty()) return false;
+  double bx0 = 1e300, bx1 = -1e300, by0 = 1e300, by1 = -1e300;
+  for (const Path& p : slice.paths)
+    for (const IntPoint& q : p) {
+      bx0 = std::min(bx0, q.X / kScale), bx1 = std::max(bx1, q.X / kScale);
+      by0 = std::min(by0, q.Y / kScale), by1 = std::max(by1, q.Y / kScale);
+    }
+  // Radius of the material around the blank axis: a wheel farther than this from (0, 0, z0) cannot cut.
+  double reach = 0.0;
+  for (const Path& p : slice.paths)
+    for (const IntPoint& q : p) reach = std::max(reach, std::hypot(double(q.X), double(q.Y)) / kScale);
+  const Eigen::Vector3d axis_point(0.0, 0.0, z0);
+  const double margin = 0.01 * (bx1 - bx0 + by1 - by0) + 0.01;
+  Paths clips;
+  std::vector<Eigen::Vector2d> cur, prev, pts;
+  long prev_index = -2;
+  auto section_at = [&](size_t k, std::vector<Eigen::Vector2d>& out) {
+    out.clear();
+    const PoseInfo& p = poses[k];
+    if (p.far || z0 < p.z_lo || z0 > p.z_hi || detail::distance_bound(p, wheel, axis_point) > reach) return;
+    detail::wheel_section_points(p, wheel.profile, z0, trig, out);
+  };
+  for (size_t k = 0; k + 1 < poses.size(); ++k) {
+    const PoseInfo &p0 = poses[k], &p1 = poses[k + 1];
+    if ((p0.far && p1.far) || z0 < std::min(p0.z_lo, p1.z_lo) || z0 > std::max(p0.z_hi, p1.z_hi)) continue;
+    if (prev_index == static_cast<long>(k)) {
+      std::swap(prev, cur);
+    } else {
+      section_at(k, prev);
+    }
+    section_at(k + 1, cur);
+    prev_index = static_cast<long>(k + 1);
+    pts.assign(prev.begin(), prev.end());
+    pts.insert(pts.end(), cur.begin(), cur.end());
+    if (pts.size() < 3) continue;
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const auto& q : pts) {
+      x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+    }
+    if (x1 < bx0 || x0 > bx1 || y1 < by0 || y0 > by1) continue;
+    std::vector<Eigen::Vector2d> hull = detail::convex_hull(pts);
+    // Only the part over the section matters; the rest of the wheel's section only slows Clipper down.
+    hull = clip_to_box(hull, bx0 - margin, bx1 + margin, by0 - margin, by1 + margin);
+    if (hull.size() < 3) continue;
+    Path path;
+    path.reserve(hull.size());
+    for (const auto& q : hull) path.push_back(to_int(q));
+    clips.push_back(std::move(path));
+  }
+  if (clips.empty()) return false;
+  clips = union_tree(std::move(clips), opt.clean_tolerance * kScale);
+  ClipperLib::Clipper c;
+  c.StrictlySimple(true);
+  c.AddPaths(slice.paths, ClipperLib::ptSubject, true);
+  c.AddPaths(clips, ClipperLib::ptClip, true);
+  Paths result;
+  c.Execute(ClipperLib::ctDifference, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  ClipperLib::CleanPolygons(result, opt.clean_tolerance * kScale);
+  result.erase(std::remove_if(result.begin(), result.end(), [](const Path& p) { return p.size() < 3; }),
+               result.end());
+  slice.labels = relabel(slice, result, label, opt.clean_tolerance * kScale);
+  slice.paths = std::move(result);
+  return true;
+}
+
+Section to_section(const Slice& s, double z) {
+  Section out;
+  out.z = z;
+  for (size_t i = 0; i < s.paths.size(); ++i) {
+    Contour c;
+    c.hole = !ClipperLib::Orientation(s.paths[i]);
+    for (const IntPoint& p : s.paths[i]) c.points.emplace_back(p.X / kScale, p.Y / kScale);
+    c.labels = s.labels[i];
+    out.contours.push_back(std::move(c));
+  }
+  return out;
+}
+
+}  // namespace
+
+SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& opt, const Progress& progress) {
+  SectionStack stack;
+  stack.blank = scene.blank;
+  stack.op_labels.push_back("blank");
+  for (const Operation& op : scene.operations) stack.op_labels.push_back(op.kind + ": " + op.label);
+  const double l = scene.blank.length;
+  const int n = std::max(1, static_cast<int>(std::ceil(l / opt.spacing - 1e-9)));
+  // Poses once per operation, shared by all sections.
+  std::vector<std::vector<PoseInfo>> poses;
+  Axes before = scene.start;
+  for (const Operation& op : scene.operations) {
+    poses.push_back(operation_poses(op, before, scene, opt.step));
+    before = op.moves.back().target;
+  }
+  const std::vector<Eigen::Vector2d> trig = detail::generator_table(opt.generators);
+  const Path circle = blank_circle(scene.blank, opt.chord_tolerance);
+  stack.sections.resize(n + 1);
+  std::atomic<int> done{0};
+  std::mutex report_mutex;
+  tbb::parallel_for(0, n + 1, [&](int i) {
+    const double z = i == n ? l : l * i / n;
+    Slice slice{{circle}, {std::vector<int>(circle.size(), 0)}};
+    for (size_t k = 0; k < poses.size(); ++k)
+      cut_section(slice, z, poses[k], scene.wheel, trig, opt, static_cast<int>(k) + 1);
+    stack.sections[i] = to_section(slice, z);
+    const int d = ++done;
+    if (progress && (d % 16 == 0 || d == n + 1)) {
+      std::lock_guard<std::mutex> lock(report_mutex);
+      progress("grind", double(d) / (n + 1));
+    }
+  });
+  return stack;
+}
+
+double section_area(const Section& s) {
+  double area = 0.0;
+  for (const Contour& c : s.contours) {
+    const size_t n = c.points.size();
+    for (size_t i = 0; i < n; ++i) {
+      const auto &p = c.points[i], &q = c.points[(i + 1) % n];
+      area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+    }
+  }
+  return area;
+}
+
+}  // namespace tf::grind

@@ -1,0 +1,102 @@
+#include "wheel_section.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tf::grind::detail {
+
+PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank) {
+  PoseInfo info;
+  info.pose = pose;
+  const Eigen::Vector3d& a = pose.axis;
+  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  info.u1 = a.cross(helper).normalized();
+  info.u2 = a.cross(info.u1);
+  const double h = 0.5 * wheel.thickness;
+  const double az = std::min(1.0, std::abs(a.z()));
+  const double ext = wheel.radius * std::sqrt(std::max(0.0, 1.0 - az * az)) + h * az;
+  info.z_lo = pose.centre.z() - ext;
+  info.z_hi = pose.centre.z() + ext;
+  const double reach = std::hypot(wheel.radius, h);
+  info.far = std::hypot(pose.centre.x(), pose.centre.y()) - reach > blank.radius ||
+             info.z_hi < 0.0 || info.z_lo > blank.length;
+  return info;
+}
+
+void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2d>& profile, double z0,
+                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out) {
+  const Eigen::Vector3d& c = info.pose.centre;
+  const Eigen::Vector3d& a = info.pose.axis;
+  // Ring chords: each ring's disc {|p - o| <= rho, a.(p - o) = 0} meets the plane z = z0 in a segment.
+  const double dxy2 = a.x() * a.x() + a.y() * a.y();
+  if (dxy2 > 1e-18) {
+    const Eigen::Vector2d dir = Eigen::Vector2d(a.y(), -a.x()) / std::sqrt(dxy2);
+    for (const Eigen::Vector2d& tr : profile) {
+      const Eigen::Vector3d o = c + tr.x() * a;
+      const double k = a.dot(o) - a.z() * z0;
+      const Eigen::Vector2d p0 = k / dxy2 * Eigen::Vector2d(a.x(), a.y());
+      const Eigen::Vector3d w(p0.x() - o.x(), p0.y() - o.y(), z0 - o.z());
+      const double b = dir.x() * w.x() + dir.y() * w.y();
+      const double disc = b * b - (w.squaredNorm() - tr.y() * tr.y());
+      if (disc < 0.0) continue;
+      const double s = std::sqrt(disc);
+      out.push_back(p0 + (-b - s) * dir);
+      out.push_back(p0 + (-b + s) * dir);
+    }
+  }
+  // Generators: only needed when rings are nearly parallel to the plane (their chords get sparse).
+  if (std::abs(a.z()) <= 0.5 || trig.size() < 3) return;
+  const double perp = std::sqrt(std::max(0.0, 1.0 - a.z() * a.z()));
+  const double base = c.z() - z0;
+  for (size_t i = 0; i + 1 < profile.size(); ++i) {
+    const double t0 = profile[i].x(), r0 = profile[i].y(), t1 = profile[i + 1].x(), r1 = profile[i + 1].y();
+    const double m0 = base + t0 * a.z(), m1 = base + t1 * a.z();
+    if ((m0 - r0 * perp > 0 && m1 - r1 * perp > 0) || (m0 + r0 * perp < 0 && m1 + r1 * perp < 0)) continue;
+    for (const Eigen::Vector2d& cs : trig) {
+      const Eigen::Vector3d dir = cs.x() * info.u1 + cs.y() * info.u2;
+      const double s0 = m0 + r0 * dir.z(), s1 = m1 + r1 * dir.z();
+      if ((s0 > 0) == (s1 > 0) || s0 == s1) continue;
+      const double f = s0 / (s0 - s1);
+      const Eigen::Vector3d p = c + (t0 + f * (t1 - t0)) * a + (r0 + f * (r1 - r0)) * dir;
+      out.emplace_back(p.x(), p.y());
+    }
+  }
+}
+
+std::vector<Eigen::Vector2d> generator_table(int n) {
+  std::vector<Eigen::Vector2d> t;
+  for (int g = 0; g < n; ++g) t.emplace_back(std::cos(2.0 * M_PI * g / n), std::sin(2.0 * M_PI * g / n));
+  return t;
+}
+
+double distance_bound(const PoseInfo& info, const Wheel& wheel, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - info.pose.centre;
+  const double t = d.dot(info.pose.axis);
+  const double radial = (d - t * info.pose.axis).norm();
+  return std::hypot(std::max(0.0, std::abs(t) - 0.5 * wheel.thickness), std::max(0.0, radial - wheel.radius));
+}
+
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d>& pts) {
+  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+  });
+  const size_t n = pts.size();
+  if (n < 3) return pts;
+  std::vector<Eigen::Vector2d> h(2 * n);
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  size_t k = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = n - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], pts[i - 1]) <= 0) --k;
+    h[k++] = pts[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+}  // namespace tf::grind::detail
