@@ -119,16 +119,13 @@ void drop_nested_same_orientation(std::vector<std::vector<Segment>>& contours) {
     if (!drop[k]) kept.push_back(std::move(contours[k]));
   contours = std::move(kept);
 }
-}  // namespace
 
-std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field, double tol,
-                                               double eps, int* crossings) {
+// All self-intersections of the raw offset, except the shared joint of neighbours: the nodes, and for
+// each node one event on either segment.
+void self_intersections(const std::vector<Segment>& raw, double tol, std::vector<Event>& events,
+                        std::vector<Vector2d>& nodes) {
   const int m = static_cast<int>(raw.size());
-  std::vector<std::vector<Segment>> contours;
-  if (m == 0) return contours;
   const double vertex_tol = 1e3 * tol;
-
-  // All self-intersections, except the shared joint of neighbours.
   std::vector<Eigen::AlignedBox2d> boxes;
   boxes.reserve(m);
   for (const auto& s : raw) {
@@ -136,8 +133,6 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
     boxes.emplace_back(b.min().array() - tol, b.max().array() + tol);
   }
   detail::BoxTree tree(boxes);
-  std::vector<Event> events;
-  std::vector<Vector2d> nodes;
   for (int i = 0; i < m; ++i) {
     tree.query(boxes[i], [&](int j) {
       if (j <= i) return;
@@ -152,47 +147,82 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
       }
     });
   }
-  if (crossings) *crossings = static_cast<int>(nodes.size());
+}
 
+// The raw curve from event cur to the next event nxt along it (cur the k-th of K sorted events).
+Slice slice_between(const std::vector<Segment>& raw, const Event& cur, const Event& nxt, size_t k, size_t K,
+                    double tol) {
+  const int m = static_cast<int>(raw.size());
+  Slice sl;
+  sl.from = cur.node;
+  sl.first_seg = cur.seg;
+  sl.last_seg = nxt.seg;
+  sl.to = nxt.node;
+  if (k + 1 < K && nxt.seg == cur.seg) {
+    append_piece(sl, raw[cur.seg], cur.t, nxt.t, tol);
+  } else {
+    append_piece(sl, raw[cur.seg], cur.t, 1.0, tol);
+    for (int s = (cur.seg + 1) % m; s != nxt.seg; s = (s + 1) % m) append_piece(sl, raw[s], 0.0, 1.0, tol);
+    if (K == 1 || nxt.seg != cur.seg || k + 1 == K) append_piece(sl, raw[nxt.seg], 0.0, nxt.t, tol);
+  }
+  return sl;
+}
+
+// The raw curve cut at its (clustered) crossing nodes into slices from node to node; the whole curve when
+// it does not cross itself.
+std::vector<Slice> cut_into_slices(const std::vector<Segment>& raw, std::vector<Event> events,
+                                   const std::vector<Vector2d>& nodes, double tol) {
   std::vector<Slice> slices;
   if (events.empty()) {
     Slice sl;
     sl.segs = raw;
     slices.push_back(sl);
-  } else {
-    const auto root = cluster_nodes(nodes, 10 * tol);
-    for (auto& e : events) e.node = root[e.node];
-    std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
-      return a.seg != b.seg ? a.seg < b.seg : a.t < b.t;
-    });
-    const size_t K = events.size();
-    for (size_t k = 0; k < K; ++k) {
-      const Event& cur = events[k];
-      const Event& nxt = events[(k + 1) % K];
-      Slice sl;
-      sl.from = cur.node;
-      sl.first_seg = cur.seg;
-      sl.last_seg = nxt.seg;
-      sl.to = nxt.node;
-      if (k + 1 < K && nxt.seg == cur.seg) {
-        append_piece(sl, raw[cur.seg], cur.t, nxt.t, tol);
-      } else {
-        append_piece(sl, raw[cur.seg], cur.t, 1.0, tol);
-        for (int s = (cur.seg + 1) % m; s != nxt.seg; s = (s + 1) % m) append_piece(sl, raw[s], 0.0, 1.0, tol);
-        if (K == 1 || nxt.seg != cur.seg || k + 1 == K) append_piece(sl, raw[nxt.seg], 0.0, nxt.t, tol);
-      }
-      if (sl.from == sl.to && chain_length(sl.segs) <= 100 * tol) continue;  // between two merged nodes
-      if (sl.segs.empty()) continue;
-      sl.segs.front().a = nodes[sl.from];
-      sl.segs.back().b = nodes[sl.to];
-      slices.push_back(std::move(sl));
-    }
+    return slices;
   }
+  const auto root = cluster_nodes(nodes, 10 * tol);
+  for (auto& e : events) e.node = root[e.node];
+  std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+    return a.seg != b.seg ? a.seg < b.seg : a.t < b.t;
+  });
+  const size_t K = events.size();
+  for (size_t k = 0; k < K; ++k) {
+    Slice sl = slice_between(raw, events[k], events[(k + 1) % K], k, K, tol);
+    if (sl.from == sl.to && chain_length(sl.segs) <= 100 * tol) continue;  // between two merged nodes
+    if (sl.segs.empty()) continue;
+    sl.segs.front().a = nodes[sl.from];
+    sl.segs.back().b = nodes[sl.to];
+    slices.push_back(std::move(sl));
+  }
+  return slices;
+}
 
-  std::vector<char> valid(slices.size());
-  for (size_t k = 0; k < slices.size(); ++k) valid[k] = slice_valid(slices[k], field, eps);
+// Follows unused slices, end node to start node, from slice k into `chain`; true when it closes on k's
+// start node.
+bool follow_chain(const std::vector<Slice>& slices, const std::multimap<int, int>& by_start, size_t k,
+                  std::vector<char>& used, std::vector<Segment>& chain) {
+  int cur = static_cast<int>(k);
+  while (true) {
+    used[cur] = 1;
+    for (const auto& s : slices[cur].segs) chain.push_back(s);
+    const int end = slices[cur].to;
+    if (end == slices[k].from) return true;
+    // Where two valid pieces cross (sharp-join spikes), turn onto the other curve: going straight
+    // would make the contour cross itself.
+    int next = -1;
+    for (auto [it, last] = by_start.equal_range(end); it != last; ++it)
+      if (!used[it->second] && (next < 0 || slices[it->second].first_seg != slices[cur].last_seg)) {
+        if (next >= 0 && slices[next].first_seg != slices[cur].last_seg) continue;
+        next = it->second;
+      }
+    if (next < 0) return false;
+    cur = next;
+  }
+}
 
-  // Stitch valid slices end node to start node into closed chains.
+// Stitches the valid slices end node to start node into closed contours.
+std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices, const std::vector<char>& valid,
+                                                double tol) {
+  std::vector<std::vector<Segment>> contours;
   std::multimap<int, int> by_start;
   for (size_t k = 0; k < slices.size(); ++k)
     if (valid[k]) by_start.emplace(slices[k].from, static_cast<int>(k));
@@ -200,32 +230,27 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
   for (size_t k = 0; k < slices.size(); ++k) {
     if (!valid[k] || used[k]) continue;
     std::vector<Segment> chain;
-    int cur = static_cast<int>(k);
-    bool closed = false;
-    while (true) {
-      used[cur] = 1;
-      for (const auto& s : slices[cur].segs) chain.push_back(s);
-      const int end = slices[cur].to;
-      if (end == slices[k].from) {
-        closed = true;
-        break;
-      }
-      // Where two valid pieces cross (sharp-join spikes), turn onto the other curve: going straight
-      // would make the contour cross itself.
-      int next = -1;
-      for (auto [it, last] = by_start.equal_range(end); it != last; ++it)
-        if (!used[it->second] && (next < 0 || slices[it->second].first_seg != slices[cur].last_seg)) {
-          if (next >= 0 && slices[next].first_seg != slices[cur].last_seg) continue;
-          next = it->second;
-        }
-      if (next < 0) break;
-      cur = next;
-    }
+    const bool closed = follow_chain(slices, by_start, k, used, chain);
     if (!closed || chain.empty()) continue;  // an open chain: pieces of a loop judged inconsistently
     for (size_t s = 0; s < chain.size(); ++s) chain[(s + 1) % chain.size()].a = chain[s].b;
     if (std::abs(signed_area(chain)) <= tol * tol) continue;
     contours.push_back(std::move(chain));
   }
+  return contours;
+}
+}  // namespace
+
+std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field, double tol,
+                                               double eps, int* crossings) {
+  if (raw.empty()) return {};
+  std::vector<Event> events;
+  std::vector<Vector2d> nodes;
+  self_intersections(raw, tol, events, nodes);
+  if (crossings) *crossings = static_cast<int>(nodes.size());
+  const std::vector<Slice> slices = cut_into_slices(raw, std::move(events), nodes, tol);
+  std::vector<char> valid(slices.size());
+  for (size_t k = 0; k < slices.size(); ++k) valid[k] = slice_valid(slices[k], field, eps);
+  std::vector<std::vector<Segment>> contours = stitch_slices(slices, valid, tol);
   drop_nested_same_orientation(contours);
   return contours;
 }

@@ -78,7 +78,8 @@ std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigm
     return out;
   }
   if (p.constant) {
-    // Seed 1.B / 2.A: R' = R - D on the arc's concave side, R + D on its convex side.
+    // Line-arc joins (Gawlik, Karbowski, Ruszaj: cases 1.B, 2.A): R' = R - D on the arc's concave side, R + D
+    // on its convex side.
     const double r2 = e.r - sigma * (e.sweep > 0 ? 1.0 : -1.0) * p.g0;
     const Vector2d a2 = e.c + (r2 / e.r) * (e.a - e.c), b2 = e.c + (r2 / e.r) * (e.b - e.c);
     Segment s;

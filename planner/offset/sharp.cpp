@@ -1,4 +1,4 @@
-// Sharp corners (seed 1.A/1.B/2.A: the join is the intersection of the neighbouring offsets). They are
+// Sharp corners (Gawlik, Karbowski, Ruszaj, cases 1.A/1.B/2.A: the join is the intersection of the neighbouring offsets). They are
 // made from the round result: each complete round join (an arc of radius gap about a profile vertex,
 // tangent to both neighbours) is replaced by the extensions of the neighbours up to their intersection,
 // unless that miter would come closer than the gap to the profile or cross the path; there the round
@@ -84,7 +84,7 @@ bool sharp_join(const Segment& in, const Segment& out, const Vector2d& V, double
 }
 
 // The neighbour's support at the join end point P: its own circle when it is an exact offset arc (the
-// seed's R -/+ D), else the line through P perpendicular to P - V (the tangent of the join circle, along
+// paper's R -/+ D), else the line through P perpendicular to P - V (the tangent of the join circle, along
 // which the distance to V only grows). ends_at_p: the support ends at P (incoming neighbour), else it
 // starts there (outgoing neighbour).
 Segment support_at(const Segment& s, const Vector2d& P, const Vector2d& V, const Vector2d& travel, bool ends_at_p) {

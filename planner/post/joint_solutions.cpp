@@ -77,6 +77,138 @@ double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // be linearised and would need a retract. Priced like one, so that it is taken only when forced.
 constexpr double kFlipPenalty = 1e6;
 
+// The 3-axis machine: the tip alone, within the pole tolerance of a vertical axis.
+std::vector<Joints> xyz_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options) {
+  std::vector<Joints> out(poses.size());
+  InverseOptions io;
+  io.pole_tolerance_deg = options.pole_tolerance_deg;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    auto j = kin.inverse_nearest(poses[i], Joints{}, io);
+    if (!j) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
+    out[i] = *j;
+  }
+  return out;
+}
+
+// Dynamic programming over the non-pole rows (the layers). cost[l][s]: least rotary motion up to layer l
+// ending in candidate s; from[l][s]: the candidate of layer l - 1 it came from.
+struct Layers {
+  std::vector<size_t> row;
+  std::vector<std::vector<Candidate>> cand;
+  std::vector<std::vector<double>> cost;
+  std::vector<std::vector<int>> from;
+};
+
+// The least cost (lc) of reaching each candidate c of row i from the last layer, and from where (lf).
+void step_costs(const Layers& layers, const std::vector<ToolPose>& poses, size_t i, const std::vector<Candidate>& c,
+                const RotaryMetric& metric, const PostOptions& options, std::vector<double>& lc, std::vector<int>& lf) {
+  const bool through_pole = layers.row.back() + 1 != i;
+  const bool flip_is_costly = !through_pole && arc_pole_distance(poses[i - 1].axis, poses[i].axis) >
+                                                   options.axis_tolerance_deg + options.pole_tolerance_deg;
+  const auto& pc = layers.cand.back();
+  const auto& pcost = layers.cost.back();
+  for (size_t s = 0; s < c.size(); ++s) {
+    for (size_t p = 0; p < pc.size(); ++p) {
+      const double dt = through_pole ? metric.tilt(pc[p].tilt, 0) + metric.tilt(0, c[s].tilt)
+                                     : metric.tilt(pc[p].tilt, c[s].tilt);
+      double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
+      if (!through_pole && flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0)) v += kFlipPenalty;
+      if (v < lc[s]) {
+        lc[s] = v;
+        lf[s] = static_cast<int>(p);
+      }
+    }
+  }
+}
+
+Layers solve_layers(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options,
+                    const AxisLimit* c_limit, const RotaryMetric& metric) {
+  Layers layers;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (is_pole(poses[i], options.pole_tolerance_deg)) continue;
+    auto c = candidates(poses[i], kin, c_limit);
+    if (c.empty()) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
+    std::vector<double> lc(c.size(), kInf);
+    std::vector<int> lf(c.size(), -1);
+    if (layers.row.empty()) {
+      // Start near the rotaries' zero; the small weight only breaks ties.
+      for (size_t s = 0; s < c.size(); ++s) lc[s] = 1e-3 * (metric.tilt(c[s].tilt, 0) + metric.c(c[s].c, 0));
+    } else {
+      step_costs(layers, poses, i, c, metric, options, lc, lf);
+    }
+    layers.row.push_back(i);
+    layers.cand.push_back(std::move(c));
+    layers.cost.push_back(std::move(lc));
+    layers.from.push_back(std::move(lf));
+  }
+  return layers;
+}
+
+// Back-tracks the cheapest candidate of every layer, then unwinds continuous axes along the path.
+std::vector<Candidate> cheapest_candidates(const Layers& layers, const RotaryMetric& metric) {
+  std::vector<Candidate> chosen(layers.row.size());
+  if (layers.row.empty()) return chosen;
+  const auto& last = layers.cost.back();
+  int s = static_cast<int>(std::min_element(last.begin(), last.end()) - last.begin());
+  for (size_t l = layers.row.size(); l-- > 0;) {
+    chosen[l] = layers.cand[l][s];
+    s = layers.from[l][s];
+  }
+  for (size_t l = 1; l < chosen.size(); ++l) {
+    if (metric.c_continuous) chosen[l].c = chosen[l - 1].c + wrap180(chosen[l].c - chosen[l - 1].c);
+    if (metric.tilt_continuous) chosen[l].tilt = chosen[l - 1].tilt + wrap180(chosen[l].tilt - chosen[l - 1].tilt);
+  }
+  return chosen;
+}
+
+// C of every run of pole rows: held from the neighbours, or (PoleMode::Interpolate, between two of them)
+// interpolated along the tip path.
+void fill_pole_runs(const std::vector<ToolPose>& poses, const std::vector<char>& pole, const PostOptions& options,
+                    std::vector<double>& c_of) {
+  const size_t n = poses.size();
+  size_t i = 0;
+  while (i < n) {
+    if (!pole[i]) {
+      ++i;
+      continue;
+    }
+    size_t e = i;
+    while (e + 1 < n && pole[e + 1]) ++e;
+    const bool has_before = i > 0, has_after = e + 1 < n;
+    const double c0 = has_before ? c_of[i - 1] : has_after ? c_of[e + 1] : 0.0;
+    const double c1 = has_after ? c_of[e + 1] : c0;
+    // Path length along the tips from the row before the run to the row after it.
+    const size_t a = has_before ? i - 1 : i, b = has_after ? e + 1 : e;
+    std::vector<double> len(b - a + 1, 0.0);
+    for (size_t r = a + 1; r <= b; ++r) len[r - a] = len[r - a - 1] + (poses[r].tip - poses[r - 1].tip).norm();
+    for (size_t r = i; r <= e; ++r) {
+      double w = 0.0;
+      if (options.pole_mode == PoleMode::Interpolate && has_before && has_after)
+        w = len.back() > 1e-12 ? len[r - a] / len.back() : double(r - a) / double(b - a);
+      c_of[r] = c0 + (c1 - c0) * w;
+    }
+    i = e + 1;
+  }
+}
+
+// The joints of every row at its C, each seeded by the previous row's and (off the pole) the chosen tilt.
+std::vector<Joints> joints_at_c(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options,
+                                const std::vector<double>& c_of, const std::vector<double>& tilt_hint,
+                                const std::vector<char>& pole) {
+  const KinematicsType k = kin.machine().kinematics;
+  std::vector<Joints> out(poses.size());
+  Joints prev;
+  for (size_t r = 0; r < poses.size(); ++r) {
+    Joints hint = prev;
+    if (!pole[r]) set_tilt(hint, k, tilt_hint[r]);
+    auto j = kin.inverse_with_c(poses[r], c_of[r], hint);
+    if (!j) throw PostRowError(r, unreachable_reason(poses[r], kin, options));
+    out[r] = *j;
+    prev = *j;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near) {
@@ -147,117 +279,23 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
 std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options) {
   const MachineSpec& m = kin.machine();
   const KinematicsType k = m.kinematics;
-  const size_t n = poses.size();
-  std::vector<Joints> out(n);
-  if (k == KinematicsType::XYZ) {
-    InverseOptions io;
-    io.pole_tolerance_deg = options.pole_tolerance_deg;
-    for (size_t i = 0; i < n; ++i) {
-      auto j = kin.inverse_nearest(poses[i], Joints{}, io);
-      if (!j) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
-      out[i] = *j;
-    }
-    return out;
-  }
+  if (k == KinematicsType::XYZ) return xyz_joints(poses, kin, options);
   const AxisLimit* c_limit = limit(m, 'C');
   const RotaryMetric metric{limit(m, tilt_letter(k)) == nullptr, c_limit == nullptr};
-
-  // Dynamic programming over the non-pole rows (the layers). cost[l][s]: least rotary motion up to
-  // layer l ending in candidate s; from[l][s]: the candidate of layer l - 1 it came from.
-  std::vector<size_t> layer_row;
-  std::vector<std::vector<Candidate>> cand;
-  std::vector<std::vector<double>> cost;
-  std::vector<std::vector<int>> from;
-  for (size_t i = 0; i < n; ++i) {
-    if (is_pole(poses[i], options.pole_tolerance_deg)) continue;
-    auto c = candidates(poses[i], kin, c_limit);
-    if (c.empty()) throw PostRowError(i, unreachable_reason(poses[i], kin, options));
-    std::vector<double> lc(c.size(), kInf);
-    std::vector<int> lf(c.size(), -1);
-    if (layer_row.empty()) {
-      // Start near the rotaries' zero; the small weight only breaks ties.
-      for (size_t s = 0; s < c.size(); ++s) lc[s] = 1e-3 * (metric.tilt(c[s].tilt, 0) + metric.c(c[s].c, 0));
-    } else {
-      const bool through_pole = layer_row.back() + 1 != i;
-      const bool flip_is_costly = !through_pole && arc_pole_distance(poses[i - 1].axis, poses[i].axis) >
-                                                       options.axis_tolerance_deg + options.pole_tolerance_deg;
-      const auto& pc = cand.back();
-      const auto& pcost = cost.back();
-      for (size_t s = 0; s < c.size(); ++s) {
-        for (size_t p = 0; p < pc.size(); ++p) {
-          const double dt = through_pole ? metric.tilt(pc[p].tilt, 0) + metric.tilt(0, c[s].tilt)
-                                         : metric.tilt(pc[p].tilt, c[s].tilt);
-          double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
-          if (!through_pole && flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0)) v += kFlipPenalty;
-          if (v < lc[s]) {
-            lc[s] = v;
-            lf[s] = static_cast<int>(p);
-          }
-        }
-      }
-    }
-    layer_row.push_back(i);
-    cand.push_back(std::move(c));
-    cost.push_back(std::move(lc));
-    from.push_back(std::move(lf));
-  }
-
-  // Back-track, then unwind continuous axes along the path.
-  std::vector<Candidate> chosen(layer_row.size());
-  if (!layer_row.empty()) {
-    int s = static_cast<int>(std::min_element(cost.back().begin(), cost.back().end()) - cost.back().begin());
-    for (size_t l = layer_row.size(); l-- > 0;) {
-      chosen[l] = cand[l][s];
-      s = from[l][s];
-    }
-    for (size_t l = 1; l < chosen.size(); ++l) {
-      if (metric.c_continuous) chosen[l].c = chosen[l - 1].c + wrap180(chosen[l].c - chosen[l - 1].c);
-      if (metric.tilt_continuous) chosen[l].tilt = chosen[l - 1].tilt + wrap180(chosen[l].tilt - chosen[l - 1].tilt);
-    }
-  }
+  const Layers layers = solve_layers(poses, kin, options, c_limit, metric);
+  const std::vector<Candidate> chosen = cheapest_candidates(layers, metric);
 
   // C of every row: the chosen one, or for pole rows held / interpolated between the neighbours.
+  const size_t n = poses.size();
   std::vector<double> c_of(n, 0.0), tilt_hint(n, 0.0);
   std::vector<char> pole(n, 1);
-  for (size_t l = 0; l < layer_row.size(); ++l) {
-    c_of[layer_row[l]] = chosen[l].c;
-    tilt_hint[layer_row[l]] = chosen[l].tilt;
-    pole[layer_row[l]] = 0;
+  for (size_t l = 0; l < layers.row.size(); ++l) {
+    c_of[layers.row[l]] = chosen[l].c;
+    tilt_hint[layers.row[l]] = chosen[l].tilt;
+    pole[layers.row[l]] = 0;
   }
-  size_t i = 0;
-  while (i < n) {
-    if (!pole[i]) {
-      ++i;
-      continue;
-    }
-    size_t e = i;
-    while (e + 1 < n && pole[e + 1]) ++e;
-    const bool has_before = i > 0, has_after = e + 1 < n;
-    const double c0 = has_before ? c_of[i - 1] : has_after ? c_of[e + 1] : 0.0;
-    const double c1 = has_after ? c_of[e + 1] : c0;
-    // Path length along the tips from the row before the run to the row after it.
-    const size_t a = has_before ? i - 1 : i, b = has_after ? e + 1 : e;
-    std::vector<double> len(b - a + 1, 0.0);
-    for (size_t r = a + 1; r <= b; ++r) len[r - a] = len[r - a - 1] + (poses[r].tip - poses[r - 1].tip).norm();
-    for (size_t r = i; r <= e; ++r) {
-      double w = 0.0;
-      if (options.pole_mode == PoleMode::Interpolate && has_before && has_after)
-        w = len.back() > 1e-12 ? len[r - a] / len.back() : double(r - a) / double(b - a);
-      c_of[r] = c0 + (c1 - c0) * w;
-    }
-    i = e + 1;
-  }
-
-  Joints prev;
-  for (size_t r = 0; r < n; ++r) {
-    Joints hint = prev;
-    if (!pole[r]) set_tilt(hint, k, tilt_hint[r]);
-    auto j = kin.inverse_with_c(poses[r], c_of[r], hint);
-    if (!j) throw PostRowError(r, unreachable_reason(poses[r], kin, options));
-    out[r] = *j;
-    prev = *j;
-  }
-  return out;
+  fill_pole_runs(poses, pole, options, c_of);
+  return joints_at_c(poses, kin, options, c_of, tilt_hint, pole);
 }
 
 }  // namespace tf::post_detail

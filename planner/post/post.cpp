@@ -189,99 +189,146 @@ std::string segment_failure(size_t row, const LinearizeOptions& lo) {
          " deg)";
 }
 
-}  // namespace
+// The rows as tool poses with their feeds, and the box the transit moves must clear (part, tips, rows).
+struct PostRows {
+  std::vector<ToolPose> poses;
+  std::vector<double> feeds;
+  Eigen::AlignedBox3d bounds;
+};
 
-Program post_program(const OrientedPath& path, const PostJob& job, const PostOptions& options, const Progress& progress) {
-  if (path.rows.empty()) throw JobError("the oriented path has no rows");
-  const Dialect dialect = effective_dialect(options, job.machine);
-  const Kinematics kin(job.machine, job.tool.length);
-  std::vector<ToolPose> poses(path.rows.size());
-  std::vector<double> feeds(path.rows.size());
-  Eigen::AlignedBox3d bounds = job.part_bounds;
+PostRows post_rows(const OrientedPath& path, const PostJob& job) {
+  PostRows rows;
+  rows.poses.resize(path.rows.size());
+  rows.feeds.resize(path.rows.size());
+  rows.bounds = job.part_bounds;
   for (size_t i = 0; i < path.rows.size(); ++i) {
     const OrientedRow& r = path.rows[i];
-    poses[i] = ToolPose{row_tip(r, job.tool), r.axis.normalized()};
-    feeds[i] = std::isnan(r.feed) ? job.feed : r.feed;
-    bounds.extend(poses[i].tip);
-    bounds.extend(r.p);
+    rows.poses[i] = ToolPose{row_tip(r, job.tool), r.axis.normalized()};
+    rows.feeds[i] = std::isnan(r.feed) ? job.feed : r.feed;
+    rows.bounds.extend(rows.poses[i].tip);
+    rows.bounds.extend(r.p);
   }
-  if (dialect == Dialect::Apt) {
-    // APT carries the tool tips and axes themselves; the program lists them as tcp targets.
-    Program prog;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      Block b;
-      b.target.x = poses[i].tip.x();
-      b.target.y = poses[i].tip.y();
-      b.target.z = poses[i].tip.z();
-      b.tcp = true;
-      b.feed = feeds[i];
-      prog.blocks.push_back(b);
-    }
-    return prog;
-  }
-  report(progress, "post", 0.0);
-  const std::vector<Joints> joints = choose_joints(poses, kin, options);
-  report(progress, "post", 0.2);
+  return rows;
+}
 
-  const bool tcp = dialect == Dialect::Tcp;
+// APT carries the tool tips and axes themselves; the program lists them as tcp targets.
+Program apt_program(const PostRows& rows) {
+  Program prog;
+  for (size_t i = 0; i < rows.poses.size(); ++i) {
+    Block b;
+    b.target.x = rows.poses[i].tip.x();
+    b.target.y = rows.poses[i].tip.y();
+    b.target.z = rows.poses[i].tip.z();
+    b.tcp = true;
+    b.feed = rows.feeds[i];
+    prog.blocks.push_back(b);
+  }
+  return prog;
+}
+
+LinearizeOptions linearize_options(const PostOptions& options, bool tcp) {
   LinearizeOptions lo;
   lo.tip_tolerance_mm = tcp ? std::numeric_limits<double>::infinity() : options.tip_tolerance_mm;
   lo.axis_tolerance_deg = options.axis_tolerance_deg;
   lo.pole_tolerance_deg = options.pole_tolerance_deg;
+  return lo;
+}
 
-  Builder b(kin, job, options, tcp, bounds);
-  b.start(poses[0], joints[0], feeds[0]);
-  std::vector<PosedJoints> pieces;
-  for (size_t i = 1; i < poses.size(); ++i) {
-    pieces.clear();
-    ToolPose p0 = poses[i - 1];
-    Joints j0 = joints[i - 1];
-    if (!linearize(kin, p0, j0, poses[i], joints[i], lo, pieces)) {
-      // A discontinuous move (the limits force a change of configuration here). Either take the previous
-      // row again in a configuration that runs on to this one, or finish the move in the present
-      // configuration and change it at this row; either way through a retract.
-      auto by_distance = [](std::vector<Joints> v, const Joints& to) {
-        std::sort(v.begin(), v.end(), [&](const Joints& x, const Joints& y) {
-          return rotary_distance(x, to) < rotary_distance(y, to);
-        });
-        return v;
-      };
-      bool done = false;
-      for (const Joints& other : by_distance(all_solutions(p0, kin, joints[i]), joints[i])) {
-        if (rotary_distance(other, j0) < 1e-6 || !linearize(kin, p0, other, poses[i], joints[i], lo, pieces)) continue;
-        b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration before it (retract, turn, re-approach)");
-        b.reposition(p0, j0, p0, other, feeds[i]);
-        j0 = other;
-        done = true;
-        break;
-      }
-      if (!done) {
-        for (const Joints& same : by_distance(all_solutions(poses[i], kin, j0), j0)) {
-          if (!linearize(kin, p0, j0, poses[i], same, lo, pieces)) continue;
-          for (const PosedJoints& q : pieces) {
-            b.cut(p0, j0, q.pose, q.joints, feeds[i]);
-            p0 = q.pose;
-            j0 = q.joints;
-          }
-          pieces.clear();
-          b.program().warnings.push_back("row " + std::to_string(i) + ": change of configuration at it (retract, turn, re-approach)");
-          b.reposition(poses[i], j0, poses[i], joints[i], feeds[i]);
-          p0 = poses[i];
-          j0 = joints[i];
-          done = true;
-          break;
-        }
-      }
-      if (!done) throw JobError(segment_failure(i - 1, lo));
-    }
+std::vector<Joints> by_rotary_distance(std::vector<Joints> v, const Joints& to) {
+  std::sort(v.begin(), v.end(), [&](const Joints& x, const Joints& y) {
+    return rotary_distance(x, to) < rotary_distance(y, to);
+  });
+  return v;
+}
+
+// Where the move from row i - 1 to row i is discontinuous (the limits force a change of configuration),
+// one of the two ways below goes through a retract. Each leaves in `pieces` the blocks still to cut from
+// (p0, j0) on and returns false when it finds no way.
+struct RowMove {
+  const Kinematics& kin;
+  const PostRows& rows;
+  const std::vector<Joints>& joints;
+  const LinearizeOptions& lo;
+  Builder& b;
+  size_t i;
+  ToolPose p0;
+  Joints j0;
+  std::vector<PosedJoints>& pieces;
+
+  void cut_pieces() {
     for (const PosedJoints& q : pieces) {
-      b.cut(p0, j0, q.pose, q.joints, feeds[i]);
+      b.cut(p0, j0, q.pose, q.joints, rows.feeds[i]);
       p0 = q.pose;
       j0 = q.joints;
     }
+  }
+
+  // Take the previous row again in a configuration that runs on to this one.
+  bool change_before() {
+    for (const Joints& other : by_rotary_distance(all_solutions(p0, kin, joints[i]), joints[i])) {
+      if (rotary_distance(other, j0) < 1e-6 || !linearize(kin, p0, other, rows.poses[i], joints[i], lo, pieces))
+        continue;
+      b.program().warnings.push_back("row " + std::to_string(i) +
+                                     ": change of configuration before it (retract, turn, re-approach)");
+      b.reposition(p0, j0, p0, other, rows.feeds[i]);
+      j0 = other;
+      return true;
+    }
+    return false;
+  }
+
+  // Finish the move in the present configuration and change it at this row.
+  bool change_at() {
+    for (const Joints& same : by_rotary_distance(all_solutions(rows.poses[i], kin, j0), j0)) {
+      if (!linearize(kin, p0, j0, rows.poses[i], same, lo, pieces)) continue;
+      cut_pieces();
+      pieces.clear();
+      b.program().warnings.push_back("row " + std::to_string(i) +
+                                     ": change of configuration at it (retract, turn, re-approach)");
+      b.reposition(rows.poses[i], j0, rows.poses[i], joints[i], rows.feeds[i]);
+      p0 = rows.poses[i];
+      j0 = joints[i];
+      return true;
+    }
+    return false;
+  }
+};
+
+// The cutting blocks between consecutive rows, each move linearised within the tolerances.
+void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, const std::vector<Joints>& joints,
+                const LinearizeOptions& lo, const Progress& progress) {
+  const std::vector<ToolPose>& poses = rows.poses;
+  std::vector<PosedJoints> pieces;
+  for (size_t i = 1; i < poses.size(); ++i) {
+    pieces.clear();
+    RowMove move{kin, rows, joints, lo, b, i, poses[i - 1], joints[i - 1], pieces};
+    if (!linearize(kin, move.p0, move.j0, poses[i], joints[i], lo, pieces) && !move.change_before() &&
+        !move.change_at())
+      throw JobError(segment_failure(i - 1, lo));
+    move.cut_pieces();
     if (i % 4096 == 0) report(progress, "post", 0.2 + 0.8 * double(i) / double(poses.size()));
   }
-  b.finish(poses.back(), joints.back());
+}
+
+}  // namespace
+
+Program post_program(const OrientedPath& path, const PostJob& job, const PostOptions& options,
+                     const Progress& progress) {
+  if (path.rows.empty()) throw JobError("the oriented path has no rows");
+  const Dialect dialect = effective_dialect(options, job.machine);
+  const Kinematics kin(job.machine, job.tool.length);
+  const PostRows rows = post_rows(path, job);
+  if (dialect == Dialect::Apt) return apt_program(rows);
+  report(progress, "post", 0.0);
+  const std::vector<Joints> joints = choose_joints(rows.poses, kin, options);
+  report(progress, "post", 0.2);
+
+  const bool tcp = dialect == Dialect::Tcp;
+  const LinearizeOptions lo = linearize_options(options, tcp);
+  Builder b(kin, job, options, tcp, rows.bounds);
+  b.start(rows.poses[0], joints[0], rows.feeds[0]);
+  post_moves(b, kin, rows, joints, lo, progress);
+  b.finish(rows.poses.back(), joints.back());
   report(progress, "post", 1.0);
   return std::move(b.program());
 }

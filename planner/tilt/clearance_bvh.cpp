@@ -106,42 +106,9 @@ struct Fitter {
   Stats fit(int index) {
     ClearanceBvh::Node& nd = nodes[static_cast<size_t>(index)];
     const auto [b, e] = range[static_cast<size_t>(index)];
-    Stats st;
     Aabb bx{Vector3d::Constant(std::numeric_limits<double>::infinity()),
             Vector3d::Constant(-std::numeric_limits<double>::infinity())};
-    const int left = index + 1, right = nd.first;
-    if (nd.count > 0) {
-      for (int i = b; i < e; ++i) {
-        const Triangle& t = tris[static_cast<size_t>(i)];
-        const Vector3d c = (t.b - t.a).cross(t.c - t.a);
-        st.area_vec += c;
-        st.area += c.norm();
-        for (const Vector3d* v : {&t.a, &t.b, &t.c}) {
-          const Vector3d d = *v - ref;
-          st.sum += d;
-          st.sq += d * d.transpose();
-          bx.lo = bx.lo.cwiseMin(*v);
-          bx.hi = bx.hi.cwiseMax(*v);
-        }
-      }
-      st.count = 3.0 * (e - b);
-    } else {
-      Stats l, r;
-      if (e - b > kParallelGrain)
-        tbb::parallel_invoke([&] { l = fit(left); }, [&] { r = fit(right); });
-      else {
-        l = fit(left);
-        r = fit(right);
-      }
-      st.area_vec = l.area_vec + r.area_vec;
-      st.sum = l.sum + r.sum;
-      st.sq = l.sq + r.sq;
-      st.area = l.area + r.area;
-      st.count = l.count + r.count;
-      const Aabb& bl = box[static_cast<size_t>(left)];
-      const Aabb& br = box[static_cast<size_t>(right)];
-      bx = {bl.lo.cwiseMin(br.lo), bl.hi.cwiseMax(br.hi)};
-    }
+    const Stats st = nd.count > 0 ? leaf_stats(b, e, bx) : children_stats(index, b, e, bx);
     box[static_cast<size_t>(index)] = bx;
     // The axis-aligned box first; half extents get a rounding allowance so that the bounds stay bounds
     // in floating point.
@@ -149,10 +116,58 @@ struct Fitter {
     nd.axes.setIdentity();
     nd.centre = 0.5 * (bx.lo + bx.hi);
     nd.half = 0.5 * (bx.hi - bx.lo) + Vector3d::Constant(pad);
-    // An oriented box: the area-weighted mean normal, then in its plane the principal direction of the
-    // vertices. Nodes whose normals largely cancel (both faces of a thin blade, a sharp edge) keep the
-    // axis-aligned box, and so do large nodes (curved patches: neither box is tight).
+    // Nodes whose normals largely cancel (both faces of a thin blade, a sharp edge) keep the axis-aligned
+    // box, and so do large nodes (curved patches: neither box is tight).
     if (e - b > kOrientedMax || !(st.area > 0) || st.area_vec.norm() < 0.5 * st.area) return st;
+    fit_oriented_box(index, b, e, st, bx, pad);
+    return st;
+  }
+
+ private:
+  // Statistics and axis-aligned box of the leaf's triangles [b, e).
+  Stats leaf_stats(int b, int e, Aabb& bx) const {
+    Stats st;
+    for (int i = b; i < e; ++i) {
+      const Triangle& t = tris[static_cast<size_t>(i)];
+      const Vector3d c = (t.b - t.a).cross(t.c - t.a);
+      st.area_vec += c;
+      st.area += c.norm();
+      for (const Vector3d* v : {&t.a, &t.b, &t.c}) {
+        const Vector3d d = *v - ref;
+        st.sum += d;
+        st.sq += d * d.transpose();
+        bx.lo = bx.lo.cwiseMin(*v);
+        bx.hi = bx.hi.cwiseMax(*v);
+      }
+    }
+    st.count = 3.0 * (e - b);
+    return st;
+  }
+
+  // Fits both children of an inner node over [b, e), then sums their statistics and joins their boxes.
+  Stats children_stats(int index, int b, int e, Aabb& bx) {
+    const int left = index + 1, right = nodes[static_cast<size_t>(index)].first;
+    Stats st, l, r;
+    if (e - b > kParallelGrain)
+      tbb::parallel_invoke([&] { l = fit(left); }, [&] { r = fit(right); });
+    else {
+      l = fit(left);
+      r = fit(right);
+    }
+    st.area_vec = l.area_vec + r.area_vec;
+    st.sum = l.sum + r.sum;
+    st.sq = l.sq + r.sq;
+    st.area = l.area + r.area;
+    st.count = l.count + r.count;
+    const Aabb& bl = box[static_cast<size_t>(left)];
+    const Aabb& br = box[static_cast<size_t>(right)];
+    bx = {bl.lo.cwiseMin(br.lo), bl.hi.cwiseMax(br.hi)};
+    return st;
+  }
+
+  // The oriented box's axes (rows): the area-weighted mean normal, then in its plane the principal
+  // direction of the vertices. Not finite when the statistics are degenerate.
+  static Eigen::Matrix3d principal_axes(const Stats& st) {
     const Vector3d nrm = st.area_vec.normalized();
     const Eigen::Matrix3d cov = st.sq - st.sum * st.sum.transpose() / st.count;
     const Vector3d b1 = nrm.unitOrthogonal(), b2 = nrm.cross(b1);
@@ -162,9 +177,13 @@ struct Fitter {
     axes.row(0) = nrm;
     axes.row(1) = (std::cos(th) * b1 + std::sin(th) * b2).normalized();
     axes.row(2) = nrm.cross(Vector3d(axes.row(1))).normalized();
-    if (!axes.allFinite()) return st;
-    Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    if (e - b <= kScanMax) {  // exact extents of the vertices
+    return axes;
+  }
+
+  // Extents [lo, hi] of node `index` (triangles [b, e)) along `axes`: exact from the vertices for small
+  // nodes, else from the children's boxes projected on the axes.
+  void oriented_extents(int index, int b, int e, const Eigen::Matrix3d& axes, Vector3d& lo, Vector3d& hi) const {
+    if (e - b <= kScanMax) {
       for (int i = b; i < e; ++i) {
         const Triangle& t = tris[static_cast<size_t>(i)];
         for (const Vector3d* v : {&t.a, &t.b, &t.c}) {
@@ -173,8 +192,8 @@ struct Fitter {
           hi = hi.cwiseMax(l);
         }
       }
-    } else {  // the children's boxes, projected on these axes
-      for (int child : {left, right}) {
+    } else {
+      for (int child : {index + 1, nodes[static_cast<size_t>(index)].first}) {
         const ClearanceBvh::Node& c = nodes[static_cast<size_t>(child)];
         const Vector3d mid = axes * c.centre;
         const Vector3d h = (axes * c.axes.transpose()).cwiseAbs() * c.half;
@@ -182,13 +201,21 @@ struct Fitter {
         hi = hi.cwiseMax(mid + h);
       }
     }
+  }
+
+  // Gives node `index` the oriented box when it is smaller than its axis-aligned box bx.
+  void fit_oriented_box(int index, int b, int e, const Stats& st, const Aabb& bx, double pad) {
+    const Eigen::Matrix3d axes = principal_axes(st);
+    if (!axes.allFinite()) return;
+    Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    oriented_extents(index, b, e, axes, lo, hi);
     const Vector3d half = 0.5 * (hi - lo);
-    if (half.prod() >= (0.5 * (bx.hi - bx.lo)).prod()) return st;  // the axis-aligned box is the smaller
+    if (half.prod() >= (0.5 * (bx.hi - bx.lo)).prod()) return;  // the axis-aligned box is the smaller
+    ClearanceBvh::Node& nd = nodes[static_cast<size_t>(index)];
     nd.axes = axes;
     nd.centre = axes.transpose() * (0.5 * (lo + hi));
     // The centre went through a rotation and back: allow for its rounding too.
     nd.half = half + Vector3d::Constant(pad + 1e-12 * (1 + nd.centre.cwiseAbs().maxCoeff()));
-    return st;
   }
 };
 

@@ -45,19 +45,32 @@ void axis_metrics(const OrientedPath& path, PlanMetrics& m) {
   m.rms_second_difference = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
 }
 
-PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
-                     const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
-                     const Progress& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  PlanResult result;
-  auto last = t0;
-  auto stage = [&](const char* name) {
+namespace {
+
+// Appends each stage's wall time, counted from the end of the previous one, to PlanMetrics::stage_seconds.
+class StageClock {
+ public:
+  explicit StageClock(PlanMetrics& metrics) : metrics_(metrics) {}
+
+  void operator()(const char* name) {
     const auto now = std::chrono::steady_clock::now();
-    result.metrics.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - last).count());
-    last = now;
-  };
+    metrics_.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+  double total_seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  PlanMetrics& metrics_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_ = start_;
+};
+
+// Per row: the local frame, the arc length, the nominal axis and the feed (the row's own, else the job's).
+void set_up_rows(PlanContext& ctx, const ToolPath& path, const Tool& tool, const PlannerBasics& basics, double feed,
+                 const PlanOptions& options) {
   const size_t n = path.rows.size();
-  PlanContext ctx;
   ctx.path = &path;
   ctx.tool = &tool;
   ctx.basics = basics;
@@ -71,147 +84,177 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], basics.lead_deg, basics.tilt_deg);
     ctx.feed[i] = std::isfinite(path.rows[i].feed) ? path.rows[i].feed : feed;
   }
-  report(progress, "plan", 0.0);
-  ctx.bvh = ClearanceBvh(check_surfaces);
-  stage("bvh");
+}
+
+// Only a limited rotary axis can leave an axis without a joint solution.
+bool has_limited_rotary(const MachineSpec& machine) {
+  bool limited = false;
+  for (char c : machine.rotary_axes()) {
+    const auto it = machine.limits.find(c);
+    limited |= it != machine.limits.end() && (std::isfinite(it->second.min) || std::isfinite(it->second.max));
+  }
+  return limited;
+}
+
+// The tool's pieces with the clearance each must keep, and the kinematics when reachability matters.
+void set_up_body(PlanContext& ctx, const Tool& tool, const PlannerBasics& basics, const MachineSpec* machine) {
   ctx.pieces = body_pieces(tool);
   for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
   merge_coaxial_pieces(ctx.pieces, ctx.required);
-  if (machine) {
-    bool limited = false;
-    for (char c : machine->rotary_axes()) {
-      const auto it = machine->limits.find(c);
-      limited |= it != machine->limits.end() && (std::isfinite(it->second.min) || std::isfinite(it->second.max));
-    }
-    if (limited) ctx.kinematics.emplace(*machine, tool.length);
+  if (machine && has_limited_rotary(*machine)) ctx.kinematics.emplace(*machine, tool.length);
+}
+
+// How many rows the nominal axis leaves too close (for the report).
+size_t count_nominal_colliding(const PlanContext& ctx) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, ctx.nominal.size(), 64), size_t{0},
+      [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+        std::vector<int> hints;
+        for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
+        return acc;
+      },
+      std::plus<size_t>());
+}
+
+// The baseline: every row's axis on its own, then the exact clearances of all rows.
+void pointwise_stages(const PlanContext& ctx, const Progress& progress, StageClock& stage, PlanMetrics& metrics,
+                      std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear) {
+  metrics.rows_nominal_colliding = count_nominal_colliding(ctx);
+  stage("nominal_check");
+  metrics.method = "pointwise";
+  axes = pointwise_axes(ctx, progress);
+  report(progress, "plan", 0.7);
+  stage("axes");
+  clear = all_clearances(ctx, axes);
+  stage("clearance");
+}
+
+// Builds in parallel the bricks the nominal poses will need: around every chunk of the body that is
+// within `reach` of an obstacle, at rows about a brick apart.
+void prefetch_nominal_bricks(const PlanContext& ctx, const BodySamples& samples, double reach, DistanceField& field) {
+  const size_t n = ctx.path->rows.size();
+  std::vector<Vector3d> centres;
+  const double brick = DistanceField::kBrick * field.cell();
+  double next = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (ctx.arc[i] < next && i + 1 != n) continue;
+    next = ctx.arc[i] + 0.5 * brick;
+    for (const auto& ch : samples.chunks) centres.push_back(ctx.path->rows[i].p + ch.hc * ctx.nominal[i]);
   }
-  report(progress, "plan", 0.05);
+  std::vector<char> near(centres.size(), 0);
+  tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
+    const auto& ch = samples.chunks[k % samples.chunks.size()];
+    near[k] = ctx.bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
+  });
+  std::vector<Vector3d> wanted;
+  for (size_t k = 0; k < centres.size(); ++k)
+    if (near[k]) wanted.push_back(centres[k]);
+  double rho = 0;
+  for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
+  field.prefetch(wanted, rho + field.cell());
+}
 
-  // How many rows the nominal axis leaves too close (for the report).
-  auto nominal_colliding = [&] {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, n, 64), size_t{0},
-        [&](const tbb::blocked_range<size_t>& r, size_t acc) {
-          std::vector<int> hints;
-          for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
-          return acc;
-        },
-        std::plus<size_t>());
-  };
+// What the integration shares with the thread that computes clearances behind it.
+struct ClearingBehind {
+  std::atomic<size_t> published{0}, cleared{0};
+  std::atomic<bool> stop{false};
+  double nominal_seconds = 0;
+};
 
-  std::vector<Vector3d> axes;
-  std::vector<BodyClearance> clear;
-  if (options.method == PlanMethod::Pointwise) {
-    result.metrics.rows_nominal_colliding = nominal_colliding();
-    stage("nominal_check");
-    result.metrics.method = "pointwise";
-    axes = pointwise_axes(ctx, progress);
+// The background thread: counts the nominal collisions, then clears the rows the integration has
+// published, a block at a time, until stopped.
+void clear_behind(const PlanContext& ctx, const std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
+                  PlanMetrics& metrics, ClearingBehind& shared) {
+  const auto t = std::chrono::steady_clock::now();
+  metrics.rows_nominal_colliding = count_nominal_colliding(ctx);
+  shared.nominal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  constexpr size_t kBlock = 256;
+  std::vector<int> hints;
+  size_t next = 0;
+  while (!shared.stop.load(std::memory_order_acquire)) {
+    if (shared.published.load(std::memory_order_acquire) < next + kBlock) {
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+      continue;
+    }
+    for (size_t i = next; i < next + kBlock; ++i) clear[i] = ctx.clearance(i, axes[i], &hints);
+    next += kBlock;
+    shared.cleared.store(next, std::memory_order_release);
+  }
+}
+
+// Whatever way the integration ends (a progress callback may throw), the background stops first.
+struct StopAndJoin {
+  std::atomic<bool>& stop;
+  tbb::task_group& group;
+  bool waited = false;
+  void wait() {
+    stop.store(true, std::memory_order_release);
+    waited = true;
+    group.wait();
+  }
+  ~StopAndJoin() {
+    if (waited) return;
+    stop.store(true, std::memory_order_release);
+    try {
+      group.wait();
+    } catch (...) {
+    }
+  }
+};
+
+// The dynamics are sequential along the path. Meanwhile another thread counts the nominal collisions,
+// then computes the exact clearances of the rows the integration has finished; what it has not reached
+// when the dynamics end is done in parallel afterwards.
+void integrate_and_clear(const PlanContext& ctx, const BodySamples& samples, DistanceField& field,
+                         const Progress& progress, StageClock& stage, PlanMetrics& metrics,
+                         std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear) {
+  const size_t n = ctx.path->rows.size();
+  axes.resize(n);
+  clear.resize(n);
+  ClearingBehind shared;
+  tbb::task_group background;
+  background.run([&] { clear_behind(ctx, axes, clear, metrics, shared); });
+  {
+    StopAndJoin join{shared.stop, background};
+    integrate_axes(*ctx.path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+                   dynamics_params(ctx.options, *ctx.tool, ctx.basics), progress, axes, &shared.published);
     report(progress, "plan", 0.7);
     stage("axes");
-    clear = all_clearances(ctx, axes);
-    stage("clearance");
-  } else {
-    result.metrics.method = "dynamic";
-    const BodySamples samples = make_body_samples(tool, basics, options.sample_spacing_mm);
-    double max_req = 0;
-    for (double r : ctx.required) max_req = std::max(max_req, r);
-    DistanceField field(ctx.bvh, options.field_cell_mm, options.influence_mm + max_req + 2 * options.field_cell_mm);
-    // Build in parallel the bricks the nominal poses will need: around every chunk of the body that is
-    // within reach of an obstacle, at rows about a brick apart.
-    {
-      std::vector<Vector3d> centres;
-      std::vector<double> radii;
-      const double brick = DistanceField::kBrick * field.cell();
-      double next = 0;
-      for (size_t i = 0; i < n; ++i) {
-        if (ctx.arc[i] < next && i + 1 != n) continue;
-        next = ctx.arc[i] + 0.5 * brick;
-        for (const auto& ch : samples.chunks) centres.push_back(path.rows[i].p + ch.hc * ctx.nominal[i]);
-      }
-      std::vector<char> near(centres.size(), 0);
-      const double reach = options.influence_mm + max_req;
-      tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
-        const auto& ch = samples.chunks[k % samples.chunks.size()];
-        near[k] = ctx.bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
-      });
-      std::vector<Vector3d> wanted;
-      for (size_t k = 0; k < centres.size(); ++k)
-        if (near[k]) wanted.push_back(centres[k]);
-      double rho = 0;
-      for (const auto& ch : samples.chunks) rho = std::max(rho, ch.rho);
-      field.prefetch(wanted, rho + field.cell());
-    }
-    stage("field");
-    report(progress, "plan", 0.1);
-    // The dynamics are sequential along the path. Meanwhile another thread counts the nominal
-    // collisions, then computes the exact clearances of the rows the integration has finished, a block
-    // at a time; what it has not reached when the dynamics end is done in parallel afterwards.
-    axes.resize(n);
-    clear.resize(n);
-    std::atomic<size_t> published{0}, cleared{0};
-    std::atomic<bool> stop{false};
-    double nominal_seconds = 0;
-    tbb::task_group background;
-    background.run([&] {
-      const auto t = std::chrono::steady_clock::now();
-      result.metrics.rows_nominal_colliding = nominal_colliding();
-      nominal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-      constexpr size_t kBlock = 256;
-      std::vector<int> hints;
-      size_t next = 0;
-      while (!stop.load(std::memory_order_acquire)) {
-        if (published.load(std::memory_order_acquire) < next + kBlock) {
-          std::this_thread::sleep_for(std::chrono::microseconds(100));
-          continue;
-        }
-        for (size_t i = next; i < next + kBlock; ++i) clear[i] = ctx.clearance(i, axes[i], &hints);
-        next += kBlock;
-        cleared.store(next, std::memory_order_release);
-      }
-    });
-    {
-      // Whatever way the integration ends (a progress callback may throw), the background stops first.
-      struct Join {
-        std::atomic<bool>& stop;
-        tbb::task_group& group;
-        bool waited = false;
-        void wait() {
-          stop.store(true, std::memory_order_release);
-          waited = true;
-          group.wait();
-        }
-        ~Join() {
-          if (waited) return;
-          stop.store(true, std::memory_order_release);
-          try {
-            group.wait();
-          } catch (...) {
-          }
-        }
-      } join{stop, background};
-      integrate_axes(path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
-                     dynamics_params(options, tool, basics), progress, axes, &published);
-      report(progress, "plan", 0.7);
-      stage("axes");
-      join.wait();
-    }
-    clearances(ctx, axes, cleared.load(std::memory_order_acquire), n, clear);
-    stage("clearance");
-    // Ran alongside "axes" (and is part of it in wall time).
-    result.metrics.stage_seconds.emplace_back("nominal_check", nominal_seconds);
+    join.wait();
   }
-  report(progress, "plan", 0.8);
-  result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
-  stage("corrections");
-  if (options.smooth) {
-    result.metrics.smoothed = smooth_axes(ctx, axes, clear);
-    if (!result.metrics.smoothed) result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
-    stage("smoothing");
-  }
+  clearances(ctx, axes, shared.cleared.load(std::memory_order_acquire), n, clear);
+  stage("clearance");
+  // Ran alongside "axes" (and is part of it in wall time).
+  metrics.stage_seconds.emplace_back("nominal_check", shared.nominal_seconds);
+}
+
+// The rigid-body model: the distance field it feels, then the integration along the path.
+void dynamic_stages(const PlanContext& ctx, const Progress& progress, StageClock& stage, PlanMetrics& metrics,
+                    std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear) {
+  const PlanOptions& options = ctx.options;
+  metrics.method = "dynamic";
+  const BodySamples samples = make_body_samples(*ctx.tool, ctx.basics, options.sample_spacing_mm);
+  double max_req = 0;
+  for (double r : ctx.required) max_req = std::max(max_req, r);
+  DistanceField field(ctx.bvh, options.field_cell_mm, options.influence_mm + max_req + 2 * options.field_cell_mm);
+  prefetch_nominal_bricks(ctx, samples, options.influence_mm + max_req, field);
+  stage("field");
+  report(progress, "plan", 0.1);
+  integrate_and_clear(ctx, samples, field, progress, stage, metrics, axes, clear);
+}
+
+void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::vector<std::string>& notes) {
   if (!machine)
-    result.notes.push_back("no machine: only max_tilt_deg limits the axis");
+    notes.push_back("no machine: only max_tilt_deg limits the axis");
   else if (!ctx.kinematics)
-    result.notes.push_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+    notes.push_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+}
+
+// The oriented rows, the rows left below their clearance or without a joint solution, and the summary metrics.
+void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, const std::vector<BodyClearance>& clear,
+                  PlanResult& result) {
+  const ToolPath& path = *ctx.path;
+  const size_t n = path.rows.size();
   std::vector<char> unreachable(n, 0);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) { unreachable[i] = ctx.reachable(i, axes[i]) ? 0 : 1; });
 
@@ -235,7 +278,40 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   result.metrics.rows_below_safety = 0;
   for (const auto& u : result.uncleared) result.metrics.rows_below_safety += u.margin_mm < 0 ? 1 : 0;
   axis_metrics(result.path, result.metrics);
-  result.metrics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+                     const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
+                     const Progress& progress) {
+  PlanResult result;
+  StageClock stage(result.metrics);
+  PlanContext ctx;
+  set_up_rows(ctx, path, tool, basics, feed, options);
+  report(progress, "plan", 0.0);
+  ctx.bvh = ClearanceBvh(check_surfaces);
+  stage("bvh");
+  set_up_body(ctx, tool, basics, machine);
+  report(progress, "plan", 0.05);
+
+  std::vector<Vector3d> axes;
+  std::vector<BodyClearance> clear;
+  if (options.method == PlanMethod::Pointwise)
+    pointwise_stages(ctx, progress, stage, result.metrics, axes, clear);
+  else
+    dynamic_stages(ctx, progress, stage, result.metrics, axes, clear);
+  report(progress, "plan", 0.8);
+  result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  stage("corrections");
+  if (options.smooth) {
+    result.metrics.smoothed = smooth_axes(ctx, axes, clear);
+    if (!result.metrics.smoothed)
+      result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+    stage("smoothing");
+  }
+  note_axis_limits(ctx, machine, result.notes);
+  write_result(ctx, axes, clear, result);
+  result.metrics.seconds = stage.total_seconds();
   report(progress, "plan", 1.0);
   return result;
 }

@@ -3,7 +3,7 @@
 //      (BM_FreeformFinishing/500/x: 500 lines x 1000 moves; /5 and /50 are quick fractions of it), with
 //      and without the engagement measurement;
 //  (b) the bundled impeller, planned and posted in process, at 0.05 mm; at 0.1 mm with and without the
-//      engagement measurement (its cost, issue 6).
+//      engagement measurement (its cost).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -152,7 +152,7 @@ void BM_Impeller(benchmark::State& state) {
     collisions = r.report.collisions.size();
     engaged = 0;
     for (const tf::BlockResult& b : r.report.per_block) engaged += b.engagement.engaged();
-    // Removed volume summed over blocks against the stock before minus after (issue 6), percent.
+    // Removed volume summed over blocks against the stock before minus after, percent.
     const double gone = r.report.stock_volume_start_mm3 - r.report.stock_volume_end_mm3;
     balance = 100.0 * (r.report.removed_volume_mm3 - gone) / std::max(gone, 1e-9);
   }
@@ -161,12 +161,12 @@ void BM_Impeller(benchmark::State& state) {
   state.counters["sim_seconds"] = seconds;
   state.counters["collisions"] = static_cast<double>(collisions);
   state.counters["engaged_blocks"] = static_cast<double>(engaged);
-  // The engagement's share of the simulation, measured inside it (issue 6 goal: <= 30 %).
+  // The engagement's share of the simulation, measured inside it (goal: at most 30 %).
   state.counters["engagement_pct"] = 100.0 * engagement / std::max(seconds - engagement, 1e-9);
   state.counters["volume_balance_pct"] = balance;
   state.counters["peak_MB"] = peak_rss_mb();
 }
-// Engagement cost: /10/0 against /10/1 (issue 6). Issue 5 (b): /5/1, the impeller at 0.05 mm.
+// Engagement cost: /10/0 against /10/1. /5/1: the impeller at 0.05 mm.
 BENCHMARK(BM_Impeller)->Args({10, 0})->Args({10, 1})->Args({5, 1})->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace

@@ -26,7 +26,7 @@ TEST(Volume, BoxAndCylinderStock) {
 }
 
 TEST(Volume, SphereMeshRebuiltFrom147Rays) {
-  // Seed 000: a sphere R = 10 on 3 x 7 x 7 rays. Rays at -8.57 .. 8.57 (spacing 20/7).
+  // The tri-dexel model's headline case (Lee): a sphere R = 10 on 3 x 7 x 7 rays. Rays at -8.57 .. 8.57 (spacing 20/7).
   const Mesh sphere = test::icosphere(10.0, 5);
   const Lattice L = lattice_for(Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-10), Eigen::Vector3d::Constant(10)), 20.0 / 7.0, 1);
   const TriDexel td = dexels_from_mesh(sphere, L);

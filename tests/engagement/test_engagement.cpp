@@ -42,7 +42,7 @@ VerifyReport run(const Scene& scene, const test::Moves& moves, double resolution
   return verify_program(scene, moves.program(), forward_xyz, o).report;
 }
 
-// Relative tolerance of the issue: 1 % of the closed form (angles: of the engaged span).
+// Relative tolerance: 1 % of the closed form (angles: of the engaged span).
 void expect_within(double value, double expected, double scale, const char* what) {
   EXPECT_NEAR(value, expected, 0.01 * scale) << what;
 }

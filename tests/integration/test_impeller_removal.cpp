@@ -1,5 +1,5 @@
 // The bundled impeller, planned and posted in process as `tiltfield run` does: the removed volume summed
-// over blocks equals the stock before minus after (issue 6: within 0.5 %), feed blocks that cut are
+// over blocks equals the stock before minus after (within 0.5 %), feed blocks that cut are
 // engaged and rapids are not. Named *Slow: the sanitizer build skips it (the release run covers it).
 #include <gtest/gtest.h>
 

@@ -30,9 +30,6 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& opti
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.
 std::filesystem::path bundled_scene(const std::string& name);
 
-// For sub-commands that a later issue delivers: throws InputError saying so (exit 2).
-[[noreturn]] void not_yet_delivered(const std::string& command, int issue);
-
 void add_run_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_post_command(CLI::App& app);

@@ -45,8 +45,4 @@ fs::path bundled_scene(const std::string& name) {
   return scene;
 }
 
-void not_yet_delivered(const std::string& command, int issue) {
-  throw InputError("", 0, "", "'tiltfield " + command + "' is not delivered yet (issue " + std::to_string(issue) + ")");
-}
-
 }  // namespace tf::cli

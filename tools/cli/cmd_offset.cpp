@@ -1,4 +1,4 @@
-// `tiltfield offset`: offset-profile trajectory for copy milling or ECM (issue 7, docs/offset.md).
+// `tiltfield offset`: offset-profile trajectory for copy milling or ECM (docs/offset.md).
 #include <algorithm>
 #include <memory>
 #include <cctype>

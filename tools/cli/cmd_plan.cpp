@@ -11,7 +11,7 @@ namespace tf::cli {
 
 namespace {
 
-// JSON text with every number in fixed notation (the spec forbids scientific notation in outputs).
+// JSON text with every number in fixed notation (no output of ours uses scientific notation).
 void write_json(std::ostream& os, const nlohmann::json& j, int indent) {
   const std::string pad(static_cast<size_t>(indent + 2), ' '), end_pad(static_cast<size_t>(indent), ' ');
   if (j.is_object()) {

@@ -61,7 +61,7 @@ void run_verify(const VerifyArgs& a) {
   if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
   if (!a.pairs.empty()) write_engagement_csv(result.report, a.pairs);
   if (scheduling) {
-    // -o is the rewritten program here (the issue's `verify --schedule-feed V -o PROGRAM2.ngc`).
+    // -o is the rewritten program here (`verify --schedule-feed V -o PROGRAM2.ngc`; --report names the JSON).
     const FeedSchedule fs = schedule_feeds(program, result.report, so);
     const std::string text = read_text_file(a.program, "G-code file");
     if (!a.report.empty()) write_verify_json(result.report, a.report);

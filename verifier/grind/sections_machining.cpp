@@ -1,4 +1,4 @@
-// Cross-section machining (seed 003, section 4.2): per section and per operation, the wheel's plane sections
+// Cross-section machining: per section and per operation, the wheel's plane sections
 // at consecutive increments are hulled pairwise and the union of the hulls is subtracted with Clipper.
 // Material removal commutes, so one subtraction per section and operation is exact.
 #include <tbb/parallel_for.h>

@@ -1,11 +1,11 @@
-// Surface tiling between consecutive sections (seed 003, section 4.1).
+// Surface tiling between consecutive sections (the correspondence and branching problems of contour tiling).
 //
 // Branching problem: the contours of two consecutive sections are related by the overlap of their regions.
 // A component (outer contour + its holes) that overlaps exactly one component of the next section, whose
 // holes also pair up one to one, is tiled; every other group (splits, merges, appearing or vanishing
 // contours) is closed by an exact stair step at the slab's mid-plane (sections_stairs.cpp).
 // Correspondence problem: two paired contours are cut into runs of edges made by the same operation; when
-// both show the same cyclic sequence of operations, run k is tiled with run k (the seed's constraint), else
+// both show the same cyclic sequence of operations, run k is tiled with run k (operations correspond across sections), else
 // the whole contours are tiled from their nearest vertices. Within a run, the vertex with the smaller
 // normalised arc length advances (no drift between contours of different vertex counts).
 // Every slab whose contours changed is checked for self-intersection (CGAL); one that intersects is rebuilt

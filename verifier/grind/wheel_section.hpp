@@ -18,7 +18,7 @@ struct PoseInfo {
 PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank);
 
 // Appends points on the boundary of the wheel's section by the plane z = z0 (blank frame): the endpoints of
-// each ring's chord (the seed's "segments"), and, when the plane crosses the spindle axis steeply
+// each ring's chord (the "segments" of the section method), and, when the plane crosses the spindle axis steeply
 // (|axis.z| > 0.5), where the wheel's generator lines pierce the plane. Their convex hull is the section.
 // `trig` holds (cos, sin) of the generator angles (generator_table); empty: rings only.
 void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2d>& profile, double z0,

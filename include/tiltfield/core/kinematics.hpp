@@ -1,5 +1,5 @@
 // tiltfield: the one kinematics implementation (forward and inverse), shared by the post-processor and
-// the verifier. Implemented in planner/kinematics*.cpp (issue 4).
+// the verifier.
 //
 // Units: X Y Z in mm, A B C in degrees. The part frame is the frame the scene's geometry is in; the
 // machine frame is the controller's. The tool pose is the tool tip and the unit tool axis (tip toward
@@ -9,7 +9,7 @@
 // Conventions (docs/post.md has the derivations). Rx, Ry, Rz are right-handed rotations about the
 // machine's +X, +Y, +Z; r = MachineSpec::pivot, d = MachineSpec::tilt_offset, t = table_center,
 // Lp = head_pivot_length, p the tip in the part frame, u the tool axis in the machine frame.
-//   xyz            X Y Z = p (the tool tip, as the spec says for 3-axis programs); axis always +Z.
+//   xyz            X Y Z = p (the tool tip, as 3-axis programs give it); axis always +Z.
 //   table-table-ac LinuxCNC xyzac-trt-kins (2.9, default "unconventional" directions), tool-offset = L:
 //                  XYZ = Rx(A) Rz(C) (p - r) + r + (I - Rx(A)) d + L ez.
 //                  Axis in the part frame = (sin A sin C, sin A cos C, cos A).

@@ -1,4 +1,5 @@
-// tiltfield: the paper's local frame (C_L, f, n, t) at a cutter location, and lead/tilt <-> tool axis.
+// tiltfield core: the local frame (C_L, f, n, t) of a cutter location (Lacharnay et al., CAD 64, 2015),
+// lead/tilt <-> tool axis, and the great-circle interpolation of axes.
 //
 // f: unit feed direction (path tangent, made orthogonal to n); n: unit design-surface normal;
 // t = f x n. Lead (deg) inclines the axis toward +f, tilt (deg) turns it about f toward +t:

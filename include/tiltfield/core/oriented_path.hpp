@@ -1,4 +1,6 @@
-// tiltfield: the planner's output: cutter locations with a tool axis each.
+// tiltfield core: the planner's output: cutter locations with a tool axis each, and its CSV.
+//
+// Units: mm, deg. The axis is a unit vector from the tool tip toward the spindle, in the part frame.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>

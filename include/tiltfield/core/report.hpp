@@ -39,7 +39,7 @@ struct Collision {
   double depth_mm = 0.0;  // penetration estimate (see docs/verifier.md)
   // The tool's pose at the start and the end of the block (part frame), so that a re-planner can find
   // the path rows involved without the program. `has_poses` is false for a collision read from a
-  // VERIFY.json that does not carry them (the spec does not require them).
+  // VERIFY.json that does not carry them (they are an addition to the documented format).
   ToolPose start, end;
   bool has_poses = true;
 };
@@ -115,7 +115,7 @@ struct VerifyReport {
 
 // One row of blocks.csv. NaN: not computed (an empty cell): the MRR of a block that takes no time, the
 // angles of a block that engages nothing. `axial_depth_mm`, `radial_width_mm` and `pairs` are NaN / -1
-// when the file has no such column (the spec's eight columns only).
+// when the file has no such column (the eight documented columns only).
 struct BlockRow {
   int block = 0;  // as the verifier numbers them, from 1
   int line = 0;   // 1-based G-code line, 0 when unknown
@@ -133,22 +133,22 @@ struct BlockRow {
 // The blocks.csv row of a block result.
 BlockRow block_row(const BlockResult& block);
 
-// VERIFY.json: the spec's fields, then the tool poses of each collision, the stock volumes, sweep error
+// VERIFY.json: the documented fields, then the tool poses of each collision, the stock volumes, sweep error
 // bounds, excess material statistics, memory and an engagement/MRR summary over the feed blocks.
 void write_verify_json(const VerifyReport& report, const std::filesystem::path& file);
-// blocks.csv: the spec's columns, then axial_depth_mm, radial_width_mm and pairs (the most entry/exit
+// blocks.csv: the documented columns, then axial_depth_mm, radial_width_mm and pairs (the most entry/exit
 // pairs at one height).
 void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& file);
 // Every entry/exit pair at every height: block,line,height_mm,entry_deg,exit_deg (needs the pairs kept).
 void write_engagement_csv(const VerifyReport& report, const std::filesystem::path& file);
 
 // Reads a VERIFY.json back: every figure write_verify_json writes except the engagement summary
-// (per_block stays empty; blocks.csv has the blocks). The spec's fields are required where present in a
-// collision or gouge (block, line, component, with, rapid, depth_mm); the figures are optional (0 when
-// absent), the collision poses too (Collision::has_poses).
+// (per_block stays empty; blocks.csv has the blocks). The documented fields are required in a
+// collision or gouge (block, line, component, with, rapid, depth_mm); the figures are optional (NaN, or
+// 0 for counts, when absent), the collision poses too (Collision::has_poses).
 VerifyReport read_verify_json(const std::filesystem::path& file);
 
-// Reads blocks.csv (the spec's eight columns required, the three extra ones optional; collision 0/1 or
+// Reads blocks.csv (the eight documented columns required, the three extra ones optional; collision 0/1 or
 // true/false; an empty number cell is NaN).
 std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& file);
 

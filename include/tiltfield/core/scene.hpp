@@ -1,4 +1,9 @@
-// tiltfield: the scene: everything one job needs, loaded and validated from the spec's scene JSON.
+// tiltfield core: the scene: everything one job needs, loaded and validated from the scene JSON.
+//
+// In: a scene file (README, "Files": design, check surfaces, stock as mesh, box or cylinder, fixtures,
+// tool, path and feed, planner options, machine); paths inside it are relative to it. Out: a Scene with
+// every mesh and the path loaded, the machine resolved, and the planner's basic options (safety
+// distance, lead/tilt, max tilt) with their defaults. Units: mm, deg, mm/min. Unknown keys are refused.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>

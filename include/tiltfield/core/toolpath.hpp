@@ -1,4 +1,5 @@
-// tiltfield: the input tool path: cutter locations with design-surface normals, in cutting order.
+// tiltfield core: the input tool path: cutter locations with design-surface normals, in cutting order,
+// from the path CSV or APT CLDATA. Units: mm, mm/min.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -22,7 +23,7 @@ struct ToolPath {
   std::vector<double> arc_length() const;
 };
 
-// Reads the spec's CSV (header x,y,z,nx,ny,nz[,feed], columns in any order, extra columns refused).
+// Reads the path CSV (header x,y,z,nx,ny,nz[,feed], columns in any order, extra columns refused).
 // Throws InputError with the line and column for a missing column, a bad number, NaN, a zero or
 // non-unit normal (|n| off by more than 1e-3; normals within that are renormalised), or no rows.
 ToolPath read_toolpath_csv(const std::filesystem::path& file);
@@ -37,7 +38,7 @@ ToolPath read_toolpath_apt(const std::filesystem::path& file, const Tool& tool);
 // Dispatches on the extension: .cl/.apt to CLDATA, anything else to CSV.
 ToolPath read_toolpath(const std::filesystem::path& file, const Tool& tool);
 
-// Writes the spec's CSV (x,y,z,nx,ny,nz and feed when any row has one), 9 decimals, atomically.
+// Writes the path CSV (x,y,z,nx,ny,nz and feed when any row has one), 9 decimals, atomically.
 void write_toolpath_csv(const ToolPath& path, const std::filesystem::path& file);
 
 }  // namespace tf

@@ -1,4 +1,4 @@
-// tiltfield: the tri-dexel stock model (seed 000, "orthogonales Multi-Dexel-Modell"): three orthogonal grids
+// tiltfield dexel: the tri-dexel stock model (Lee's "orthogonales Multi-Dexel-Modell"): three orthogonal grids
 // of rays along x, y and z through the nodes of one cubic lattice; per ray a sorted list of disjoint
 // material intervals. Memory grows with the number of rays (the grid faces) and the number of surface
 // crossings, not with the volume.

@@ -1,5 +1,12 @@
-// tiltfield: the verifier: tri-dexel material-removal simulation of a program on the scene's machine,
-// with collisions, gouges, per-block removal and the report files (spec: "Verification report").
+// tiltfield dexel: the verifier's simulation: tri-dexel material removal of a program on the scene's machine.
+//
+// In: the scene (stock, tool, check surfaces, fixtures, design), a Program and the machine's forward
+// kinematics. Out: a VerifyReport (tiltfield/core/report.hpp: removed volume per block and in all,
+// collisions of each tool component with the stock, check surfaces and fixtures, gouges against the
+// design, sweep error bounds) and the stock after the program, which reconstruct_stock turns into a
+// closed mesh. Per block the swept volume of every convex tool part is intersected exactly with the rays
+// of three orthogonal grids (sweep.hpp) and subtracted from their material intervals, in parallel over
+// tiles of rays. Units: mm, mm^3, minutes. Defaults: 0.1 mm lattice, 0.01 mm sweep tolerance.
 #pragma once
 #include <Eigen/Core>
 #include <filesystem>

@@ -1,27 +1,29 @@
-// tiltfield: cutter-workpiece engagement at the end of a block (seed 001, section 4).
+// tiltfield engagement: cutter-workpiece engagement at the end of a block (after Sullivan, Erdim, Perry and
+// Frisken, engagement on a sampled workpiece), plugged into the simulation as VerifyOptions::engagement.
 //
 // In: the in-process stock *before* the block removes its material, the tool, and the tool's motion at
 // the block's end (two poses: a little before the end, and the end). Out: the engagement surface, as
 // entry/exit angle pairs per axial height, its area (mm^2), the axial depth and radial width of cut (mm).
 //
-// Method (the seed's sampling test, made exact where the tri-dexel allows): points are spread over the
-// cutting surface (end form and flutes) on rings: spherical sampling on a ball, toroidal on a bull
-// corner, polar on a flat end face and cylindrical on the flutes, every ring sampled at the same angles.
-// A point x with outward normal nu is engaged when it faces its own motion (nu . v > 0: the rear of the
-// tool only rubs the wall it has cut) and the stock before the block still holds material just inside
-// the tool there, at x - 0.001 mm nu: the block removes it as it arrives. A stock point is classified by the three ray grids: each gives the
-// exact along-ray state of the ray nearest the point, and the grid whose nearest material boundary is the
-// closest decides (a ray crossing a boundary steeply locates it exactly; one running along it is off by
-// up to half a spacing). Every change of state between neighbouring samples, around a ring and along the
-// profile, is then refined by bisection, so angles, depths and areas are not quantised to the sampling.
+// Method (their sampling test, made exact where the tri-dexel allows): points are spread over the cutting
+// surface (end form and flutes) on rings: spherical sampling on a ball, toroidal on a bull corner, polar on
+// a flat end face and cylindrical on the flutes, every ring sampled at the same angles. A point x with
+// outward normal nu is engaged when it faces its own motion (nu . v > 0: the rear of the tool only rubs the
+// wall it has cut) and the stock before the block still holds material just inside the tool there, at x -
+// 0.001 mm nu: the block removes it as it arrives. A stock point is classified by the three ray grids: each
+// gives the exact along-ray state of the ray nearest the point, and the grid whose nearest material
+// boundary is the closest decides (a ray crossing a boundary steeply locates it exactly; one running along
+// it is off by up to half a spacing). Every change of state between neighbouring samples, around a ring and
+// along the profile, is then refined by bisection, so angles, depths and areas are not quantised to the
+// sampling.
 //
-// Angles (the seed's convention, after Altintas): in the plane normal to the tool axis a at the block's
-// end, measured clockwise seen from the spindle (the teeth's direction of travel under M3), starting from
-// n = a x f, the normal to the feed direction f (the tip's velocity without its axial part). So 90 deg is
-// the feed direction: slotting engages 0..180, a half-immersion cut engages 0..90 in conventional (up)
-// milling, with the material on the left of the feed, and 90..180 in climb (down) milling, with the
-// material on the right. A pair that runs through 0 has entry > exit. When the tip moves along the axis
-// only (a plunge), f is the part's x axis projected normal to a (its y axis when a is along x).
+// Angles (after Altintas): in the plane normal to the tool axis a at the block's end, measured clockwise
+// seen from the spindle (the teeth's direction of travel under M3), starting from n = a x f, the normal to
+// the feed direction f (the tip's velocity without its axial part). So 90 deg is the feed direction:
+// slotting engages 0..180, a half-immersion cut engages 0..90 in conventional (up) milling, with the
+// material on the left of the feed, and 90..180 in climb (down) milling, with the material on the right. A
+// pair that runs through 0 has entry > exit. When the tip moves along the axis only (a plunge), f is the
+// part's x axis projected normal to a (its y axis when a is along x).
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,6 +1,6 @@
-// tiltfield: feed scheduling from the verifier's material removal (what Vericut OptiPath sells; beyond
-// seed 001). In: a verification report at the programmed feeds. Out: a feed for every block, so that
-// no cutting block's material removal rate exceeds a limit.
+// tiltfield engagement: feed scheduling from the verifier's material removal (what Vericut OptiPath sells).
+// In: a verification report at the programmed feeds. Out: a feed for every block, so that no cutting
+// block's material removal rate exceeds a limit. Units: mm^3/min, mm/min, 1/min (G93).
 //
 // Per feed block with removed volume V (mm^3) and programmed time t (min): the new time is
 // max(t, V / max_mrr), so the feed never rises above the programmed one while cutting; it is capped by

@@ -1,5 +1,9 @@
-// tiltfield: the G-code reader (RS274/NGC and ISO dialects as CAM systems and controllers write them)
+// tiltfield gcode: the G-code reader (RS274/NGC and ISO dialects as CAM systems and controllers write them)
 // into a Program of motion blocks for the verifier.
+//
+// In: program text and the machine (its axes and TCP codes). Out: the motion blocks with their source
+// lines, in the program's units converted to mm (G20 inches are scaled), degrees for rotaries, feeds in
+// mm/min (G94) or 1/min (G93), and warnings for what is read but not simulated.
 //
 // Read: G0 G1 G2 G3 (I J K offsets or R, planes G17/G18/G19, G90.1/G91.1 arc-centre modes), G20/G21,
 // G90/G91, G93/G94, F, S, T, M3/M4/M5/M6, M2/M30 (end), X Y Z A B C, comments "( )" and ";", N numbers,

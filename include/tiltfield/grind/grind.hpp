@@ -1,4 +1,5 @@
-// tiltfield: the 6-axis tool grinder of the cross-section grinding simulator (docs/grinding.md).
+// tiltfield grind: the 6-axis tool grinder of the cross-section grinding simulator (docs/grinding.md):
+// its scene (blank, wheel, program) and kinematics.
 //
 // Frames. The blank frame B: the blank is the cylinder x^2 + y^2 <= r^2, 0 <= z <= l; z = 0 is the clamped
 // (shank) end, z = l the free end (tip). The machine frame M: y vertical, at W = U = A = 0 it coincides with B.
@@ -43,7 +44,7 @@ struct Move {
   bool rapid = false;  // G0 (the simulation removes material on rapids too: a rapid through stock is a crash)
 };
 
-// A labelled group of moves (one cut or one operation of the seed: fluting, gashing, od_sharpening,
+// A labelled group of moves (one cut or one grinding operation: fluting, gashing, od_sharpening,
 // end_face, notching). Edges of the sections created by an operation carry its index + 1 as label.
 struct Operation {
   std::string kind;   // one of the five kinds above

@@ -1,4 +1,7 @@
-// tiltfield: cross-section simulation of tool grinding (seed 003) and surface tiling between sections.
+// tiltfield grind: cross-section simulation of tool grinding and surface tiling between sections.
+//
+// In: a grinding scene (blank, wheel, program of labelled operations; grind.hpp). Out: the sections of the
+// ground tool, the tool's surface mesh tiled between them, and an SVG of the sections. Units: mm, deg.
 //
 // The blank is cut into planar sections z = const. Each operation sweeps the wheel; in every section the
 // wheel's plane sections at consecutive increments are hulled and subtracted from the section (Clipper).

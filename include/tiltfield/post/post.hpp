@@ -1,8 +1,11 @@
-// tiltfield: the post-processor: an oriented path -> tf::Program (machine axes, linearised) -> text.
+// tiltfield post: the post-processor: an oriented path -> Program (machine axes, linearised) -> text.
 //
-// Posting: OrientedPath (+ tool, machine, feed, part bounds) -> post_program() -> Program ->
-// write_gcode() (joint or tcp dialect) or write_apt() (CLDATA). Implemented in planner/post*.cpp,
-// planner/gcode_writer.cpp and planner/apt_writer.cpp. See docs/post.md.
+// In: an OrientedPath and a PostJob (machine, tool, feed, part bounds for the safe heights). Out: a Program
+// of motion blocks (joint solutions through the machine's inverse kinematics, the nearest to the previous
+// row, bisected until the tip stays within tip_tolerance_mm of the straight segment and the axis within
+// axis_tolerance_deg of the great circle; safe approach and retract), then RS274/NGC text (joint or TCP
+// dialect, G93 inverse time on rotary joint moves) or APT CLDATA. Units: mm, deg, mm/min. Defaults in
+// PostOptions. See docs/post.md.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>

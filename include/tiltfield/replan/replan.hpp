@@ -1,4 +1,9 @@
-// tiltfield: re-planning the windows of a planned path where verification found collisions.
+// tiltfield replan: re-planning the windows of a planned path where verification found collisions.
+//
+// In: the scene, the oriented path that was posted and verified, the verifier's collisions (each with the
+// tool poses of its block, from VerifyReport or read_replan_collisions), extra obstacles (the stock) and
+// the planner's options. Out: the path with its windows re-planned, the windows and their clearances.
+// Units: mm. Defaults: windows and blends one planner response length (4 x tool radius) long.
 //
 // The verifier knows what the planner could not: the shank or holder meeting material of the stock
 // (which the check surfaces do not describe), fixtures, or check surfaces hit between rows. Each collision

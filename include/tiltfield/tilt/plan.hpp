@@ -1,10 +1,17 @@
-// tiltfield planner: tool-axis planning by the potential-field rigid-body model (Lacharnay et al., CAD 64,
+// tiltfield tilt: tool-axis planning by the potential-field rigid-body model (Lacharnay et al., CAD 64,
 // 2015), with a point-by-point geometric baseline, clearance guarantees and an optional Ceres smoothing.
+//
+// In: a tool path (cutter locations and design normals), the tool (ball, flutes, shank, holder segments),
+// the check surfaces as triangle meshes, the planner's basics (safety distance, nominal lead/tilt, max
+// tilt) and PlanOptions. Out: an OrientedPath (a unit tool axis, lead/tilt and the body's exact clearance
+// per row), metrics, and the rows that could not be cleared. Units: mm, deg, mm/min.
 //
 // At each cutter location C_L the tool turns about C_L. Its orientation is a state carried along the path:
 // J dOmega/dt = repulsion + attraction + damping, integrated in time (time = arc length / feed). The
 // repulsion is the gradient of a potential of the distance to the check surfaces, felt by points spread
-// over the whole tool body; the attraction pulls toward the nominal lead/tilt. See docs/planner.md.
+// over the whole tool body; the attraction pulls toward the nominal lead/tilt. Every row is then checked
+// exactly (GJK against each triangle) and corrected where it is below its clearance. Defaults derive from
+// the tool and the feed (derive_plan_options). See docs/planner.md.
 #pragma once
 #include <filesystem>
 #include <string>

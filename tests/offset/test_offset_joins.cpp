@@ -1,4 +1,4 @@
-// The seed paper's join cases (Gawlik, Karbowski, Ruszaj, section 3.1) with hand-computed results.
+// The join cases (Gawlik, Karbowski, Ruszaj, section 3.1) with hand-computed results.
 #include "offset_test_util.hpp"
 
 namespace tf::offset::test {
@@ -13,7 +13,7 @@ bool has_vertex(const OffsetResult& r, const Vector2d& p, double tol = 1e-9) {
 }
 
 // 1.A line-line: the offset lines of a square meet at their intersections.
-TEST(OffsetSeed, LineLineJoinIsTheIntersectionOfTheOffsetLines) {
+TEST(OffsetJoins, LineLineJoinIsTheIntersectionOfTheOffsetLines) {
   const Profile p = profile_text("START 0 0\n0 20 0\n0 0 20\n0 -20 0\n0 0 -20\n");
   for (Corner corner : {Corner::Round, Corner::Sharp}) {
     OffsetOptions o;
@@ -41,7 +41,7 @@ TEST(OffsetSeed, LineLineJoinIsTheIntersectionOfTheOffsetLines) {
 
 // 1.B line-arc, R > 0, trajectory inside: the arc's offset has R' = R - D about the same centre and
 // meets the offset line at their intersection.
-TEST(OffsetSeed, LineArcPositiveRadiusInside) {
+TEST(OffsetJoins, LineArcPositiveRadiusInside) {
   const Profile p = profile_text("START 0 0\n0 20 0\n15 0 20\n0 -20 0\n0 0 -20\n");
   const Vector2d centre(20 - std::sqrt(15.0 * 15 - 10 * 10), 10);
   const auto r = offset_profile(p, constant_gap(2.0), {});
@@ -60,7 +60,7 @@ TEST(OffsetSeed, LineArcPositiveRadiusInside) {
 }
 
 // 2.A line-arc, R < 0, trajectory outside: R' = R + D (the notch's radius shrinks by D).
-TEST(OffsetSeed, LineArcNegativeRadiusOutside) {
+TEST(OffsetJoins, LineArcNegativeRadiusOutside) {
   const Profile p = profile_text("START 0 0\n0 40 0\n0 0 20\n0 -10 0\n-10 -20 0\n0 -10 0\n0 0 -20\n");
   OffsetOptions o;
   o.side = Side::Outside;
@@ -82,7 +82,7 @@ TEST(OffsetSeed, LineArcNegativeRadiusOutside) {
         ((s.c - Vector2d(30, 20)).norm() < 1e-12 || (s.c - Vector2d(10, 20)).norm() < 1e-12))
       ++corner_arcs;
   EXPECT_EQ(corner_arcs, 2);
-  // ... and with sharp corners the seed's construction: the offset line y = 22 meets the circle R' = 8.
+  // ... and with sharp corners the paper's construction: the offset line y = 22 meets the circle R' = 8.
   o.corner = Corner::Sharp;
   const auto sharp = offset_profile(p, constant_gap(2.0), o);
   EXPECT_TRUE(has_vertex(sharp, Vector2d(20 + std::sqrt(60.0), 22)));
@@ -96,7 +96,7 @@ TEST(OffsetSeed, LineArcNegativeRadiusOutside) {
 }
 
 // An arc whose radius is below the gap vanishes from the inside offset.
-TEST(OffsetSeed, VanishingArcIsRemoved) {
+TEST(OffsetJoins, VanishingArcIsRemoved) {
   const Profile p = profile_text("START 0 0\n0 20 0\n0 0 10\n1 0 2\n0 0 10\n0 -20 0\n0 0 -22\n");
   // The small bump (R = 1 on the right edge) is convex: inside D = 2 > R makes it vanish.
   const auto r = offset_profile(p, constant_gap(2.0), {});
