@@ -1,7 +1,8 @@
 // The raw offset of a profile: every piece offset exactly (lines to lines, arcs to arcs with R -/+ D) or,
-// where the gap varies along an arc, approximated by arcs; then the joins at the vertices (seed 3.1):
-// intersection of the neighbouring offsets where they overlap, an arc of radius D about the vertex where
-// they part. Sharp corners are made afterwards from these arcs (offset_sharp.cpp), once the loops are gone.
+// where the gap varies along an arc, approximated by arcs; then the joins at the vertices (Gawlik,
+// Karbowski, Ruszaj, section 3.1): intersection of the neighbouring offsets where they overlap, an arc of
+// radius D about the vertex where they part. Sharp corners are made afterwards from these arcs (sharp.cpp),
+// once the loops are gone.
 #include <cmath>
 
 #include "offset_internal.hpp"

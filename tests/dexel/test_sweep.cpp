@@ -4,6 +4,7 @@
 #include <random>
 #include <vector>
 
+#include "sweep_rows.hpp"
 #include "tiltfield/dexel/sweep.hpp"
 
 namespace tf {

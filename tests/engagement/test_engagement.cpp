@@ -1,4 +1,4 @@
-// Engagement angles, area and depths against closed forms (seed 001): slotting, half immersion on both
+// Engagement angles, area and depths against closed forms: slotting, half immersion on both
 // sides, a ball end at a depth, two pairs where the tool crosses an earlier slot, and a plunge.
 #include <gtest/gtest.h>
 

@@ -78,7 +78,13 @@ TEST_P(ImpellerPlan, NominalCollidesPlannedClearsByFcl) {
 
 INSTANTIATE_TEST_SUITE_P(Impellers, ImpellerPlan,
                          ::testing::Values(Case{7, 15, false}, Case{5, 30, false}, Case{9, -10, false},
-                                           Case{6, 0, true}));
+                                           Case{6, 0, true}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           const Case& c = info.param;
+                           return std::to_string(c.blades) + "Blades" + (c.lean < 0 ? "Minus" : "") +
+                                  std::to_string(static_cast<int>(std::abs(c.lean))) + "Deg" +
+                                  (c.splitters ? "Splitters" : "");
+                         });
 
 TEST(ImpellerPlanQuality, DynamicIsSmootherThanPointwise) {
   const Impeller s = make(coarse(7, 15));

@@ -39,6 +39,19 @@ inline Mesh boss() {  // the check surface: a cylinder r 5 at (30, 30), from z -
   return stock_to_mesh(s, 48);
 }
 
+// A collision as the report lists it (no tool poses: the report does not draw them).
+inline Collision collision(int block, int line, ToolComponent component, HitWith with, bool rapid, double depth_mm) {
+  Collision c;
+  c.block = block;
+  c.line = line;
+  c.component = component;
+  c.with = with;
+  c.rapid = rapid;
+  c.depth_mm = depth_mm;
+  c.has_poses = false;
+  return c;
+}
+
 struct SyntheticJob {
   Scene scene;
   OrientedPath oriented, first_plan;
@@ -92,8 +105,8 @@ inline std::unique_ptr<SyntheticJob> synthetic_job() {
                                   10.0, 80.0 + 30.0 * std::cos(0.2 * double(r)), 2.0 + std::cos(0.1 * double(r)), false});
   }
   for (int b : {20, 21, 95}) {
-    job->inputs.collisions.push_back({b, b + 20, b == 95 ? ToolComponent::Holder : ToolComponent::Shank, HitWith::Check,
-                                      false, 0.25 + 0.01 * b});
+    job->inputs.collisions.push_back(
+        collision(b, b + 20, b == 95 ? ToolComponent::Holder : ToolComponent::Shank, HitWith::Check, false, 0.25 + 0.01 * b));
     job->inputs.blocks[size_t(b)].collision = true;
   }
   job->inputs.gouges.push_back({130, 150, 0.042});

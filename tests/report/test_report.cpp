@@ -1,4 +1,4 @@
-// The HTML report: the page's content, the plots, mesh decimation and packing, the input readers.
+// The HTML report: the page's content, the plots, mesh packing, the input readers.
 #include <gtest/gtest.h>
 
 #include <regex>
@@ -154,45 +154,12 @@ TEST(Report, TriangleBudgetSparesSmallMeshes) {
 
 TEST(Report, LongTablesAreCut) {
   auto job = synthetic_job();
-  for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back({i, i + 1, ToolComponent::Ball, HitWith::Stock, true, 0.1});
+  for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back(collision(i, i + 1, ToolComponent::Ball, HitWith::Stock, true, 0.1));
   ReportOptions opt;
   opt.max_table_rows = 10;
   const std::string html = render_html_report(job->inputs, opt);
   EXPECT_NE(html.find("33 more collisions are listed in verify.json."), std::string::npos);
   EXPECT_NE(html.find("ball \u2013 stock <b>40</b>"), std::string::npos);
-}
-
-TEST(ReportMesh, DecimationMeetsTheBudgetAndKeepsTheShape) {
-  const Mesh fine = wavy_surface(200, 150);  // 60k triangles
-  IndexedMesh m = to_indexed(fine, nullptr);
-  m.values.resize(m.V.size());
-  for (size_t i = 0; i < m.V.size(); ++i) m.values[i] = m.V[i].x();
-  const IndexedMesh d = decimate_to_budget(m, 6000);
-  EXPECT_LE(d.F.size(), 6000u);
-  EXPECT_GE(d.F.size(), 1500u) << "not far below the budget";
-  ASSERT_EQ(d.values.size(), d.V.size());
-  for (size_t i = 0; i < d.V.size(); ++i) {
-    // Merged vertices are means of grid points on the surface: near it (the cell is ~1 mm), and the value
-    // (here x) is the mean of the merged x, i.e. the merged vertex's own x.
-    EXPECT_NEAR(d.V[i].z(), wave(d.V[i].x(), d.V[i].y()), 0.25);
-    EXPECT_NEAR(d.values[i], d.V[i].x(), 1e-3);
-  }
-  EXPECT_EQ(decimate_to_budget(m, m.F.size()).F.size(), m.F.size()) << "within budget: unchanged";
-}
-
-TEST(ReportMesh, ClusteringKeepsBothSidesOfAThinWall) {
-  Stock s;
-  s.kind = Stock::Kind::Box;
-  s.box = {{0, 0, 0}, {20, 0.2, 10}};  // a 0.2 mm wall, clustered on 2 mm cells
-  const IndexedMesh d = cluster_decimate(to_indexed(stock_to_mesh(s), nullptr), 2.0);
-  int plus = 0, minus = 0;
-  for (const auto& f : d.F) {
-    const Eigen::Vector3f n = (d.V[f[1]] - d.V[f[0]]).cross(d.V[f[2]] - d.V[f[0]]);
-    plus += n.y() > 0.9f * n.norm();
-    minus += n.y() < -0.9f * n.norm();
-  }
-  EXPECT_GT(plus, 0);
-  EXPECT_GT(minus, 0);
 }
 
 TEST(ReportMesh, Base64AndPacking) {
@@ -262,52 +229,6 @@ TEST(ReportSvg, DenseSeriesAreReducedButSpikesSurvive) {
   gap.series.push_back({"gap", "#000", {0, 1, 2, 3}, {0, 1, std::nan(""), 3}});
   const std::string g = render_line_plot(gap);
   EXPECT_EQ(count(g, "M"), count(render_line_plot(LinePlot{}), "M") + 2);
-}
-
-TEST(ReportIo, BlocksCsv) {
-  TempDir dir;
-  write_text(dir / "blocks.csv",
-             "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
-             "0,12,1.5,300,0,90,2.5,0\n1,13,0,0,0,0,0,true\n2,14,1.25,,,,,0\n");
-  const auto rows = read_blocks_csv(dir / "blocks.csv");
-  ASSERT_EQ(rows.size(), 3u);
-  EXPECT_TRUE(std::isnan(rows[2].mrr_mm3_min)) << "empty cell: not computed";
-  EXPECT_DOUBLE_EQ(rows[2].removed_mm3, 1.25);
-  EXPECT_EQ(rows[0].line, 12);
-  EXPECT_DOUBLE_EQ(rows[0].mrr_mm3_min, 300.0);
-  EXPECT_TRUE(rows[1].collision);
-  write_text(dir / "bad.csv", "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
-                              "0,12,1.5,abc,0,90,2.5,0\n");
-  try {
-    read_blocks_csv(dir / "bad.csv");
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.line(), 2);
-    EXPECT_EQ(e.field(), "mrr_mm3_min");
-  }
-  write_text(dir / "short.csv", "block,line\n0,1\n");
-  EXPECT_THROW(read_blocks_csv(dir / "short.csv"), InputError);
-}
-
-TEST(ReportIo, VerifyJson) {
-  TempDir dir;
-  write_text(dir / "verify.json", R"({"blocks": 3, "removed_volume_mm3": 12.5, "max_gouge_mm": 0.01,
-    "resolution_mm": 0.1, "rays": 100, "seconds": 1.5,
-    "collisions": [{"block": 2, "line": 30, "component": "holder", "with": "check", "rapid": false, "depth_mm": 0.3}],
-    "gouges": [{"block": 1, "line": 29, "depth_mm": 0.01}]})");
-  const auto v = read_verify_json(dir / "verify.json");
-  ASSERT_EQ(v.collisions.size(), 1u);
-  EXPECT_EQ(v.collisions[0].component, ToolComponent::Holder);
-  EXPECT_FALSE(v.collisions[0].has_poses) << "the spec's fields only";
-  EXPECT_EQ(v.gouges[0].line, 29);
-  EXPECT_DOUBLE_EQ(v.removed_volume_mm3, 12.5);
-  write_text(dir / "bad.json", R"({"collisions": [{"block": 2, "line": 30, "component": "holder", "with": "check"}]})");
-  try {
-    read_verify_json(dir / "bad.json");
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "collisions[0].rapid");
-  }
 }
 
 TEST(ReportIo, RunFolder) {

@@ -1,7 +1,6 @@
 // The generators' geometry helpers and the SVG renderer.
 #include <gtest/gtest.h>
 
-#include <random>
 #include <set>
 
 #include "scenes/render_svg.hpp"
@@ -61,30 +60,10 @@ TEST(SceneGeometry, ResamplePolylineSpacesPointsByAtMostTheStep) {
   }
 }
 
-TEST(SceneGeometry, MeshDistanceAgreesWithBruteForce) {
-  const tf::Mesh m = sc::revolve_profile({{0, 0}, {10, 0}, {10, 5}, {4, 9}, {0, 9}}, 40);
-  const sc::MeshDistance dist(m);
-  const Soup s = to_soup(m);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-14, 14);
-  for (int i = 0; i < 200; ++i) {
-    const Eigen::Vector3d p(u(rng), u(rng), u(rng) * 0.5 + 4);
-    double brute = 1e300;
-    for (const auto& t : s.f)
-      brute = std::min(brute, (sc::closest_point_on_triangle(p, s.v[t[0]], s.v[t[1]], s.v[t[2]]) - p).norm());
-    EXPECT_NEAR(dist.distance(p), brute, 1e-12);
-    EXPECT_NEAR((dist.closest_point(p) - p).norm(), brute, 1e-12);
-  }
-  // The triangle helper: a point above the interior projects straight down, one beyond a corner snaps to it.
-  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
-  EXPECT_TRUE(sc::closest_point_on_triangle({0.2, 0.2, 3}, a, b, c).isApprox(Eigen::Vector3d(0.2, 0.2, 0)));
-  EXPECT_TRUE(sc::closest_point_on_triangle({-1, -1, 0}, a, b, c).isApprox(a));
-  EXPECT_TRUE(sc::closest_point_on_triangle({1, 1, 0}, a, b, c).isApprox(Eigen::Vector3d(0.5, 0.5, 0)));
-}
-
 TEST(SceneGeometry, ToolAxisHitsSeesAWallOverTheToolButNotBeside) {
   const tf::Tool tool = sc::ball_tool(3.0);
-  const sc::MeshDistance wall(sc::box_mesh({-50, 5, 20}, {50, 30, 25}));  // a shelf 20 mm up, from y = 5
+  const tf::Mesh shelf = sc::box_mesh({-50, 5, 20}, {50, 30, 25});  // a shelf 20 mm up, from y = 5
+  const tf::TriangleBvh wall({&shelf});
   EXPECT_TRUE(sc::tool_axis_hits(tool, wall, {0, 6, 3}, Eigen::Vector3d::UnitZ()));
   EXPECT_TRUE(sc::tool_axis_hits(tool, wall, {0, 3, 3}, Eigen::Vector3d::UnitZ()));   // shank radius reaches y = 6
   EXPECT_FALSE(sc::tool_axis_hits(tool, wall, {0, 1.5, 3}, Eigen::Vector3d::UnitZ()));  // 0.5 mm beside
@@ -116,13 +95,6 @@ TEST(RenderSvg, DrawsVisibleFacesAndThePathAndStaysSmall) {
   for (size_t at = small.find("<polygon"); at != std::string::npos; at = small.find("<polygon", at + 1)) ++n;
   EXPECT_GT(n, 100u);
   EXPECT_LE(n, 3000u + 1500u);
-}
-
-TEST(RenderSvg, ClusterDecimateKeepsOrientationAndReducesCount) {
-  const tf::Mesh fine = sc::revolve_profile({{0, 0}, {30, 0}, {30, 10}, {0, 10}}, 600);
-  const tf::Mesh coarse = sc::cluster_decimate(fine, 2.0);
-  EXPECT_LT(coarse.n_faces(), fine.n_faces() / 4);
-  EXPECT_GT(tf::signed_volume(coarse), 0.8 * tf::signed_volume(fine));
 }
 
 }  // namespace

@@ -63,71 +63,86 @@ void write_job_report(const Scene& scene, const OrientedPath& first_plan, const 
   write_html_report(in, file);
 }
 
-}  // namespace
+struct Planned {
+  PlanOptions options;  // the re-planner plans with them too
+  PlanResult result;
+};
 
-JobSummary run_job(const Scene& scene, const JobOptions& options) {
-  if (!scene.machine) throw InputError(scene.file.string(), 0, "machine", "the scene names no machine; `run` posts for one");
-  const MachineSpec& machine = *scene.machine;
-  JobSummary summary;
-  summary.rows = scene.path.rows.size();
-
-  // Plan.
-  auto t0 = std::chrono::steady_clock::now();
-  const PlanOptions plan_options =
+Planned plan_stage(const Scene& scene, const JobOptions& options, JobSummary& summary) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanOptions plan_options =
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
-  const PlanResult planned = plan(scene, plan_options, options.progress);
+  PlanResult planned = plan(scene, plan_options, options.progress);
   summary.nominal_colliding_rows = planned.metrics.rows_nominal_colliding;
   summary.uncleared_rows = planned.uncleared.size();
   summary.seconds.plan = seconds_since(t0);
+  return {std::move(plan_options), std::move(planned)};
+}
 
-  PostJob post_job;
-  post_job.machine = machine;
-  post_job.tool = scene.tool;
-  post_job.feed = scene.feed;
-  post_job.part_bounds = scene_bounds(scene);
-  post_job.title = "tiltfield run: " + scene.file.filename().string();
-  const PostOptions post_options;
-  const ForwardFn forward = scene_forward(scene);
-  VerifyOptions verify_options;
-  verify_options.resolution = options.resolution_mm;
-  verify_options.progress = options.progress;
-  verify_options.engagement = engagement_probe(scene.tool);
+// Posts a path for the scene's machine and verifies the program, adding the stages' seconds to `seconds`.
+class PostAndVerify {
+ public:
+  PostAndVerify(const Scene& scene, const JobOptions& options)
+      : scene_(scene), options_(options), forward_(scene_forward(scene)) {
+    post_job_.machine = *scene.machine;
+    post_job_.tool = scene.tool;
+    post_job_.feed = scene.feed;
+    post_job_.part_bounds = scene_bounds(scene);
+    post_job_.title = "tiltfield run: " + scene.file.filename().string();
+    verify_options_.resolution = options.resolution_mm;
+    verify_options_.progress = options.progress;
+    verify_options_.engagement = engagement_probe(scene.tool);
+  }
 
-  auto post_and_verify = [&](OrientedPath path) {
+  Round operator()(OrientedPath path, StageSeconds& seconds) const {
     auto t = std::chrono::steady_clock::now();
-    const Program posted = post_program(path, post_job, post_options, options.progress);
+    const Program posted = post_program(path, post_job_, post_options_, options_.progress);
     std::ostringstream text;
-    write_gcode(text, posted, post_job, post_options);
+    write_gcode(text, posted, post_job_, post_options_);
     // Verify the text exactly as it will be written, so collisions name its lines.
-    Program read_back = parse_gcode(text.str(), (options.out_dir / "program.ngc").string(), machine);
-    summary.seconds.post += seconds_since(t);
+    Program read_back = parse_gcode(text.str(), (options_.out_dir / "program.ngc").string(), *scene_.machine);
+    seconds.post += seconds_since(t);
     t = std::chrono::steady_clock::now();
-    VerifyResult verified = verify_program(scene, read_back, forward, verify_options);
-    summary.seconds.verify += seconds_since(t);
+    VerifyResult verified = verify_program(scene_, read_back, forward_, verify_options_);
+    seconds.verify += seconds_since(t);
     return Round{std::move(path), text.str(), std::move(read_back), std::move(verified)};
-  };
+  }
 
-  Round current = post_and_verify(planned.path);
+ private:
+  const Scene& scene_;
+  const JobOptions& options_;
+  PostJob post_job_;
+  const PostOptions post_options_;
+  const ForwardFn forward_;
+  VerifyOptions verify_options_;
+};
+
+// Re-plans around the collisions against the in-process stock while collisions remain and each round
+// reduces them; `current` ends as the last round kept. Returns the row windows re-planned in kept rounds.
+std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOptions& plan_options,
+                                                const PostAndVerify& post_and_verify, const JobOptions& options,
+                                                Round& current, JobSummary& summary) {
   std::vector<reporting::RowWindow> replanned;
-  summary.collisions_first = current.verified.report.collisions.size();
-
-  // Re-plan while collisions remain and each round reduces them.
   while (!current.verified.report.collisions.empty() && summary.rounds < options.max_rounds) {
     auto t = std::chrono::steady_clock::now();
     StockMeshOptions mesh_options;
     mesh_options.colour_by_deviation = false;
     const Mesh in_process = reconstruct_stock(current.verified.stock, nullptr, mesh_options);
-    const Mesh obstacle = stock_obstacle(in_process, scene.path, scene.tool, scene.planner, scene.tool.radius() / 2.0, 0.5);
+    const Mesh obstacle =
+        stock_obstacle(in_process, scene.path, scene.tool, scene.planner, scene.tool.radius() / 2.0, 0.5);
     const ReplanResult re = replan(scene, current.path, current.verified.report.collisions, {&obstacle}, plan_options);
     summary.seconds.replan += seconds_since(t);
     ++summary.rounds;
-    Round next = post_and_verify(re.path);
+    Round next = post_and_verify(re.path, summary.seconds);
     if (next.verified.report.collisions.size() >= current.verified.report.collisions.size()) break;
     summary.rows_replanned += re.rows_changed;
     for (const auto& w : re.windows) replanned.push_back({static_cast<int>(w.first), static_cast<int>(w.last)});
     current = std::move(next);
   }
+  return replanned;
+}
 
+void summarise_final_round(const Round& current, JobSummary& summary) {
   const VerifyReport& report = current.verified.report;
   summary.collisions_final = report.collisions.size();
   summary.gouges_final = report.gouges.size();
@@ -135,12 +150,19 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   summary.blocks = static_cast<size_t>(report.blocks);
   summary.removed_volume_mm3 = report.removed_volume_mm3;
   summary.min_clearance_mm = std::numeric_limits<double>::infinity();
-  for (const auto& row : current.path.rows) summary.min_clearance_mm = std::min(summary.min_clearance_mm, row.clearance_mm);
+  for (const auto& row : current.path.rows)
+    summary.min_clearance_mm = std::min(summary.min_clearance_mm, row.clearance_mm);
+}
 
-  // Outputs, each atomically; report.html last since it draws on the rest.
+// Every output, each atomically; report.html last since it draws on the rest.
+void write_outputs(const Scene& scene, const OrientedPath& first_plan, const Round& current,
+                   const std::vector<reporting::RowWindow>& replanned, const JobOptions& options,
+                   JobSummary& summary) {
+  const VerifyReport& report = current.verified.report;
   std::error_code ec;
   fs::create_directories(options.out_dir, ec);
-  if (!fs::is_directory(options.out_dir)) throw InputError(options.out_dir.string(), 0, "-o", "cannot create the output folder");
+  if (!fs::is_directory(options.out_dir))
+    throw InputError(options.out_dir.string(), 0, "-o", "cannot create the output folder");
   auto wrote = [&](const char* name) {
     summary.files.push_back((options.out_dir / name).string());
     return options.out_dir / name;
@@ -153,10 +175,27 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   write_mesh(stock_mesh, wrote("stock.ply"));
   if (options.write_report) {
     const auto t = std::chrono::steady_clock::now();
-    write_job_report(scene, planned.path, current, replanned, stock_mesh, summary, options.resolution_mm,
+    write_job_report(scene, first_plan, current, replanned, stock_mesh, summary, options.resolution_mm,
                      wrote("report.html"));
     summary.seconds.report = seconds_since(t);
   }
+}
+
+}  // namespace
+
+JobSummary run_job(const Scene& scene, const JobOptions& options) {
+  if (!scene.machine)
+    throw InputError(scene.file.string(), 0, "machine", "the scene names no machine; `run` posts for one");
+  JobSummary summary;
+  summary.rows = scene.path.rows.size();
+  const Planned planned = plan_stage(scene, options, summary);
+  const PostAndVerify post_and_verify(scene, options);
+  Round current = post_and_verify(planned.result.path, summary.seconds);
+  summary.collisions_first = current.verified.report.collisions.size();
+  const std::vector<reporting::RowWindow> replanned =
+      replan_rounds(scene, planned.options, post_and_verify, options, current, summary);
+  summarise_final_round(current, summary);
+  write_outputs(scene, planned.result.path, current, replanned, options, summary);
   return summary;
 }
 

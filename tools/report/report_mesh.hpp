@@ -1,6 +1,6 @@
-// tiltfield report: meshes for the 3-D view, decimated to a triangle budget and packed compactly
-// (quantised Uint16 positions, Uint16/Uint32 indices, Float32 per-vertex values, base64) for the
-// embedded JSON that the viewer script decodes.
+// tiltfield report: meshes for the 3-D view (decimated to a triangle budget by core's mesh_decimate)
+// packed compactly (quantised Uint16 positions, Uint16/Uint32 indices, Float32 per-vertex values,
+// base64) for the embedded JSON that the viewer script decodes.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tiltfield/core/mesh.hpp"
+#include "tiltfield/core/mesh_decimate.hpp"
 
 namespace tf::reporting {
 
@@ -21,17 +22,9 @@ struct IndexedMesh {
   std::vector<float> values;                  // empty, or one per vertex (e.g. deviation, mm)
 };
 
-// Copies a mesh; `values` (may be null) must then hold one entry per vertex.
+// Single-precision copies for packing. `values` (may be null) must hold one entry per vertex.
+IndexedMesh to_indexed(const IndexedTriangles& mesh);
 IndexedMesh to_indexed(const Mesh& mesh, const std::vector<double>* values);
-
-// Vertex clustering on a grid of `cell` mm. Vertices of one cell merge only when their normals face the
-// same way (dominant axis and sign), so the two sides of a wall thinner than a cell stay apart. Merged
-// positions and values are the means; collapsed triangles are dropped. cell <= 0 returns a copy.
-IndexedMesh cluster_decimate(const IndexedMesh& mesh, double cell);
-
-// Decimates with a growing cell until at most `max_triangles` remain (returns the mesh unchanged when it
-// already fits). The cell starts from the mesh's area so a few passes suffice.
-IndexedMesh decimate_to_budget(const IndexedMesh& mesh, size_t max_triangles);
 
 // Standard base64 (RFC 4648, with padding) of raw bytes.
 std::string base64(const void* data, size_t bytes);

@@ -1,5 +1,5 @@
-// tiltfield report: the 3-D view's data. Meshes are decimated to the options' triangle budget and
-// packed by report_mesh; lines and points go as base64 Float32 arrays.
+// tiltfield report: the 3-D view's data. Meshes are decimated to the options' triangle budget (core's
+// mesh_decimate) and packed by report_mesh; lines and points go as base64 Float32 arrays.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -17,10 +17,10 @@ namespace tf::reporting {
 
 namespace {
 
-IndexedMesh merged(const std::vector<Mesh>& meshes) {
-  IndexedMesh out;
+IndexedTriangles merged(const std::vector<Mesh>& meshes) {
+  IndexedTriangles out;
   for (const auto& m : meshes) {
-    IndexedMesh part = to_indexed(m, nullptr);
+    IndexedTriangles part = indexed_triangles(m);
     const auto base = uint32_t(out.V.size());
     out.V.insert(out.V.end(), part.V.begin(), part.V.end());
     for (auto f : part.F) out.F.push_back({f[0] + base, f[1] + base, f[2] + base});
@@ -41,7 +41,7 @@ struct MeshLayer {
   double opacity = 1.0;
   bool visible = true;
   double weight = 1.0;  // share of the triangle budget per triangle
-  IndexedMesh mesh;
+  IndexedTriangles mesh;
 };
 
 // The tool's outline as (radius, height) pairs from the tip up, steps at the component changes, for a
@@ -95,6 +95,154 @@ nlohmann::json pose_json(const ToolPose& pose, const std::string& label) {
           {"label", label}};
 }
 
+// The stock (machined and coloured by deviation, else the raw stock faint and hidden), the check
+// surfaces and the design, each with its share of the triangle budget.
+std::vector<MeshLayer> mesh_layers(const ReportInputs& in, const ReportOptions& options) {
+  const Scene& scene = *in.scene;
+  std::vector<MeshLayer> meshes;
+  if (in.stock && in.stock->n_faces() > 0) {
+    const bool colored = !in.stock_deviation_mm.empty();
+    meshes.push_back({"stock", colored ? "Machined stock, coloured by deviation" : "Machined stock", "#c9b37e", 1.0,
+                      true, 1.0, indexed_triangles(*in.stock, colored ? &in.stock_deviation_mm : nullptr)});
+  } else {
+    meshes.push_back({"raw-stock", "Raw stock", "#c9b37e", 0.18, false, 0.3,
+                      indexed_triangles(stock_to_mesh(scene.stock, 64))});
+  }
+  if (!scene.check_surfaces.empty())
+    meshes.push_back({"check", "Check surfaces", "#6f9fd8", 0.85, true, 1.0, merged(scene.check_surfaces)});
+  if (options.include_design && scene.design.n_faces() > 0)
+    // Under a machined stock the design is mostly hidden: a smaller share of the budget, off by default.
+    meshes.push_back({"design", "Design surface", "#b9bec6", 1.0, !in.stock, in.stock ? 0.5 : 1.0,
+                      indexed_triangles(scene.design)});
+  return meshes;
+}
+
+// Water-filling: a mesh below its weighted share of the budget keeps every triangle and leaves the rest
+// to the others, so a small check surface stays exact next to a million-triangle stock.
+std::vector<size_t> layer_budgets(const std::vector<MeshLayer>& meshes, size_t max_triangles) {
+  std::vector<size_t> budget(meshes.size(), 0);
+  std::vector<bool> open(meshes.size(), true);
+  double remaining = double(max_triangles);
+  for (bool changed = true; changed;) {
+    changed = false;
+    double weights = 0.0;
+    for (size_t i = 0; i < meshes.size(); ++i)
+      if (open[i]) weights += meshes[i].weight;
+    for (size_t i = 0; i < meshes.size() && weights > 0.0; ++i)
+      if (open[i] && double(meshes[i].mesh.F.size()) <= remaining * meshes[i].weight / weights) {
+        budget[i] = meshes[i].mesh.F.size();
+        remaining -= double(budget[i]);
+        open[i] = false;
+        changed = true;
+      }
+    if (!changed)
+      for (size_t i = 0; i < meshes.size(); ++i)
+        if (open[i]) budget[i] = size_t(std::max(0.0, remaining * meshes[i].weight / weights));
+  }
+  return budget;
+}
+
+// One mesh layer decimated to its budget and packed; per-vertex values (the deviation) come with a colour
+// range that leaves out the extreme percent at either end.
+nlohmann::json mesh_layer_json(const MeshLayer& m, size_t budget) {
+  const size_t original = m.mesh.F.size();
+  const IndexedMesh mesh = original > budget ? to_indexed(decimate_to_budget(m.mesh, budget)) : to_indexed(m.mesh);
+  nlohmann::json layer{{"id", m.id},           {"label", m.label},     {"kind", "mesh"},
+                       {"color", m.color},     {"opacity", m.opacity}, {"visible", m.visible},
+                       {"original_triangles", original}, {"mesh", encode_mesh(mesh)}};
+  if (!mesh.values.empty()) {
+    const double lo = std::min(quantile(mesh.values, 0.01), -0.01);
+    const double hi = std::max(quantile(mesh.values, 0.99), 0.01);
+    layer["value_label"] = "deviation from the design (mm): \u2212 over-cut, + material left";
+    layer["value_range"] = {lo, hi};
+  }
+  return layer;
+}
+
+// The cutter locations as one line, at most about 40000 points (the last one always included).
+std::optional<nlohmann::json> path_layer(const ReportInputs& in) {
+  std::vector<Eigen::Vector3d> path_points;
+  if (in.oriented)
+    for (const auto& r : in.oriented->rows) path_points.push_back(r.p);
+  else
+    for (const auto& r : in.scene->path.rows) path_points.push_back(r.p);
+  if (path_points.empty()) return std::nullopt;
+  std::vector<float> line;
+  const size_t stride = std::max<size_t>(1, path_points.size() / 40000);
+  for (size_t i = 0; i < path_points.size(); i += stride) push(line, path_points[i]);
+  if ((path_points.size() - 1) % stride != 0) push(line, path_points.back());
+  return nlohmann::json{{"id", "path"}, {"label", "Tool path (cutter locations)"}, {"kind", "line"},
+                        {"color", "#e0301e"}, {"visible", true}, {"positions", base64_floats(line)}};
+}
+
+// Tool axes at evenly spaced rows (tip to holder face), coloured by clearance.
+nlohmann::json axes_layer(const std::vector<OrientedRow>& rows, const Scene& scene, int axis_samples) {
+  const double safety = scene.planner.safety_distance;
+  const size_t n = rows.size();
+  const size_t samples = std::min<size_t>(n, size_t(std::max(axis_samples, 1)));
+  std::vector<float> seg, clearance;
+  for (size_t k = 0; k < samples; ++k) {
+    const size_t i = samples == 1 ? 0 : (k * (n - 1) + (samples - 1) / 2) / (samples - 1);
+    const Eigen::Vector3d tip = row_tip(rows[i], scene.tool);
+    push(seg, tip);
+    push(seg, tip + rows[i].axis.normalized() * scene.tool.length);
+    // +inf: nothing near (drawn as clear); NaN: not known (drawn grey).
+    const double c = rows[i].clearance_mm;
+    clearance.push_back(std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : std::isinf(c) ? 1e9f : float(c));
+  }
+  return {{"id", "axes"},
+          {"label", "Tool axes at " + std::to_string(samples) + " rows, coloured by clearance"},
+          {"kind", "segments"},
+          {"visible", true},
+          {"positions", base64_floats(seg)},
+          {"values", base64_floats(clearance)},
+          {"value_label", "clearance to the check surfaces (mm)"},
+          {"value_range", {0.0, std::max(3.0 * safety, 0.1)}},
+          {"safety_distance", safety}};
+}
+
+// The tool pose at the row of least finite clearance (the first such row), if any row has one.
+std::optional<nlohmann::json> tightest_row_pose(const std::vector<OrientedRow>& rows, const Tool& tool) {
+  size_t tight = 0;
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (std::isfinite(rows[i].clearance_mm) && !(rows[tight].clearance_mm <= rows[i].clearance_mm)) tight = i;
+  if (!std::isfinite(rows[tight].clearance_mm)) return std::nullopt;
+  return pose_json({row_tip(rows[tight], tool), rows[tight].axis.normalized()},
+                   "tightest row " + std::to_string(tight + 1) + ": clearance " + fixed(rows[tight].clearance_mm, 3) +
+                       " mm");
+}
+
+// Collision and gouge sites at the tool tip of their block's end point, one point per block.
+template <class Item, class Describe>
+void add_site_layer(nlohmann::json& layers, const std::map<int, ToolPose>& poses, const std::vector<Item>& items,
+                    const std::string& id, const std::string& label, const std::string& color, Describe describe) {
+  std::vector<float> pts;
+  nlohmann::json titles = nlohmann::json::array();
+  std::map<int, bool> seen;
+  for (const auto& item : items) {
+    auto it = poses.find(item.block);
+    if (it == poses.end() || seen[item.block]) continue;
+    seen[item.block] = true;
+    push(pts, it->second.tip);
+    titles.push_back(describe(item));
+  }
+  if (pts.empty()) return;
+  layers.push_back({{"id", id}, {"label", label}, {"kind", "points"}, {"color", color}, {"visible", true},
+                    {"positions", base64_floats(pts)}, {"titles", titles}});
+}
+
+void add_site_layers(nlohmann::json& layers, const ReportInputs& in, const std::map<int, ToolPose>& poses) {
+  add_site_layer(layers, poses, in.collisions, "collisions", "Collision sites (tool tip at the block end)", "#ff1744",
+                 [](const Collision& c) {
+                   return "block " + std::to_string(c.block) + ", line " + std::to_string(c.line) + ": " +
+                          collision_kind(c) + " " + fixed(c.depth_mm, 3) + " mm";
+                 });
+  add_site_layer(layers, poses, in.gouges, "gouges", "Gouge sites", "#ff9100", [](const Gouge& g) {
+    return "block " + std::to_string(g.block) + ", line " + std::to_string(g.line) + ": gouge " + fixed(g.depth_mm, 3) +
+           " mm";
+  });
+}
+
 }  // namespace
 
 std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design) {
@@ -117,134 +265,24 @@ std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design) {
 nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& options) {
   const Scene& scene = *in.scene;
   nlohmann::json layers = nlohmann::json::array();
+  const std::vector<MeshLayer> meshes = mesh_layers(in, options);
+  const std::vector<size_t> budget = layer_budgets(meshes, options.max_triangles);
+  for (size_t i = 0; i < meshes.size(); ++i) layers.push_back(mesh_layer_json(meshes[i], budget[i]));
 
-  std::vector<MeshLayer> meshes;
-  if (in.stock && in.stock->n_faces() > 0) {
-    const bool colored = !in.stock_deviation_mm.empty();
-    meshes.push_back({"stock", colored ? "Machined stock, coloured by deviation" : "Machined stock", "#c9b37e", 1.0,
-                      true, 1.0, to_indexed(*in.stock, colored ? &in.stock_deviation_mm : nullptr)});
-  } else {
-    meshes.push_back({"raw-stock", "Raw stock", "#c9b37e", 0.18, false, 0.3, to_indexed(stock_to_mesh(scene.stock, 64), nullptr)});
-  }
-  if (!scene.check_surfaces.empty())
-    meshes.push_back({"check", "Check surfaces", "#6f9fd8", 0.85, true, 1.0, merged(scene.check_surfaces)});
-  if (options.include_design && scene.design.n_faces() > 0)
-    // Under a machined stock the design is mostly hidden: a smaller share of the budget, off by default.
-    meshes.push_back({"design", "Design surface", "#b9bec6", 1.0, !in.stock, in.stock ? 0.5 : 1.0,
-                      to_indexed(scene.design, nullptr)});
-  // Water-filling: a mesh below its weighted share of the budget keeps every triangle and leaves the rest
-  // to the others, so a small check surface stays exact next to a million-triangle stock.
-  std::vector<size_t> budget(meshes.size(), 0);
-  std::vector<bool> open(meshes.size(), true);
-  double remaining = double(options.max_triangles);
-  for (bool changed = true; changed;) {
-    changed = false;
-    double weights = 0.0;
-    for (size_t i = 0; i < meshes.size(); ++i)
-      if (open[i]) weights += meshes[i].weight;
-    for (size_t i = 0; i < meshes.size() && weights > 0.0; ++i)
-      if (open[i] && double(meshes[i].mesh.F.size()) <= remaining * meshes[i].weight / weights) {
-        budget[i] = meshes[i].mesh.F.size();
-        remaining -= double(budget[i]);
-        open[i] = false;
-        changed = true;
-      }
-    if (!changed)
-      for (size_t i = 0; i < meshes.size(); ++i)
-        if (open[i]) budget[i] = size_t(std::max(0.0, remaining * meshes[i].weight / weights));
-  }
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    auto& m = meshes[i];
-    const size_t original = m.mesh.F.size();
-    if (original > budget[i]) m.mesh = decimate_to_budget(m.mesh, budget[i]);
-    nlohmann::json layer{{"id", m.id},           {"label", m.label},     {"kind", "mesh"},
-                         {"color", m.color},     {"opacity", m.opacity}, {"visible", m.visible},
-                         {"original_triangles", original}, {"mesh", encode_mesh(m.mesh)}};
-    if (!m.mesh.values.empty()) {
-      const double lo = std::min(quantile(m.mesh.values, 0.01), -0.01);
-      const double hi = std::max(quantile(m.mesh.values, 0.99), 0.01);
-      layer["value_label"] = "deviation from the design (mm): \u2212 over-cut, + material left";
-      layer["value_range"] = {lo, hi};
-    }
-    layers.push_back(std::move(layer));
-  }
-
-  // Path and tool axes at evenly spaced rows, coloured by clearance.
-  const double safety = scene.planner.safety_distance;
-  std::vector<Eigen::Vector3d> path_points;
-  if (in.oriented)
-    for (const auto& r : in.oriented->rows) path_points.push_back(r.p);
-  else
-    for (const auto& r : scene.path.rows) path_points.push_back(r.p);
-  if (!path_points.empty()) {
-    std::vector<float> line;
-    const size_t stride = std::max<size_t>(1, path_points.size() / 40000);
-    for (size_t i = 0; i < path_points.size(); i += stride) push(line, path_points[i]);
-    if ((path_points.size() - 1) % stride != 0) push(line, path_points.back());
-    layers.push_back({{"id", "path"}, {"label", "Tool path (cutter locations)"}, {"kind", "line"},
-                      {"color", "#e0301e"}, {"visible", true}, {"positions", base64_floats(line)}});
-  }
+  if (auto path = path_layer(in)) layers.push_back(std::move(*path));
   nlohmann::json tool_poses = nlohmann::json::array();
   if (in.oriented && !in.oriented->rows.empty()) {
-    const auto& rows = in.oriented->rows;
-    const size_t n = rows.size();
-    const size_t samples = std::min<size_t>(n, size_t(std::max(options.axis_samples, 1)));
-    std::vector<float> seg, clearance;
-    for (size_t k = 0; k < samples; ++k) {
-      const size_t i = samples == 1 ? 0 : (k * (n - 1) + (samples - 1) / 2) / (samples - 1);
-      const Eigen::Vector3d tip = row_tip(rows[i], scene.tool);
-      push(seg, tip);
-      push(seg, tip + rows[i].axis.normalized() * scene.tool.length);  // tip to holder face
-      // +inf: nothing near (drawn as clear); NaN: not known (drawn grey).
-      const double c = rows[i].clearance_mm;
-      clearance.push_back(std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : std::isinf(c) ? 1e9f : float(c));
-    }
-    layers.push_back({{"id", "axes"},
-                      {"label", "Tool axes at " + std::to_string(samples) + " rows, coloured by clearance"},
-                      {"kind", "segments"},
-                      {"visible", true},
-                      {"positions", base64_floats(seg)},
-                      {"values", base64_floats(clearance)},
-                      {"value_label", "clearance to the check surfaces (mm)"},
-                      {"value_range", {0.0, std::max(3.0 * safety, 0.1)}},
-                      {"safety_distance", safety}});
-    size_t tight = 0;
-    for (size_t i = 0; i < n; ++i)
-      if (std::isfinite(rows[i].clearance_mm) && !(rows[tight].clearance_mm <= rows[i].clearance_mm)) tight = i;
-    if (std::isfinite(rows[tight].clearance_mm))
-      tool_poses.push_back(pose_json({row_tip(rows[tight], scene.tool), rows[tight].axis.normalized()},
-                                     "tightest row " + std::to_string(tight + 1) + ": clearance " +
-                                         fixed(rows[tight].clearance_mm, 3) + " mm"));
+    layers.push_back(axes_layer(in.oriented->rows, scene, options.axis_samples));
+    if (auto pose = tightest_row_pose(in.oriented->rows, scene.tool)) tool_poses.push_back(std::move(*pose));
   }
 
-  // Collision and gouge sites at the tool tip of their block's end point.
   const auto poses = block_poses(in);
-  auto sites = [&](auto const& items, const std::string& id, const std::string& label, const std::string& color,
-                   auto describe) {
-    std::vector<float> pts;
-    nlohmann::json titles = nlohmann::json::array();
-    std::map<int, bool> seen;
-    for (const auto& item : items) {
-      auto it = poses.find(item.block);
-      if (it == poses.end() || seen[item.block]) continue;
-      seen[item.block] = true;
-      push(pts, it->second.tip);
-      titles.push_back(describe(item));
-    }
-    if (pts.empty()) return;
-    layers.push_back({{"id", id}, {"label", label}, {"kind", "points"}, {"color", color}, {"visible", true},
-                      {"positions", base64_floats(pts)}, {"titles", titles}});
-  };
-  sites(in.collisions, "collisions", "Collision sites (tool tip at the block end)", "#ff1744", [](const Collision& c) {
-    return "block " + std::to_string(c.block) + ", line " + std::to_string(c.line) + ": " + collision_kind(c) + " " + fixed(c.depth_mm, 3) + " mm";
-  });
-  sites(in.gouges, "gouges", "Gouge sites", "#ff9100", [](const Gouge& g) {
-    return "block " + std::to_string(g.block) + ", line " + std::to_string(g.line) + ": gouge " + fixed(g.depth_mm, 3) + " mm";
-  });
+  add_site_layers(layers, in, poses);
   if (!in.collisions.empty()) {
     auto it = poses.find(in.collisions.front().block);
     if (it != poses.end())
-      tool_poses.push_back(pose_json(it->second, "first collision, block " + std::to_string(in.collisions.front().block)));
+      tool_poses.push_back(
+          pose_json(it->second, "first collision, block " + std::to_string(in.collisions.front().block)));
   }
   if (!tool_poses.empty())
     layers.push_back({{"id", "tool"}, {"label", "Tool body at the tightest row / first collision"}, {"kind", "tool"},

@@ -122,9 +122,12 @@ std::string series_path(const Series& s, const Frame& f) {
   return d.str();
 }
 
-}  // namespace
+struct Extent {
+  double x0, x1, y0, y1;
+};
 
-std::string render_line_plot(const LinePlot& p) {
+// The series' finite extent; x0 > x1 (infinite) when no point is finite.
+Extent data_extent(const LinePlot& p) {
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const auto& s : p.series)
     for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
@@ -134,20 +137,13 @@ std::string render_line_plot(const LinePlot& p) {
         y0 = std::min(y0, s.y[i]);
         y1 = std::max(y1, s.y[i]);
       }
-  const int W = p.width_px, H = p.height_px;
-  std::ostringstream o;
-  o << "<svg class=\"plot\" id=\"" << escape_html(p.id) << "\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 "
-    << W << ' ' << H << "\" width=\"" << W << "\" height=\"" << H
-    << "\" font-family=\"system-ui, sans-serif\" font-size=\"12\" role=\"img\">";
-  o << "<title>" << escape_html(p.title) << "</title>";
-  o << "<text x=\"8\" y=\"18\" font-size=\"14\" font-weight=\"600\" fill=\"#222\">" << escape_html(p.title)
-    << "</text>";
-  if (!(x0 <= x1)) {
-    o << "<rect x=\"8\" y=\"30\" width=\"" << W - 16 << "\" height=\"" << H - 40
-      << "\" fill=\"#f6f7f9\" stroke=\"#ddd\"/><text class=\"empty\" x=\"" << W / 2 << "\" y=\"" << H / 2 + 10
-      << "\" text-anchor=\"middle\" fill=\"#888\">" << escape_html(p.empty_note) << "</text></svg>";
-    return o.str();
-  }
+  return {x0, x1, y0, y1};
+}
+
+// The plot area within the picture and its value ranges: the data and the reference lines, a flat
+// range widened, y padded by 6 % either side.
+Frame plot_frame(const LinePlot& p, const Extent& extent) {
+  double x0 = extent.x0, x1 = extent.x1, y0 = extent.y0, y1 = extent.y1;
   for (const auto& h : p.hlines)
     if (std::isfinite(h.y)) {
       y0 = std::min(y0, h.y);
@@ -160,13 +156,12 @@ std::string render_line_plot(const LinePlot& p) {
   const double pad = y1 - y0 < 1e-12 ? std::max(1.0, std::abs(y0) * 0.1) : 0.06 * (y1 - y0);
   y0 -= pad;
   y1 += pad;
-  const Frame f{64.0, 50.0, double(W) - 64.0 - 16.0, double(H) - 50.0 - 42.0, x0, x1, y0, y1};
-  // The frame lets the page's script turn pointer positions back into values (hover read-out).
-  o << "<metadata class=\"frame\" data-frame=\"" << num(f.left) << ',' << num(f.top) << ',' << num(f.width) << ','
-    << num(f.height) << ',' << fixed(x0, 9) << ',' << fixed(x1, 9) << ',' << fixed(y0, 9) << ',' << fixed(y1, 9)
-    << "\" data-x-label=\"" << escape_html(p.x_label) << "\"/>";
+  return {64.0, 50.0, double(p.width_px) - 64.0 - 16.0, double(p.height_px) - 50.0 - 42.0, x0, x1, y0, y1};
+}
 
-  // Legend: one swatch per series, then the band, markers and reference lines, wrapping by width.
+// One swatch per series, then the band, markers and reference lines, wrapping by width.
+void write_legend(std::ostringstream& o, const LinePlot& p) {
+  const int W = p.width_px;
   double lx = 64.0, ly = 36.0;
   auto legend = [&](const std::string& swatch, const std::string& label) {
     const double w = 26.0 + 6.5 * double(label.size());
@@ -174,8 +169,8 @@ std::string render_line_plot(const LinePlot& p) {
       lx = 64.0;
       ly += 14.0;
     }
-    o << "<g transform=\"translate(" << num(lx) << ',' << num(ly) << ")\">" << swatch << "<text x=\"20\" y=\"4\" fill=\"#333\">"
-      << escape_html(label) << "</text></g>";
+    o << "<g transform=\"translate(" << num(lx) << ',' << num(ly) << ")\">" << swatch
+      << "<text x=\"20\" y=\"4\" fill=\"#333\">" << escape_html(label) << "</text></g>";
     lx += w + 10.0;
   };
   for (const auto& s : p.series)
@@ -188,9 +183,13 @@ std::string render_line_plot(const LinePlot& p) {
     legend("<line x1=\"8\" y1=\"-6\" x2=\"8\" y2=\"6\" stroke=\"" + p.marker_color + "\" stroke-width=\"2\"/>",
            p.marker_label + " (" + std::to_string(p.markers.size()) + ")");
   for (const auto& h : p.hlines)
-    legend("<line x1=\"0\" y1=\"0\" x2=\"16\" y2=\"0\" stroke=\"" + h.color + "\" stroke-width=\"1.5\" stroke-dasharray=\"6 3\"/>",
+    legend("<line x1=\"0\" y1=\"0\" x2=\"16\" y2=\"0\" stroke=\"" + h.color +
+               "\" stroke-width=\"1.5\" stroke-dasharray=\"6 3\"/>",
            h.label);
+}
 
+// The plot area, the shaded bands, grid lines at nice ticks with their labels, and the axis titles.
+void write_axes(std::ostringstream& o, const LinePlot& p, const Frame& f) {
   o << "<rect class=\"plot-area\" x=\"" << num(f.left) << "\" y=\"" << num(f.top) << "\" width=\"" << num(f.width)
     << "\" height=\"" << num(f.height) << "\" fill=\"#fbfbfc\" stroke=\"#c8ccd2\"/>";
   for (const auto& b : p.bands) {
@@ -199,42 +198,35 @@ std::string render_line_plot(const LinePlot& p) {
     o << "<rect class=\"band\" x=\"" << num(a) << "\" y=\"" << num(f.top) << "\" width=\"" << num(std::max(1.0, c - a))
       << "\" height=\"" << num(f.height) << "\" fill=\"#ff9f1c\" fill-opacity=\"0.25\"/>";
   }
-  const auto xt = nice_ticks(x0, x1, std::max(2, int(f.width / 90.0)));
-  const auto yt = nice_ticks(y0, y1, std::max(2, int(f.height / 45.0)));
+  const auto xt = nice_ticks(f.x0, f.x1, std::max(2, int(f.width / 90.0)));
+  const auto yt = nice_ticks(f.y0, f.y1, std::max(2, int(f.height / 45.0)));
   const int xd = tick_decimals(xt), yd = tick_decimals(yt);
   o << "<g stroke=\"#e3e6ea\">";
-  for (double t : yt) o << "<line x1=\"" << num(f.left) << "\" x2=\"" << num(f.left + f.width) << "\" y1=\"" << num(f.Y(t)) << "\" y2=\"" << num(f.Y(t)) << "\"/>";
-  for (double t : xt) o << "<line y1=\"" << num(f.top) << "\" y2=\"" << num(f.top + f.height) << "\" x1=\"" << num(f.X(t)) << "\" x2=\"" << num(f.X(t)) << "\"/>";
+  for (double t : yt)
+    o << "<line x1=\"" << num(f.left) << "\" x2=\"" << num(f.left + f.width) << "\" y1=\"" << num(f.Y(t))
+      << "\" y2=\"" << num(f.Y(t)) << "\"/>";
+  for (double t : xt)
+    o << "<line y1=\"" << num(f.top) << "\" y2=\"" << num(f.top + f.height) << "\" x1=\"" << num(f.X(t))
+      << "\" x2=\"" << num(f.X(t)) << "\"/>";
   o << "</g><g fill=\"#555\">";
   for (double t : yt)
-    o << "<text x=\"" << num(f.left - 6) << "\" y=\"" << num(f.Y(t) + 4) << "\" text-anchor=\"end\">" << tick_text(t, yd) << "</text>";
+    o << "<text x=\"" << num(f.left - 6) << "\" y=\"" << num(f.Y(t) + 4) << "\" text-anchor=\"end\">"
+      << tick_text(t, yd) << "</text>";
   for (double t : xt)
-    o << "<text x=\"" << num(f.X(t)) << "\" y=\"" << num(f.top + f.height + 16) << "\" text-anchor=\"middle\">" << tick_text(t, xd) << "</text>";
+    o << "<text x=\"" << num(f.X(t)) << "\" y=\"" << num(f.top + f.height + 16) << "\" text-anchor=\"middle\">"
+      << tick_text(t, xd) << "</text>";
   o << "</g>";
-  o << "<text x=\"" << num(f.left + f.width / 2) << "\" y=\"" << H - 8 << "\" text-anchor=\"middle\" fill=\"#333\">"
-    << escape_html(p.x_label) << "</text>";
-  o << "<text transform=\"translate(16," << num(f.top + f.height / 2) << ") rotate(-90)\" text-anchor=\"middle\" fill=\"#333\">"
-    << escape_html(p.y_label) << "</text>";
+  o << "<text x=\"" << num(f.left + f.width / 2) << "\" y=\"" << p.height_px - 8
+    << "\" text-anchor=\"middle\" fill=\"#333\">" << escape_html(p.x_label) << "</text>";
+  o << "<text transform=\"translate(16," << num(f.top + f.height / 2)
+    << ") rotate(-90)\" text-anchor=\"middle\" fill=\"#333\">" << escape_html(p.y_label) << "</text>";
+}
 
-  const std::string clip = "clip-" + escape_html(p.id);
-  o << "<defs><clipPath id=\"" << clip << "\"><rect x=\"" << num(f.left) << "\" y=\"" << num(f.top) << "\" width=\""
-    << num(f.width) << "\" height=\"" << num(f.height) << "\"/></clipPath></defs><g clip-path=\"url(#" << clip << ")\">";
-  for (const auto& h : p.hlines)
-    if (std::isfinite(h.y))
-      o << "<line class=\"hline\" x1=\"" << num(f.left) << "\" x2=\"" << num(f.left + f.width) << "\" y1=\"" << num(f.Y(h.y))
-        << "\" y2=\"" << num(f.Y(h.y)) << "\" stroke=\"" << h.color << "\" stroke-width=\"1.5\" stroke-dasharray=\"6 3\"><title>"
-        << escape_html(h.label) << "</title></line>";
-  for (const auto& s : p.series) {
-    const std::string d = series_path(s, f);
-    if (d.empty()) continue;
-    o << "<path class=\"series\" data-label=\"" << escape_html(s.label) << "\" d=\"" << d << "\" fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\""
-      << fixed(s.width_px, 2) << "\" stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "")
-      << "><title>" << escape_html(s.label) << "</title></path>";
-  }
-  // Markers: one tick per pixel column, its tooltip listing what fell there.
+// Markers: one tick per pixel column at the bottom of the plot, its tooltip listing what fell there.
+void write_markers(std::ostringstream& o, const LinePlot& p, const Frame& f) {
   std::map<long, std::vector<const Marker*>> columns;
   for (const auto& m : p.markers)
-    if (std::isfinite(m.x)) columns[std::lround(f.X(std::clamp(m.x, x0, x1)))].push_back(&m);
+    if (std::isfinite(m.x)) columns[std::lround(f.X(std::clamp(m.x, f.x0, f.x1)))].push_back(&m);
   for (const auto& [col, ms] : columns) {
     std::string title = ms.front()->title;
     if (ms.size() > 1) title += " (+" + std::to_string(ms.size() - 1) + " more)";
@@ -242,7 +234,58 @@ std::string render_line_plot(const LinePlot& p) {
       << "\" y2=\"" << num(f.top + f.height - 10) << "\" stroke=\"" << p.marker_color << "\" stroke-width=\"2\"><title>"
       << escape_html(title) << "</title></line>";
   }
-  o << "</g></svg>";
+}
+
+// Reference lines, series and markers, clipped to the plot area.
+void write_clipped_content(std::ostringstream& o, const LinePlot& p, const Frame& f) {
+  const std::string clip = "clip-" + escape_html(p.id);
+  o << "<defs><clipPath id=\"" << clip << "\"><rect x=\"" << num(f.left) << "\" y=\"" << num(f.top) << "\" width=\""
+    << num(f.width) << "\" height=\"" << num(f.height) << "\"/></clipPath></defs><g clip-path=\"url(#" << clip
+    << ")\">";
+  for (const auto& h : p.hlines)
+    if (std::isfinite(h.y))
+      o << "<line class=\"hline\" x1=\"" << num(f.left) << "\" x2=\"" << num(f.left + f.width) << "\" y1=\""
+        << num(f.Y(h.y)) << "\" y2=\"" << num(f.Y(h.y)) << "\" stroke=\"" << h.color
+        << "\" stroke-width=\"1.5\" stroke-dasharray=\"6 3\"><title>" << escape_html(h.label) << "</title></line>";
+  for (const auto& s : p.series) {
+    const std::string d = series_path(s, f);
+    if (d.empty()) continue;
+    o << "<path class=\"series\" data-label=\"" << escape_html(s.label) << "\" d=\"" << d
+      << "\" fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\"" << fixed(s.width_px, 2)
+      << "\" stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "><title>"
+      << escape_html(s.label) << "</title></path>";
+  }
+  write_markers(o, p, f);
+  o << "</g>";
+}
+
+}  // namespace
+
+std::string render_line_plot(const LinePlot& p) {
+  const Extent extent = data_extent(p);
+  const int W = p.width_px, H = p.height_px;
+  std::ostringstream o;
+  o << "<svg class=\"plot\" id=\"" << escape_html(p.id) << "\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 "
+    << W << ' ' << H << "\" width=\"" << W << "\" height=\"" << H
+    << "\" font-family=\"system-ui, sans-serif\" font-size=\"12\" role=\"img\">";
+  o << "<title>" << escape_html(p.title) << "</title>";
+  o << "<text x=\"8\" y=\"18\" font-size=\"14\" font-weight=\"600\" fill=\"#222\">" << escape_html(p.title)
+    << "</text>";
+  if (!(extent.x0 <= extent.x1)) {
+    o << "<rect x=\"8\" y=\"30\" width=\"" << W - 16 << "\" height=\"" << H - 40
+      << "\" fill=\"#f6f7f9\" stroke=\"#ddd\"/><text class=\"empty\" x=\"" << W / 2 << "\" y=\"" << H / 2 + 10
+      << "\" text-anchor=\"middle\" fill=\"#888\">" << escape_html(p.empty_note) << "</text></svg>";
+    return o.str();
+  }
+  const Frame f = plot_frame(p, extent);
+  // The frame lets the page's script turn pointer positions back into values (hover read-out).
+  o << "<metadata class=\"frame\" data-frame=\"" << num(f.left) << ',' << num(f.top) << ',' << num(f.width) << ','
+    << num(f.height) << ',' << fixed(f.x0, 9) << ',' << fixed(f.x1, 9) << ',' << fixed(f.y0, 9) << ','
+    << fixed(f.y1, 9) << "\" data-x-label=\"" << escape_html(p.x_label) << "\"/>";
+  write_legend(o, p);
+  write_axes(o, p, f);
+  write_clipped_content(o, p, f);
+  o << "</svg>";
   return o.str();
 }
 

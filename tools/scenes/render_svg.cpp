@@ -6,41 +6,14 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
-#include <sstream>
-#include <unordered_map>
 
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/core/mesh_decimate.hpp"
 
 namespace tf::scenes {
 
 namespace {
-struct Key {
-  long long x, y, z;
-  int dir;  // the vertex normal's dominant axis and sign, 0..5
-  bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z && dir == o.dir; }
-};
-struct KeyHash {
-  size_t operator()(const Key& k) const {
-    return static_cast<size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL ^ k.dir * 2654435761LL);
-  }
-};
-
-// Area-weighted vertex normals.
-std::vector<Eigen::Vector3d> vertex_normals(const Mesh& mesh) {
-  std::vector<Eigen::Vector3d> n(mesh.n_vertices(), Eigen::Vector3d::Zero());
-  for (auto f : mesh.faces()) {
-    Eigen::Vector3d p[3];
-    int idx[3], k = 0;
-    for (auto v : mesh.fv_range(f)) {
-      idx[k] = v.idx();
-      p[k++] = to_eigen(mesh.point(v));
-    }
-    const Eigen::Vector3d fn = (p[1] - p[0]).cross(p[2] - p[0]);
-    for (int i : idx) n[i] += fn;
-  }
-  return n;
-}
 
 std::string hex_colour(const Eigen::Vector3d& rgb) {
   char buf[8];
@@ -138,105 +111,122 @@ DepthBuffer rasterize_depth(const std::vector<Painted>& tris, int w, int h, cons
   return db;
 }
 
-std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<SvgPolyline>& lines,
-                        const SvgOptions& o) {
-  const double az = o.azimuth_deg * std::numbers::pi / 180.0, el = o.elevation_deg * std::numbers::pi / 180.0;
-  const Eigen::Vector3d cam(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-  const Eigen::Vector3d right(-std::sin(az), std::cos(az), 0.0);
-  const Eigen::Vector3d up = cam.cross(right);
-  const Eigen::Vector3d light = (cam + 0.6 * up - 0.4 * right).normalized();
-  auto project = [&](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.dot(right), p.dot(up)); };
+// The orthographic camera: `cam` points toward the viewer, (right, up) span the picture plane.
+struct View {
+  Eigen::Vector3d cam, right, up, light;
+  Eigen::Vector2d project(const Eigen::Vector3d& p) const { return {p.dot(right), p.dot(up)}; }
+};
 
+View camera_view(const SvgOptions& o) {
+  const double az = o.azimuth_deg * std::numbers::pi / 180.0, el = o.elevation_deg * std::numbers::pi / 180.0;
+  View v;
+  v.cam = Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  v.right = Eigen::Vector3d(-std::sin(az), std::cos(az), 0.0);
+  v.up = v.cam.cross(v.right);
+  v.light = (v.cam + 0.6 * v.up - 0.4 * v.right).normalized();
+  return v;
+}
+
+// The mesh's share of the triangle budget (by its part of all faces, at least 200), decimated to it
+// when larger.
+IndexedTriangles preview_triangles(const Mesh& mesh, size_t max_triangles, size_t total_faces) {
+  const size_t budget = std::max<size_t>(200, max_triangles * mesh.n_faces() / std::max<size_t>(total_faces, 1));
+  IndexedTriangles all = indexed_triangles(mesh);
+  if (all.F.size() <= budget) return all;
+  return decimate_to_budget(all, budget);
+}
+
+// Flat-shaded facing triangles of one mesh, appended to `tris`; `bounds` grows by their projection.
+// Back faces are culled when the mesh is closed, drawn from the front when it is open.
+void paint_mesh(const IndexedTriangles& mesh, bool closed, const Eigen::Vector3d& rgb, const View& view,
+                std::vector<Painted>& tris, Eigen::AlignedBox2d& bounds) {
+  for (const auto& f : mesh.F) {
+    const Eigen::Vector3d p[3] = {mesh.V[f[0]], mesh.V[f[1]], mesh.V[f[2]]};
+    Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    if (n.norm() < 1e-300) continue;
+    n.normalize();
+    if (n.dot(view.cam) <= 0) {
+      if (closed) continue;
+      n = -n;
+    }
+    const double shade = 0.35 + 0.65 * std::max(0.0, n.dot(view.light));
+    Painted t{(p[0] + p[1] + p[2]).dot(view.cam) / 3.0,
+              {view.project(p[0]), view.project(p[1]), view.project(p[2])},
+              {p[0].dot(view.cam), p[1].dot(view.cam), p[2].dot(view.cam)},
+              hex_colour(rgb * shade)};
+    for (const auto& q : t.p) bounds.extend(q);
+    tris.push_back(std::move(t));
+  }
+}
+
+std::vector<Painted> painted_triangles(const std::vector<SvgMesh>& meshes, const View& view, size_t max_triangles,
+                                       Eigen::AlignedBox2d& bounds) {
   size_t total = 0;
   for (const auto& m : meshes) total += m.mesh ? m.mesh->n_faces() : 0;
   std::vector<Painted> tris;
-  Eigen::AlignedBox2d bounds;
   for (const auto& sm : meshes) {
     if (!sm.mesh || sm.mesh->n_faces() == 0) continue;
-    const Mesh* mesh = sm.mesh;
-    Mesh reduced;
-    const size_t budget = std::max<size_t>(200, o.max_triangles * sm.mesh->n_faces() / std::max<size_t>(total, 1));
-    if (mesh->n_faces() > budget) {
-      // Grow the clustering cell until the mesh fits its share of the budget.
-      const double diag = bounding_box(*mesh).diagonal().norm();
-      double cell = diag / std::sqrt(static_cast<double>(budget)) * 0.5;
-      for (int it = 0; it < 40; ++it, cell *= 1.25) {
-        reduced = cluster_decimate(*mesh, cell);
-        if (reduced.n_faces() <= budget) break;
-      }
-      mesh = &reduced;
-    }
-    const bool closed = is_closed(*sm.mesh);  // decide on the original: the decimated soup is never closed
-    for (auto f : mesh->faces()) {
-      Eigen::Vector3d p[3];
-      int k = 0;
-      for (auto v : mesh->fv_range(f)) p[k++] = to_eigen(mesh->point(v));
-      Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-      if (n.norm() < 1e-300) continue;
-      n.normalize();
-      if (n.dot(cam) <= 0) {
-        if (closed) continue;
-        n = -n;
-      }
-      const double shade = 0.35 + 0.65 * std::max(0.0, n.dot(light));
-      Painted t{(p[0] + p[1] + p[2]).dot(cam) / 3.0,
-                {project(p[0]), project(p[1]), project(p[2])},
-                {p[0].dot(cam), p[1].dot(cam), p[2].dot(cam)},
-                hex_colour(sm.rgb * shade)};
-      for (const auto& q : t.p) bounds.extend(q);
-      tris.push_back(std::move(t));
-    }
+    // Decided on the original: a decimated mesh is never closed.
+    paint_mesh(preview_triangles(*sm.mesh, max_triangles, total), is_closed(*sm.mesh), sm.rgb, view, tris, bounds);
   }
+  return tris;
+}
+
+// Picture coordinates: the projected bounds scaled to the width less a margin, y pointing down.
+struct Screen {
+  Eigen::AlignedBox2d bounds;
+  double margin, w, span, scale, h;
+  double sx(const Eigen::Vector2d& q) const { return margin + (q.x() - bounds.min().x()) * scale; }
+  double sy(const Eigen::Vector2d& q) const { return margin + (bounds.max().y() - q.y()) * scale; }
+};
+
+Screen fit_screen(Eigen::AlignedBox2d bounds, const std::vector<SvgPolyline>& lines, const View& view, int width_px) {
   for (const auto& l : lines)
-    for (const auto& p : l.points) bounds.extend(project(p));
+    for (const auto& p : l.points) bounds.extend(view.project(p));
   if (bounds.isEmpty()) bounds.extend(Eigen::Vector2d(0, 0)).extend(Eigen::Vector2d(1, 1));
+  Screen s{bounds, 20.0, double(std::max(100, width_px)), 0.0, 0.0, 0.0};
+  s.span = std::max(bounds.sizes().x(), 1e-9);
+  s.scale = (s.w - 2 * s.margin) / s.span;
+  s.h = std::ceil(bounds.sizes().y() * s.scale + 2 * s.margin);
+  return s;
+}
 
-  const double margin = 20.0, w = std::max(100, o.width_px);
-  const double span = std::max(bounds.sizes().x(), 1e-9);
-  const double scale = (w - 2 * margin) / span;
-  const double h = std::ceil(bounds.sizes().y() * scale + 2 * margin);
-  auto sx = [&](const Eigen::Vector2d& q) { return margin + (q.x() - bounds.min().x()) * scale; };
-  auto sy = [&](const Eigen::Vector2d& q) { return margin + (bounds.max().y() - q.y()) * scale; };
-  {
-    // Split large faces, but never more than half the budget again.
-    const size_t limit = tris.size() + o.max_triangles / 2;
-    std::vector<Painted> split;
-    for (double edge_px = 40.0;; edge_px *= 1.5) {
-      split = tris;
-      subdivide(split, edge_px / scale);
-      if (split.size() <= limit) break;
-    }
-    tris = std::move(split);
+// Splits large faces (edges over 40 px, growing) but never adds more than half the budget again.
+void split_for_painting(std::vector<Painted>& tris, size_t max_triangles, double scale) {
+  const size_t limit = tris.size() + max_triangles / 2;
+  std::vector<Painted> split;
+  for (double edge_px = 40.0;; edge_px *= 1.5) {
+    split = tris;
+    subdivide(split, edge_px / scale);
+    if (split.size() <= limit) break;
   }
-  std::stable_sort(tris.begin(), tris.end(), [](const Painted& a, const Painted& b) { return a.depth < b.depth; });
-  const DepthBuffer depth = rasterize_depth(tris, static_cast<int>(w), static_cast<int>(h),
-                                            [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(sx(q), sy(q)); });
-  // A polyline point is drawn where nothing painted lies in front of it (within a small depth bias).
-  const double bias = 0.004 * std::max(span, bounds.sizes().y());
+  tris = std::move(split);
+}
 
-  std::string out;
-  out.reserve(tris.size() * 80 + 4096);
+void append_triangles(std::string& out, const std::vector<Painted>& tris, const Screen& s) {
   char buf[160];
-  std::snprintf(buf, sizeof buf,
-                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\">\n",
-                static_cast<int>(w), static_cast<int>(h), static_cast<int>(w), static_cast<int>(h));
-  out += buf;
-  out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
   // A stroke in the fill colour hides the hairline seams anti-aliasing leaves between triangles.
   out += "<g stroke-width=\"0.5\" stroke-linejoin=\"round\">\n";
   for (const auto& t : tris) {
     std::snprintf(buf, sizeof buf, "<polygon points=\"%.1f,%.1f %.1f,%.1f %.1f,%.1f\" fill=\"%s\" stroke=\"%s\"/>\n",
-                  sx(t.p[0]), sy(t.p[0]), sx(t.p[1]), sy(t.p[1]), sx(t.p[2]), sy(t.p[2]), t.colour.c_str(),
+                  s.sx(t.p[0]), s.sy(t.p[0]), s.sx(t.p[1]), s.sy(t.p[1]), s.sx(t.p[2]), s.sy(t.p[2]), t.colour.c_str(),
                   t.colour.c_str());
     out += buf;
   }
   out += "</g>\n";
+}
+
+// Each polyline as its visible runs: a point is drawn where nothing painted lies in front of it
+// (within a small depth bias).
+void append_visible_polylines(std::string& out, const std::vector<SvgPolyline>& lines, const View& view,
+                              const Screen& s, const DepthBuffer& depth) {
+  const double bias = 0.004 * std::max(s.span, s.bounds.sizes().y());
+  char buf[160];
   for (const auto& l : lines) {
-    // Visible runs of the polyline, each its own element.
     std::vector<std::vector<Eigen::Vector2d>> runs(1);
     for (const auto& p : l.points) {
-      const Eigen::Vector2d q = project(p);
-      if (p.dot(cam) + bias >= depth.at(sx(q), sy(q))) {
+      const Eigen::Vector2d q = view.project(p);
+      if (p.dot(view.cam) + bias >= depth.at(s.sx(q), s.sy(q))) {
         runs.back().push_back(q);
       } else if (!runs.back().empty()) {
         runs.emplace_back();
@@ -248,85 +238,44 @@ std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<Sv
                     xml_escape(l.color).c_str(), l.width_px);
       out += buf;
       for (const auto& q : run) {
-        std::snprintf(buf, sizeof buf, "%.1f,%.1f ", sx(q), sy(q));
+        std::snprintf(buf, sizeof buf, "%.1f,%.1f ", s.sx(q), s.sy(q));
         out += buf;
       }
       out += "\"/>\n";
     }
   }
+}
+
+std::string render_once(const std::vector<SvgMesh>& meshes, const std::vector<SvgPolyline>& lines,
+                        const SvgOptions& o) {
+  const View view = camera_view(o);
+  Eigen::AlignedBox2d bounds;
+  std::vector<Painted> tris = painted_triangles(meshes, view, o.max_triangles, bounds);
+  const Screen s = fit_screen(bounds, lines, view, o.width_px);
+  split_for_painting(tris, o.max_triangles, s.scale);
+  std::stable_sort(tris.begin(), tris.end(), [](const Painted& a, const Painted& b) { return a.depth < b.depth; });
+  const auto to_px = [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(s.sx(q), s.sy(q)); };
+  const DepthBuffer depth = rasterize_depth(tris, static_cast<int>(s.w), static_cast<int>(s.h), to_px);
+
+  std::string out;
+  out.reserve(tris.size() * 80 + 4096);
+  char buf[160];
+  const int w = static_cast<int>(s.w), h = static_cast<int>(s.h);
+  std::snprintf(buf, sizeof buf,
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\">\n", w, h,
+                w, h);
+  out += buf;
+  out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
+  append_triangles(out, tris, s);
+  append_visible_polylines(out, lines, view, s, depth);
   if (!o.title.empty())
     out += "<text x=\"12\" y=\"22\" font-family=\"sans-serif\" font-size=\"15\" fill=\"#333333\">" +
            xml_escape(o.title) + "</text>\n";
   out += "</svg>\n";
   return out;
 }
-}  // namespace
 
-Mesh cluster_decimate(const Mesh& mesh, double cell) {
-  std::unordered_map<Key, int, KeyHash> cells;
-  std::vector<Eigen::Vector3d> sum;
-  std::vector<int> count, map(mesh.n_vertices());
-  // Vertices facing different ways stay apart, so the two sides of a thin wall (a blade) do not merge.
-  const std::vector<Eigen::Vector3d> normals = vertex_normals(mesh);
-  for (auto v : mesh.vertices()) {
-    const Eigen::Vector3d p = to_eigen(mesh.point(v));
-    const Eigen::Vector3d& n = normals[v.idx()];
-    int axis = 0;
-    n.cwiseAbs().maxCoeff(&axis);
-    const Key k{static_cast<long long>(std::floor(p.x() / cell)), static_cast<long long>(std::floor(p.y() / cell)),
-                static_cast<long long>(std::floor(p.z() / cell)), 2 * axis + (n[axis] < 0 ? 1 : 0)};
-    auto [it, fresh] = cells.emplace(k, static_cast<int>(sum.size()));
-    if (fresh) {
-      sum.push_back(Eigen::Vector3d::Zero());
-      count.push_back(0);
-    }
-    sum[it->second] += p;
-    ++count[it->second];
-    map[v.idx()] = it->second;
-  }
-  // Each cluster's point minimises the squared distances to the planes of the faces around its vertices
-  // (Lindstrom's quadric clustering), which keeps sharp edges such as blade tips straight; a small pull
-  // toward the vertices' mean keeps flat clusters (singular quadrics) in place.
-  std::vector<Eigen::Matrix3d> qa(sum.size(), Eigen::Matrix3d::Zero());
-  std::vector<Eigen::Vector3d> qb(sum.size(), Eigen::Vector3d::Zero());
-  std::vector<Eigen::Vector3i> faces;
-  for (auto f : mesh.faces()) {
-    int c[3], k = 0;
-    Eigen::Vector3d p[3];
-    for (auto v : mesh.fv_range(f)) {
-      p[k] = to_eigen(mesh.point(v));
-      c[k++] = map[v.idx()];
-    }
-    const Eigen::Vector3d n2 = (p[1] - p[0]).cross(p[2] - p[0]);  // |n2| = twice the area
-    const double len = n2.norm();
-    if (len > 0) {
-      const Eigen::Vector3d n = n2 / len;
-      for (int i = 0; i < 3; ++i) {
-        qa[c[i]] += len * n * n.transpose();
-        qb[c[i]] += len * n * n.dot(p[0]);
-      }
-    }
-    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) faces.emplace_back(c[0], c[1], c[2]);
-  }
-  std::vector<Eigen::Vector3d> rep(sum.size());
-  for (size_t i = 0; i < sum.size(); ++i) {
-    const Eigen::Vector3d mean = sum[i] / count[i];
-    const double eps = 1e-3 * qa[i].trace() + 1e-12;
-    Eigen::Vector3d x = (qa[i] + eps * Eigen::Matrix3d::Identity()).ldlt().solve(qb[i] + eps * mean);
-    // A representative far outside its cell would be an ill-conditioned solve: fall back to the mean.
-    if (!x.allFinite() || (x - mean).norm() > 2.0 * cell) x = mean;
-    rep[i] = x;
-  }
-  // Built as a triangle soup: clustering can make the surface non-manifold, which a half-edge mesh
-  // refuses; the renderer only needs the triangles.
-  Mesh out;
-  for (const auto& f : faces) {
-    Mesh::VertexHandle vh[3];
-    for (int i = 0; i < 3; ++i) vh[i] = out.add_vertex(to_om(rep[f[i]]));
-    out.add_face(vh[0], vh[1], vh[2]);
-  }
-  return out;
-}
+}  // namespace
 
 std::string render_svg(const std::vector<SvgMesh>& meshes, const std::vector<SvgPolyline>& lines,
                        const SvgOptions& options) {

@@ -1,7 +1,7 @@
 // tiltfield: a small SVG renderer for scene previews. Orthographic view from an oblique direction,
 // flat-shaded triangles painted back to front (large ones split first), polylines drawn on top where a
-// depth buffer of the triangles says they are not hidden. Large meshes are decimated by
-// vertex clustering so the picture stays small (a few MB at most).
+// depth buffer of the triangles says they are not hidden. Large meshes are decimated by vertex
+// clustering (core's mesh_decimate) so the picture stays small (a few MB at most).
 #pragma once
 #include <Eigen/Core>
 #include <filesystem>
@@ -37,11 +37,6 @@ struct SvgOptions {
 // The SVG document. Closed meshes have their back faces culled; open ones are drawn two-sided.
 std::string render_svg(const std::vector<SvgMesh>& meshes, const std::vector<SvgPolyline>& lines,
                        const SvgOptions& options);
-
-// Vertex clustering on a grid of `cell` mm: vertices in one cell whose normals point the same way (by
-// dominant axis and sign) merge at their mean; collapsed triangles are dropped, orientation is kept.
-// Returns a triangle soup (vertices not shared), enough for drawing.
-Mesh cluster_decimate(const Mesh& mesh, double cell);
 
 // The preview of a generated scene: design grey, check surfaces blue, the path red, seen from the
 // scene's preview camera. Written atomically; throws InputError naming the file when it cannot be written.

@@ -33,12 +33,13 @@ double interpolate(const std::vector<double>& v, double x0, double x1, double x)
   const int i = std::min(n - 2, static_cast<int>(std::floor(t)));
   const double u = t - i;
   const double p0 = v[std::max(0, i - 1)], p1 = v[i], p2 = v[i + 1], p3 = v[std::min(n - 1, i + 2)];
-  return 0.5 * (2 * p1 + (-p0 + p2) * u + (2 * p0 - 5 * p1 + 4 * p2 - p3) * u * u + (-p0 + 3 * p1 - 3 * p2 + p3) * u * u * u);
+  return 0.5 * (2 * p1 + (-p0 + p2) * u + (2 * p0 - 5 * p1 + 4 * p2 - p3) * u * u +
+                (-p0 + 3 * p1 - 3 * p2 + p3) * u * u * u);
 }
 
 struct Channel {
   const ImpellerModel& model;
-  const MeshDistance& blades;
+  const TriangleBvh& blades;
   double R, target;
 
   double theta0(double m) const { return model.camber_theta(0, m, 0.0); }
@@ -54,7 +55,7 @@ struct Channel {
   Eigen::Vector3d ball(double m, double theta) const {
     return model.hub_point(m, theta) + R * model.hub_normal(m, theta);
   }
-  double clearance(double m, double theta) const { return blades.distance(ball(m, theta), R + 10.0) - R; }
+  double clearance(double m, double theta) const { return blades.closest(ball(m, theta), R + 10.0).distance - R; }
   // Angular half-width a blade takes at the hub plus the ball's room, estimated from the blade angle.
   double margin_estimate(double m) const {
     const ImpellerOptions& o = model.options();
@@ -85,114 +86,162 @@ struct Channel {
   }
 };
 
-}  // namespace
+constexpr int kKnots = 61;
 
-ToolPath impeller_path(const ImpellerModel& model, const Mesh& blade_mesh, ImpellerPathReport* report) {
-  const ImpellerOptions& o = model.options();
-  const MeshDistance blades(blade_mesh);
-  const Channel ch{model, blades, o.tool_radius, o.ball_clearance + kSlack};
+// Channel edges at kKnots knots over [m_start, m_end], as angles relative to blade 0's camber line.
+struct ChannelEdges {
+  std::vector<double> lo, hi;
+};
 
-  // Channel edges at knots, as angles relative to blade 0's camber line.
-  const int K = 61;
-  std::vector<double> lo(K), hi(K);
-  auto knot_m = [&](int k) { return o.m_start + (o.m_end - o.m_start) * k / (K - 1); };
-  for (int k = 0; k < K; ++k) {
-    const double m = knot_m(k), t0 = ch.theta0(m), w = ch.width(m), est = ch.margin_estimate(m);
+ChannelEdges channel_edges(const Channel& ch) {
+  const ImpellerOptions& o = ch.model.options();
+  ChannelEdges e{std::vector<double>(kKnots), std::vector<double>(kKnots)};
+  for (int k = 0; k < kKnots; ++k) {
+    const double m = o.m_start + (o.m_end - o.m_start) * k / (kKnots - 1);
+    const double t0 = ch.theta0(m), w = ch.width(m), est = ch.margin_estimate(m);
     const double mid = t0 + 0.5 * w;
     if (ch.clearance(m, mid) < ch.target)
       throw InputError("scene impeller", 0, "--tool-radius",
                        "the channel is too narrow for a ball of radius " + fixed(o.tool_radius, 3) + " mm at m = " +
                            fixed(m, 3) + " (use a smaller tool, fewer blades or no splitters)");
-    lo[k] = std::max(ch.edge(m, mid, t0), t0 + est) - t0;
-    hi[k] = std::min(ch.edge(m, mid, t0 + w + est), t0 + w - est) - t0;
-    if (hi[k] < lo[k]) lo[k] = hi[k] = 0.5 * (lo[k] + hi[k]);
+    e.lo[k] = std::max(ch.edge(m, mid, t0), t0 + est) - t0;
+    e.hi[k] = std::min(ch.edge(m, mid, t0 + w + est), t0 + w - est) - t0;
+    if (e.hi[k] < e.lo[k]) e.lo[k] = e.hi[k] = 0.5 * (e.lo[k] + e.hi[k]);
   }
+  return e;
+}
 
-  const int P = o.passes;
-  auto pass_theta = [&](int j, double m) {
+// The passes spread evenly between the channel edges: pass j of P at the fraction j / (P - 1) across.
+struct Passes {
+  const Channel& ch;
+  const ChannelEdges& edges;
+
+  double theta(int j, double m) const {
+    const ImpellerOptions& o = ch.model.options();
+    const int P = o.passes;
     const double u = P == 1 ? 0.5 : static_cast<double>(j) / (P - 1);
-    const double a = interpolate(lo, o.m_start, o.m_end, m), b = interpolate(hi, o.m_start, o.m_end, m);
+    const double a = interpolate(edges.lo, o.m_start, o.m_end, m), b = interpolate(edges.hi, o.m_start, o.m_end, m);
     return ch.theta0(m) + a + u * (b - a);
-  };
-  auto row = [&](double m, double theta) {
+  }
+  CLPoint row(double m, double theta) const {
     CLPoint p;
     p.p = ch.ball(m, theta);
-    p.n = model.hub_normal(m, theta);
+    p.n = ch.model.hub_normal(m, theta);
     return p;
-  };
+  }
+};
 
+// The meridional parameters of pass j's rows, equally spaced (<= step) in arc length of the ball centres
+// (a dense table inverted), in the pass's direction of travel (odd passes run backward).
+std::vector<double> pass_parameters(const Passes& passes, int j) {
+  const ImpellerOptions& o = passes.ch.model.options();
+  const int dense = 2000;
+  std::vector<double> s(dense + 1, 0.0);
+  Eigen::Vector3d prev = passes.row(o.m_start, passes.theta(j, o.m_start)).p;
+  for (int i = 1; i <= dense; ++i) {
+    const double m = o.m_start + (o.m_end - o.m_start) * i / dense;
+    const Eigen::Vector3d p = passes.row(m, passes.theta(j, m)).p;
+    s[i] = s[i - 1] + (p - prev).norm();
+    prev = p;
+  }
+  const int n = std::max(1, static_cast<int>(std::ceil(s.back() / o.step - 1e-9)));
+  std::vector<double> ms;
+  for (int k = 0; k <= n; ++k) {
+    const double target = s.back() * k / n;
+    const size_t i = std::min<size_t>(dense, std::lower_bound(s.begin(), s.end(), target) - s.begin());
+    const double s0 = i == 0 ? 0.0 : s[i - 1], s1 = s[i];
+    const double f = i == 0 || s1 <= s0 ? 0.0 : (target - s0) / (s1 - s0);
+    ms.push_back(o.m_start + (o.m_end - o.m_start) * ((i == 0 ? 0.0 : i - 1 + f) / dense));
+  }
+  if (j % 2 == 1) std::reverse(ms.begin(), ms.end());
+  return ms;
+}
+
+// The rows with the meridional parameter each was made at.
+struct ZigzagRows {
   ToolPath path;
-  double min_clear = 0.0;
+  std::vector<double> m;
+  void add(const CLPoint& row, double at) {
+    path.rows.push_back(row);
+    m.push_back(at);
+  }
+};
+
+// All passes in order, each linked to the previous one across the channel at the end where that stopped.
+ZigzagRows zigzag_rows(const Passes& passes) {
+  const ImpellerModel& model = passes.ch.model;
+  const ImpellerOptions& o = model.options();
+  ZigzagRows rows;
+  for (int j = 0; j < o.passes; ++j) {
+    const std::vector<double> ms = pass_parameters(passes, j);
+    if (j > 0) {
+      const double m = ms.front(), ta = passes.theta(j - 1, m), tb = passes.theta(j, m);
+      const Eigen::Vector2d rz = model.hub_rz(m), nz = model.hub_normal_rz(m);
+      const double arc = (rz.x() + o.tool_radius * nz.x()) * std::abs(tb - ta);
+      const int nl = std::max(1, static_cast<int>(std::ceil(arc / o.step - 1e-9)));
+      for (int k = 1; k < nl; ++k) rows.add(passes.row(m, ta + (tb - ta) * k / nl), m);
+    }
+    for (double m : ms) rows.add(passes.row(m, passes.theta(j, m)), m);
+  }
+  return rows;
+}
+
+struct ClearanceCheck {
+  double min_clearance = std::numeric_limits<double>::infinity();  // of the ball to the blades, mm
+  bool clear = true;                                               // every row at least ball_clearance
+};
+
+// Exact check of every row against the blade mesh; around each row that is short of ball_clearance the
+// nearer channel edge moves in (at the knots about it) by the shortfall.
+ClearanceCheck push_edges_in(const Channel& ch, const ZigzagRows& rows, ChannelEdges& edges) {
+  const ImpellerOptions& o = ch.model.options();
+  ClearanceCheck check;
+  for (size_t i = 0; i < rows.path.rows.size(); ++i) {
+    const Eigen::Vector3d& p = rows.path.rows[i].p;
+    const double d = ch.blades.closest(p, o.tool_radius + 10.0).distance - o.tool_radius;
+    check.min_clearance = std::min(check.min_clearance, d);
+    if (d >= o.ball_clearance) continue;
+    check.clear = false;
+    const double m = rows.m[i];
+    const double rel = std::atan2(p.y(), p.x()) - ch.theta0(m);
+    const double a = interpolate(edges.lo, o.m_start, o.m_end, m), b = interpolate(edges.hi, o.m_start, o.m_end, m);
+    const double push = (o.ball_clearance - d + kSlack) / ch.model.hub_rz(m).x();
+    const double t = (m - o.m_start) / (o.m_end - o.m_start) * (kKnots - 1);
+    const bool low_side = std::remainder(rel - a, 2 * kPi) < std::remainder(b - rel, 2 * kPi);
+    for (int k = std::max(0, static_cast<int>(t) - 1); k <= std::min(kKnots - 1, static_cast<int>(t) + 2); ++k) {
+      if (low_side) edges.lo[k] = std::min(edges.lo[k] + push, edges.hi[k]);
+      else edges.hi[k] = std::max(edges.hi[k] - push, edges.lo[k]);
+    }
+  }
+  return check;
+}
+
+}  // namespace
+
+ToolPath impeller_path(const ImpellerModel& model, const Mesh& blade_mesh, ImpellerPathReport* report) {
+  const ImpellerOptions& o = model.options();
+  const TriangleBvh blades({&blade_mesh});
+  const Channel ch{model, blades, o.tool_radius, o.ball_clearance + kSlack};
+  ChannelEdges edges = channel_edges(ch);
+  const Passes passes{ch, edges};
+
+  ZigzagRows rows;
+  ClearanceCheck check;
   for (int attempt = 0;; ++attempt) {
-    path.rows.clear();
-    std::vector<double> row_m;
-    for (int j = 0; j < P; ++j) {
-      // Arc length of the ball centres along the pass, on a dense table, inverted for equal spacing.
-      const int dense = 2000;
-      std::vector<double> s(dense + 1, 0.0);
-      Eigen::Vector3d prev = row(o.m_start, pass_theta(j, o.m_start)).p;
-      for (int i = 1; i <= dense; ++i) {
-        const double m = o.m_start + (o.m_end - o.m_start) * i / dense;
-        const Eigen::Vector3d p = row(m, pass_theta(j, m)).p;
-        s[i] = s[i - 1] + (p - prev).norm();
-        prev = p;
-      }
-      const int n = std::max(1, static_cast<int>(std::ceil(s.back() / o.step - 1e-9)));
-      std::vector<double> ms;
-      for (int k = 0; k <= n; ++k) {
-        const double target = s.back() * k / n;
-        const size_t i = std::min<size_t>(dense, std::lower_bound(s.begin(), s.end(), target) - s.begin());
-        const double s0 = i == 0 ? 0.0 : s[i - 1], s1 = s[i];
-        const double f = i == 0 || s1 <= s0 ? 0.0 : (target - s0) / (s1 - s0);
-        ms.push_back(o.m_start + (o.m_end - o.m_start) * ((i == 0 ? 0.0 : i - 1 + f) / dense));
-      }
-      if (j % 2 == 1) std::reverse(ms.begin(), ms.end());
-      if (j > 0) {  // link across the channel at the end where the previous pass stopped
-        const double m = ms.front(), ta = pass_theta(j - 1, m), tb = pass_theta(j, m);
-        const Eigen::Vector2d rz = model.hub_rz(m), nz = model.hub_normal_rz(m);
-        const double arc = (rz.x() + o.tool_radius * nz.x()) * std::abs(tb - ta);
-        const int nl = std::max(1, static_cast<int>(std::ceil(arc / o.step - 1e-9)));
-        for (int k = 1; k < nl; ++k) {
-          path.rows.push_back(row(m, ta + (tb - ta) * k / nl));
-          row_m.push_back(m);
-        }
-      }
-      for (double m : ms) {
-        path.rows.push_back(row(m, pass_theta(j, m)));
-        row_m.push_back(m);
-      }
-    }
-    // Exact check of every row against the blade mesh; push the edges in around any row that is short.
-    min_clear = std::numeric_limits<double>::infinity();
-    bool ok = true;
-    for (size_t i = 0; i < path.rows.size(); ++i) {
-      const double d = blades.distance(path.rows[i].p, o.tool_radius + 10.0) - o.tool_radius;
-      min_clear = std::min(min_clear, d);
-      if (d >= o.ball_clearance) continue;
-      ok = false;
-      const double m = row_m[i];
-      const double rel = std::atan2(path.rows[i].p.y(), path.rows[i].p.x()) - ch.theta0(m);
-      const double a = interpolate(lo, o.m_start, o.m_end, m), b = interpolate(hi, o.m_start, o.m_end, m);
-      const double push = (o.ball_clearance - d + kSlack) / model.hub_rz(m).x();
-      const double t = (m - o.m_start) / (o.m_end - o.m_start) * (K - 1);
-      const bool low_side = std::remainder(rel - a, 2 * kPi) < std::remainder(b - rel, 2 * kPi);
-      for (int k = std::max(0, static_cast<int>(t) - 1); k <= std::min(K - 1, static_cast<int>(t) + 2); ++k) {
-        if (low_side) lo[k] = std::min(lo[k] + push, hi[k]);
-        else hi[k] = std::max(hi[k] - push, lo[k]);
-      }
-    }
-    if (ok) break;
+    rows = zigzag_rows(passes);
+    check = push_edges_in(ch, rows, edges);
+    if (check.clear) break;
     if (attempt >= 30) throw JobError("scene impeller: could not keep the ball clear of the blades");
   }
 
   if (report) {
-    report->min_ball_clearance = min_clear;
-    report->passes = P;
+    report->min_ball_clearance = check.min_clearance;
+    report->passes = o.passes;
     report->nominal_axis_hits = 0;
     const Tool tool = ball_tool(o.tool_radius);
-    for (const auto& r : path.rows) report->nominal_axis_hits += tool_axis_hits(tool, blades, r.p, r.n);
+    for (const auto& r : rows.path.rows) report->nominal_axis_hits += tool_axis_hits(tool, blades, r.p, r.n);
   }
-  return path;
+  return std::move(rows.path);
 }
 
 }  // namespace tf::scenes

@@ -57,7 +57,7 @@ SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& mach
   // vertical face y = 0 and off the inclined face (distance (W - R tan a - y) cos a).
   Mesh walls = s.check_surfaces[0].mesh;
   append_mesh(walls, s.check_surfaces[1].mesh);
-  const MeshDistance dist(walls);
+  const TriangleBvh dist({&walls});
   const double R = o.tool_radius, margin = o.ball_clearance + 0.01;
   const double y0 = R + margin, y1 = W - R * ta - (R + margin) / ca;
   require_option(y1 >= y0, "pocket", "--tool-radius", "the floor is too narrow for a ball of radius " + fixed(R, 3) + " mm");
@@ -72,7 +72,7 @@ SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& mach
   int hits = 0;
   for (const Eigen::Vector3d& p : resample_polyline(knots, o.step)) {
     s.path.rows.push_back({p, Eigen::Vector3d::UnitZ()});
-    min_clear = std::min(min_clear, dist.distance(p) - R);
+    min_clear = std::min(min_clear, dist.closest(p).distance - R);
     hits += tool_axis_hits(s.tool, dist, p, Eigen::Vector3d::UnitZ());
   }
   if (min_clear < o.ball_clearance) throw JobError("scene pocket: the ball is not clear of the walls (internal error)");

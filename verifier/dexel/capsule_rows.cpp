@@ -14,7 +14,7 @@
 #include <limits>
 
 #include "row_kernels.hpp"
-#include "tiltfield/dexel/sweep.hpp"
+#include "sweep_rows.hpp"
 
 namespace tf {
 namespace {

@@ -1,4 +1,4 @@
-// tiltfield verifier: what the batched row kernels (capsule_rows.cpp, cylinder_rows.cpp) share. They
+// tiltfield dexel (internal): what the batched row kernels (capsule_rows.cpp, cylinder_rows.cpp) share. They
 // compute one interval per lattice ray of a row with no branches per ray, so that the compiler vectorises
 // them; each is built for AVX-512, AVX2 and baseline x86-64 and the best is picked at load time (GCC
 // target clones; not under the sanitizers, whose runtime does not take them).

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "row_kernels.hpp"
-#include "tiltfield/dexel/sweep.hpp"
+#include "sweep_rows.hpp"
 
 namespace tf {
 namespace {

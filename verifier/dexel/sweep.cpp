@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "sweep_rows.hpp"
+
 namespace tf {
 
 std::vector<ToolPart> tool_parts(const Tool& tool, const SweepOptions& options) {

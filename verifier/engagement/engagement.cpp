@@ -1,12 +1,15 @@
 // Cutter-workpiece engagement at a block's end by sampling the cutting surface against the in-process
-// tri-dexel stock (include/tiltfield/engagement.hpp has the method and the angle convention).
+// tri-dexel stock (include/tiltfield/engagement/engagement.hpp has the method and the angle convention).
 #include "tiltfield/engagement/engagement.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 namespace tf {
 
@@ -173,6 +176,211 @@ struct RingResult {
   double angle = 0.0;  // engaged radians in total
 };
 
+// The sample grid on the cutting surface: nr rings at the middle of equal bands of the profile (arc length
+// s_of(i)), na angles phi_of(j) around each, and per sample whether it is engaged.
+struct SampleGrid {
+  SampleGrid(const Profile& prof, double h, const EngagementOptions& opt) : S(prof.length()) {
+    const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
+    nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
+    ds = S / nr;
+    na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
+    dphi = 2.0 * kPi / na;
+    state.resize(size_t(nr) * na);
+  }
+  double s_of(int i) const { return (i + 0.5) * ds; }
+  double phi_of(int j) const { return (j + 0.5) * dphi; }
+  // Sample j of ring i, j taken around the ring.
+  bool st(int i, int j) const { return state[size_t(i) * na + ((j % na) + na) % na] != 0; }
+
+  double S;  // the profile's length, mm
+  int nr = 0, na = 0;
+  double ds = 0.0, dphi = 0.0;
+  std::vector<uint8_t> state;
+};
+
+// Classifies every sample of the grid as engaged or not. A ring whose band `cull` finds free of material
+// stays disengaged without a test.
+void classify_samples(SampleGrid& g, const Sampler& sampler, const ToolPose& end, const MaterialCull& cull) {
+  std::vector<double> cos_phi(g.na), sin_phi(g.na);
+  for (int j = 0; j < g.na; ++j) {
+    cos_phi[j] = std::cos(g.phi_of(j));
+    sin_phi[j] = std::sin(g.phi_of(j));
+  }
+  const Eigen::Vector3d axis = end.axis.normalized();
+  // A circle of radius r about axis a spans r sqrt(1 - a_k^2) along axis k.
+  const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  tbb::parallel_for(0, g.nr, [&](int i) {
+    if (cull) {
+      // The band of ring i (to the neighbouring rings, which its refinement may reach).
+      Eigen::AlignedBox3d box;
+      for (const double s : {std::max(0.0, g.s_of(i - 1)), std::min(g.S, g.s_of(i + 1))}) {
+        const Eigen::Vector3d c = end.tip + sampler.height(s) * axis, e = sampler.radius(s) * span;
+        box.extend(c - e);
+        box.extend(c + e);
+      }
+      if (!cull(box)) return;  // state stays 0
+    }
+    const ProfilePoint pp = sampler.profile().at(g.s_of(i));
+    for (int j = 0; j < g.na; ++j) g.state[size_t(i) * g.na + j] = sampler.engaged(pp, cos_phi[j], sin_phi[j]);
+  });
+}
+
+// Gaps shorter than the lattice spacing along the ring are below what the stock model resolves
+// (classification near a boundary the rays run along): the arcs on both sides are one.
+void close_short_gaps(std::vector<std::pair<double, double>>& arcs, double min_gap) {
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& arc : arcs) {
+    if (!merged.empty() && arc.first - merged.back().second < min_gap) merged.back().second = arc.second;
+    else merged.push_back(arc);
+  }
+  if (merged.size() > 1 && merged.front().first + 2.0 * kPi - merged.back().second < min_gap) {
+    merged.back().second = merged.front().second + 2.0 * kPi;
+    merged.erase(merged.begin());
+  }
+  if (merged.size() == 1 && merged.front().second - merged.front().first >= 2.0 * kPi - min_gap)
+    merged.front() = {0.0, 2.0 * kPi};
+  arcs = std::move(merged);
+}
+
+// The engaged arcs of ring i, their ends refined between the samples.
+RingResult ring_arcs(const SampleGrid& g, int i, const Sampler& sampler, double h, int refine_steps) {
+  RingResult rr;
+  int first_off = -1;
+  for (int j = 0; j < g.na; ++j)
+    if (!g.st(i, j)) {
+      first_off = j;
+      break;
+    }
+  if (first_off < 0) {  // the full turn
+    rr.arcs.push_back({0.0, 2.0 * kPi});
+    rr.angle = 2.0 * kPi;
+    return rr;
+  }
+  const double s = g.s_of(i);
+  auto test = [&](double phi) { return sampler.engaged(s, phi); };
+  // Walk once around from a disengaged sample, so that every arc is seen whole.
+  for (int k = 1; k <= g.na; ++k) {
+    const int j = first_off + k;
+    if (!g.st(i, j) || g.st(i, j - 1)) continue;
+    int e = j;
+    while (g.st(i, e + 1)) ++e;
+    const double entry = refine(g.phi_of(j - 1), g.phi_of(j - 1) + g.dphi, false, refine_steps, test);
+    const double exit = refine(g.phi_of(e), g.phi_of(e) + g.dphi, true, refine_steps, test);
+    rr.arcs.push_back({entry, exit});
+  }
+  close_short_gaps(rr.arcs, h / std::max(sampler.radius(s), 1e-9));
+  for (const auto& [a, b] : rr.arcs) rr.angle += b - a;
+  return rr;
+}
+
+// The engaged area (mm^2) and the extent of the engaged surface: its heights z along the axis and its
+// offsets w along n.
+struct Extent {
+  double area = 0.0;
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  double wmin = zmin, wmax = -zmin;
+};
+
+// Each ring's band times its engaged fraction, and the extent of its arcs; their pairs into `out` when kept.
+Extent ring_bands(const SampleGrid& g, const std::vector<RingResult>& rings, const Sampler& sampler, bool keep_pairs,
+                  Engagement& out) {
+  Extent x;
+  for (int i = 0; i < g.nr; ++i) {
+    const RingResult& rr = rings[i];
+    if (rr.arcs.empty()) continue;
+    x.area += sampler.profile().band_area(i * g.ds, (i + 1) * g.ds) * rr.angle / (2.0 * kPi);
+    const double z = sampler.height(g.s_of(i)), r = sampler.radius(g.s_of(i));
+    x.zmin = std::min(x.zmin, z);
+    x.zmax = std::max(x.zmax, z);
+    for (const auto& [a, b] : rr.arcs) {
+      double lo, hi;
+      cos_range(a, b, lo, hi);
+      x.wmin = std::min(x.wmin, r * lo);
+      x.wmax = std::max(x.wmax, r * hi);
+      if (keep_pairs) {
+        const bool full = b - a >= 2.0 * kPi - 1e-12;
+        out.pairs.push_back({z, full ? 0.0 : std::fmod(a * kDeg, 360.0), full ? 360.0 : std::fmod(b * kDeg, 360.0)});
+      }
+    }
+    out.max_pairs = std::max(out.max_pairs, static_cast<int>(rr.arcs.size()));
+    if (i == 0) x.zmin = std::min(x.zmin, sampler.height(0.0));
+    if (i == g.nr - 1) x.zmax = std::max(x.zmax, sampler.height(g.S));
+  }
+  return x;
+}
+
+// Where the state changes between rings along a sample's meridian, the bands are off by the strip between
+// the band edge and the refined boundary: the strip's area, and the boundary into the extent.
+void add_meridian_strips(const SampleGrid& g, const Sampler& sampler, int refine_steps, Extent& x) {
+  for (int j = 0; j < g.na; ++j) {
+    const double phi = g.phi_of(j);
+    auto test = [&](double s) { return sampler.engaged(s, phi); };
+    for (int i = 0; i + 1 < g.nr; ++i) {
+      const bool a = g.st(i, j), b = g.st(i + 1, j);
+      if (a == b) continue;
+      const double sb = refine(g.s_of(i), g.s_of(i + 1), a, refine_steps, test);
+      const double edge = (i + 1) * g.ds;  // band edge between the rings
+      // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
+      const double lo = std::min(sb, edge), hi = std::max(sb, edge);
+      const double strip = sampler.profile().band_area(lo, hi) / g.na;
+      x.area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
+      const double z = sampler.height(sb), r = sampler.radius(sb);
+      x.zmin = std::min(x.zmin, z);
+      x.zmax = std::max(x.zmax, z);
+      x.wmin = std::min(x.wmin, r * std::cos(phi));
+      x.wmax = std::max(x.wmax, r * std::cos(phi));
+    }
+  }
+}
+
+// The smallest arc covering every engaged angle (out.entry_deg, out.exit_deg): the complement of the
+// widest gap in their union.
+void set_engaged_arc(const std::vector<RingResult>& rings, Engagement& out) {
+  std::vector<std::pair<double, double>> all;
+  for (const RingResult& rr : rings)
+    for (const auto& [a, b] : rr.arcs) {
+      if (b - a >= 2.0 * kPi - 1e-12) {
+        out.entry_deg = 0.0;
+        out.exit_deg = 360.0;
+        return;
+      }
+      const double a0 = std::fmod(a, 2.0 * kPi), b0 = a0 + (b - a);
+      if (b0 > 2.0 * kPi) {
+        all.push_back({a0, 2.0 * kPi});
+        all.push_back({0.0, b0 - 2.0 * kPi});
+      } else {
+        all.push_back({a0, b0});
+      }
+    }
+  std::sort(all.begin(), all.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& iv : all) {
+    if (!merged.empty() && iv.first <= merged.back().second + 1e-12)
+      merged.back().second = std::max(merged.back().second, iv.second);
+    else
+      merged.push_back(iv);
+  }
+  // Gaps between consecutive merged arcs, and the one through 0.
+  double best_gap = -1.0, gap_start = 0.0, gap_end = 0.0;
+  for (size_t k = 0; k < merged.size(); ++k) {
+    const double g0 = merged[k].second;
+    const double g1 = k + 1 < merged.size() ? merged[k + 1].first : merged[0].first + 2.0 * kPi;
+    if (g1 - g0 > best_gap) {
+      best_gap = g1 - g0;
+      gap_start = g0;
+      gap_end = g1;
+    }
+  }
+  if (best_gap <= 1e-12) {
+    out.entry_deg = 0.0;
+    out.exit_deg = 360.0;
+  } else {
+    out.entry_deg = std::fmod(gap_end * kDeg, 360.0);
+    out.exit_deg = std::fmod(gap_start * kDeg, 360.0);
+    if (out.exit_deg == 0.0 && gap_start > 0.0) out.exit_deg = 360.0;
+  }
+}
+
 }  // namespace
 
 bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) {
@@ -196,179 +404,18 @@ Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const Too
                               const EngagementOptions& opt, const MaterialCull& cull) {
   Engagement out;
   const Sampler sampler(stock, tool, before, end);
-  const Profile& prof = sampler.profile();
-  const double S = prof.length();
   const double h = stock.lattice().h;
-  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
-  const int nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
-  const double ds = S / nr;
-  const int na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
-  const double dphi = 2.0 * kPi / na;
-  auto s_of = [&](int i) { return (i + 0.5) * ds; };
-  auto phi_of = [&](int j) { return (j + 0.5) * dphi; };
-
-  // The sample grid.
-  std::vector<uint8_t> state(size_t(nr) * na);
-  std::vector<double> cos_phi(na), sin_phi(na);
-  for (int j = 0; j < na; ++j) {
-    cos_phi[j] = std::cos(phi_of(j));
-    sin_phi[j] = std::sin(phi_of(j));
-  }
-  const Eigen::Vector3d axis = end.axis.normalized();
-  // A circle of radius r about axis a spans r sqrt(1 - a_k^2) along axis k.
-  const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
-  tbb::parallel_for(0, nr, [&](int i) {
-    if (cull) {
-      // The band of ring i (to the neighbouring rings, which its refinement may reach).
-      Eigen::AlignedBox3d box;
-      for (const double s : {std::max(0.0, s_of(i - 1)), std::min(S, s_of(i + 1))}) {
-        const Eigen::Vector3d c = end.tip + sampler.height(s) * axis, e = sampler.radius(s) * span;
-        box.extend(c - e);
-        box.extend(c + e);
-      }
-      if (!cull(box)) return;  // state stays 0
-    }
-    const ProfilePoint pp = prof.at(s_of(i));
-    for (int j = 0; j < na; ++j) state[size_t(i) * na + j] = sampler.engaged(pp, cos_phi[j], sin_phi[j]);
-  });
-  auto st = [&](int i, int j) { return state[size_t(i) * na + ((j % na) + na) % na] != 0; };
-
-  // Rings: arcs with refined ends.
-  std::vector<RingResult> rings(nr);
-  tbb::parallel_for(0, nr, [&](int i) {
-    RingResult& rr = rings[i];
-    int first_off = -1;
-    for (int j = 0; j < na; ++j)
-      if (!st(i, j)) {
-        first_off = j;
-        break;
-      }
-    if (first_off < 0) {  // the full turn
-      rr.arcs.push_back({0.0, 2.0 * kPi});
-      rr.angle = 2.0 * kPi;
-      return;
-    }
-    const double s = s_of(i);
-    auto test = [&](double phi) { return sampler.engaged(s, phi); };
-    // Walk once around from a disengaged sample, so that every arc is seen whole.
-    for (int k = 1; k <= na; ++k) {
-      const int j = first_off + k;
-      if (!st(i, j) || st(i, j - 1)) continue;
-      int e = j;
-      while (st(i, e + 1)) ++e;
-      const double entry = refine(phi_of(j - 1), phi_of(j - 1) + dphi, false, opt.refine_steps, test);
-      const double exit = refine(phi_of(e), phi_of(e) + dphi, true, opt.refine_steps, test);
-      rr.arcs.push_back({entry, exit});
-    }
-    // Gaps shorter than the lattice spacing along the ring are below what the stock model resolves
-    // (classification near a boundary the rays run along): the arcs on both sides are one.
-    const double min_gap = h / std::max(sampler.radius(s), 1e-9);
-    std::vector<std::pair<double, double>> merged;
-    for (const auto& arc : rr.arcs) {
-      if (!merged.empty() && arc.first - merged.back().second < min_gap) merged.back().second = arc.second;
-      else merged.push_back(arc);
-    }
-    if (merged.size() > 1 && merged.front().first + 2.0 * kPi - merged.back().second < min_gap) {
-      merged.back().second = merged.front().second + 2.0 * kPi;
-      merged.erase(merged.begin());
-    }
-    if (merged.size() == 1 && merged.front().second - merged.front().first >= 2.0 * kPi - min_gap) merged.front() = {0.0, 2.0 * kPi};
-    rr.arcs = std::move(merged);
-    for (const auto& [a, b] : rr.arcs) rr.angle += b - a;
-  });
-
-  // Area: each ring's band times its engaged fraction, plus, where the state changes between rings along
-  // a sample's meridian, the strip between the band edge and the refined boundary.
-  double area = 0.0;
-  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-  double wmin = zmin, wmax = -zmin;
-  for (int i = 0; i < nr; ++i) {
-    const RingResult& rr = rings[i];
-    if (rr.arcs.empty()) continue;
-    area += prof.band_area(i * ds, (i + 1) * ds) * rr.angle / (2.0 * kPi);
-    const double z = sampler.height(s_of(i)), r = sampler.radius(s_of(i));
-    zmin = std::min(zmin, z);
-    zmax = std::max(zmax, z);
-    for (const auto& [a, b] : rr.arcs) {
-      double lo, hi;
-      cos_range(a, b, lo, hi);
-      wmin = std::min(wmin, r * lo);
-      wmax = std::max(wmax, r * hi);
-      if (opt.keep_pairs) {
-        const bool full = b - a >= 2.0 * kPi - 1e-12;
-        out.pairs.push_back({z, full ? 0.0 : std::fmod(a * kDeg, 360.0), full ? 360.0 : std::fmod(b * kDeg, 360.0)});
-      }
-    }
-    out.max_pairs = std::max(out.max_pairs, static_cast<int>(rr.arcs.size()));
-    if (i == 0) zmin = std::min(zmin, sampler.height(0.0));
-    if (i == nr - 1) zmax = std::max(zmax, sampler.height(S));
-  }
-  if (!(area > 0.0)) return out;
-  for (int j = 0; j < na; ++j) {
-    const double phi = phi_of(j);
-    auto test = [&](double s) { return sampler.engaged(s, phi); };
-    for (int i = 0; i + 1 < nr; ++i) {
-      const bool a = st(i, j), b = st(i + 1, j);
-      if (a == b) continue;
-      const double sb = refine(s_of(i), s_of(i + 1), a, opt.refine_steps, test);
-      const double edge = (i + 1) * ds;  // band edge between the rings
-      // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
-      const double lo = std::min(sb, edge), hi = std::max(sb, edge);
-      const double strip = prof.band_area(lo, hi) / na;
-      area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
-      const double z = sampler.height(sb), r = sampler.radius(sb);
-      zmin = std::min(zmin, z);
-      zmax = std::max(zmax, z);
-      wmin = std::min(wmin, r * std::cos(phi));
-      wmax = std::max(wmax, r * std::cos(phi));
-    }
-  }
-  out.area_mm2 = std::max(0.0, area);
-  out.axial_depth_mm = zmax - zmin;
-  out.radial_width_mm = wmax - wmin;
-
-  // The smallest arc covering every engaged angle: the complement of the widest gap in their union.
-  std::vector<std::pair<double, double>> all;
-  for (const RingResult& rr : rings)
-    for (const auto& [a, b] : rr.arcs) {
-      if (b - a >= 2.0 * kPi - 1e-12) {
-        out.entry_deg = 0.0;
-        out.exit_deg = 360.0;
-        return out;
-      }
-      const double a0 = std::fmod(a, 2.0 * kPi), b0 = a0 + (b - a);
-      if (b0 > 2.0 * kPi) {
-        all.push_back({a0, 2.0 * kPi});
-        all.push_back({0.0, b0 - 2.0 * kPi});
-      } else {
-        all.push_back({a0, b0});
-      }
-    }
-  std::sort(all.begin(), all.end());
-  std::vector<std::pair<double, double>> merged;
-  for (const auto& iv : all) {
-    if (!merged.empty() && iv.first <= merged.back().second + 1e-12) merged.back().second = std::max(merged.back().second, iv.second);
-    else merged.push_back(iv);
-  }
-  // Gaps between consecutive merged arcs, and the one through 0.
-  double best_gap = -1.0, gap_start = 0.0, gap_end = 0.0;
-  for (size_t k = 0; k < merged.size(); ++k) {
-    const double g0 = merged[k].second;
-    const double g1 = k + 1 < merged.size() ? merged[k + 1].first : merged[0].first + 2.0 * kPi;
-    if (g1 - g0 > best_gap) {
-      best_gap = g1 - g0;
-      gap_start = g0;
-      gap_end = g1;
-    }
-  }
-  if (best_gap <= 1e-12) {
-    out.entry_deg = 0.0;
-    out.exit_deg = 360.0;
-  } else {
-    out.entry_deg = std::fmod(gap_end * kDeg, 360.0);
-    out.exit_deg = std::fmod(gap_start * kDeg, 360.0);
-    if (out.exit_deg == 0.0 && gap_start > 0.0) out.exit_deg = 360.0;
-  }
+  SampleGrid grid(sampler.profile(), h, opt);
+  classify_samples(grid, sampler, end, cull);
+  std::vector<RingResult> rings(grid.nr);
+  tbb::parallel_for(0, grid.nr, [&](int i) { rings[i] = ring_arcs(grid, i, sampler, h, opt.refine_steps); });
+  Extent x = ring_bands(grid, rings, sampler, opt.keep_pairs, out);
+  if (!(x.area > 0.0)) return out;
+  add_meridian_strips(grid, sampler, opt.refine_steps, x);
+  out.area_mm2 = std::max(0.0, x.area);
+  out.axial_depth_mm = x.zmax - x.zmin;
+  out.radial_width_mm = x.wmax - x.wmin;
+  set_engaged_arc(rings, out);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -137,6 +138,11 @@ struct State {
 
 int axis_index(char c) { return std::string_view("XYZABC").find(c); }
 
+// A block's value words (not G, M, N or O) by letter.
+using Values = std::array<std::optional<double>, 26>;
+
+std::optional<double> word_value(const Values& val, char c) { return val[c - 'A']; }
+
 class Reader {
  public:
   Reader(const std::string& file, const MachineSpec& machine, const GcodeOptions& options)
@@ -191,8 +197,24 @@ class Reader {
   }
 
   void block(const std::vector<Word>& words, int line) {
-    std::array<std::optional<double>, 26> val{};
+    Values val{};
     std::vector<int> gs, ms;
+    sort_words(words, line, val, gs, ms);
+    const bool skip_motion = apply_g_codes(gs, line);
+    const double unit = st_.inch ? 25.4 : 1.0;  // after this block's G20/G21
+    apply_feed_speed_tool(val, unit, line);
+    apply_m_codes(ms, line);
+    bool has_axis_word = false;
+    for (char c : std::string_view("XYZABC")) has_axis_word |= word_value(val, c).has_value();
+    if (!has_axis_word || skip_motion) return;
+    if (st_.motion < 0) throw InputError(file_, line, "G", "axis words before any motion mode (G0/G1/G2/G3)");
+    add_motion_block(val, unit, line);
+  }
+
+  // The block's G and M codes (as code keys, in their order) and its value words by letter; N and O are
+  // ignored. Throws on a letter the machine or the reader does not know and on a word given twice.
+  void sort_words(const std::vector<Word>& words, int line, Values& val, std::vector<int>& gs,
+                  std::vector<int>& ms) const {
     for (const Word& w : words) {
       if (w.letter == 'G') { gs.push_back(code_key(w, file_, line)); continue; }
       if (w.letter == 'M') { ms.push_back(code_key(w, file_, line)); continue; }
@@ -202,16 +224,19 @@ class Reader {
                          "machine '" + machine_.name + "' has no " + std::string(1, w.letter) + " axis (axes: XYZ" +
                              machine_.rotary_axes() + ")");
       if (std::string_view("UVW").find(w.letter) != std::string_view::npos)
-        throw InputError(file_, line, w.text, "machine '" + machine_.name + "' has no " + std::string(1, w.letter) + " axis");
+        throw InputError(file_, line, w.text,
+                         "machine '" + machine_.name + "' has no " + std::string(1, w.letter) + " axis");
       if (std::string_view("XYZABCIJKRFSTPQHDLE").find(w.letter) == std::string_view::npos)
         throw InputError(file_, line, w.text, "unknown word letter");
       auto& slot = val[w.letter - 'A'];
       if (slot) throw InputError(file_, line, w.text, "word given twice in one block");
       slot = w.value;
     }
-    auto get = [&](char c) { return val[c - 'A']; };
+  }
 
-    // Modal settings first, in RS274/NGC execution order.
+  // The modal settings of the block's G codes, first and in RS274/NGC execution order. True when the
+  // block's motion is not simulated (reference return, canned cycle).
+  bool apply_g_codes(const std::vector<int>& gs, int line) {
     bool skip_motion = false;
     for (int g : gs) {
       switch (g) {
@@ -249,14 +274,22 @@ class Reader {
           }
       }
     }
-    const double unit = st_.inch ? 25.4 : 1.0;  // after this block's G20/G21
-    if (get('F')) {
-      const double f = *get('F');
+    return skip_motion;
+  }
+
+  // F, S and T words; `unit` converts an inch feed to mm.
+  void apply_feed_speed_tool(const Values& val, double unit, int line) {
+    if (word_value(val, 'F')) {
+      const double f = *word_value(val, 'F');
       if (f < 0) throw InputError(file_, line, "F", "negative feed");
       st_.feed = st_.inverse_time ? f : f * unit;
     }
-    if (get('S')) st_.spindle = *get('S');
-    if (get('T')) st_.pending_tool = static_cast<int>(std::lround(*get('T')));
+    if (word_value(val, 'S')) st_.spindle = *word_value(val, 'S');
+    if (word_value(val, 'T')) st_.pending_tool = static_cast<int>(std::lround(*word_value(val, 'T')));
+  }
+
+  // The block's M codes, after its G codes and F S T words; the machine's own TCP codes come first.
+  void apply_m_codes(const std::vector<int>& ms, int line) {
     for (int m : ms) {
       if (tcp_on_ && m == *tcp_on_) { st_.tcp = true; continue; }
       if (tcp_off_ && m == *tcp_off_) { st_.tcp = false; continue; }
@@ -271,29 +304,16 @@ class Reader {
         default: warn(line, code_name('M', m), " unknown code ignored");
       }
     }
+  }
 
-    bool has_axis_word = false;
-    for (char c : std::string_view("XYZABC")) has_axis_word |= get(c).has_value();
-    if (!has_axis_word || skip_motion) return;
-    if (st_.motion < 0) throw InputError(file_, line, "G", "axis words before any motion mode (G0/G1/G2/G3)");
-
+  // The motion of a block with axis words, in the modal state after its codes.
+  void add_motion_block(const Values& val, double unit, int line) {
     Block b;
     b.line = line;
     b.motion = st_.motion == 0 ? Motion::Rapid : st_.motion == 1 ? Motion::Linear
              : st_.motion == 2 ? Motion::ArcCW : Motion::ArcCCW;
     const Joints start = st_.pos;
-    std::array<bool, 6> given{};
-    for (char c : std::string_view("XYZABC")) {
-      if (!get(c)) continue;
-      const bool linear = c == 'X' || c == 'Y' || c == 'Z';
-      const double v = *get(c) * (linear ? unit : 1.0);
-      double& p = axis_ref(st_.pos, c);
-      p = st_.incremental ? p + v : v;
-      st_.known[axis_index(c)] = true;
-      given[axis_index(c)] = true;
-    }
-    // An axis the program never set keeps "unknown" status; incremental words on it count from 0.
-    for (int a = 0; a < 6; ++a) given[a] = given[a] || st_.known[a];
+    const std::array<bool, 6> given = move_axes(val, unit);
     b.target = st_.pos;
     b.tcp = st_.tcp;
     b.feed_mode = st_.inverse_time ? FeedMode::InverseTime : FeedMode::PerMinute;
@@ -302,7 +322,7 @@ class Reader {
     b.tool = st_.tool;
     b.plane = st_.plane;
     if (b.motion != Motion::Rapid) {
-      if (st_.inverse_time && !get('F'))
+      if (st_.inverse_time && !word_value(val, 'F'))
         throw InputError(file_, line, "F", "inverse-time feed (G93) needs F on every feed block");
       if (!st_.inverse_time && st_.feed <= 0.0) throw InputError(file_, line, "F", "feed block with no feed rate set");
       if (st_.inverse_time && st_.feed <= 0.0) throw InputError(file_, line, "F", "inverse-time feed must be positive");
@@ -312,7 +332,25 @@ class Reader {
     given_.push_back(given);
   }
 
-  void arc_center(Block& b, const Joints& start, const std::array<std::optional<double>, 26>& val, double unit, int line) {
+  // Moves the position by the block's axis words (absolute or incremental, linear ones in `unit`); returns
+  // the axes whose position the program has set, in this block or before.
+  std::array<bool, 6> move_axes(const Values& val, double unit) {
+    std::array<bool, 6> given{};
+    for (char c : std::string_view("XYZABC")) {
+      if (!word_value(val, c)) continue;
+      const bool linear = c == 'X' || c == 'Y' || c == 'Z';
+      const double v = *word_value(val, c) * (linear ? unit : 1.0);
+      double& p = axis_ref(st_.pos, c);
+      p = st_.incremental ? p + v : v;
+      st_.known[axis_index(c)] = true;
+      given[axis_index(c)] = true;
+    }
+    // An axis the program never set keeps "unknown" status; incremental words on it count from 0.
+    for (int a = 0; a < 6; ++a) given[a] = given[a] || st_.known[a];
+    return given;
+  }
+
+  void arc_center(Block& b, const Joints& start, const Values& val, double unit, int line) {
     // In-plane axes (u, v) and their offset letters.
     int iu = 0, iv = 1;
     char lu = 'I', lv = 'J';

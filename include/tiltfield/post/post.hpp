@@ -78,7 +78,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
 // Writes the path as APT CLDATA (GOTO/x,y,z,i,j,k with the tool tip and axis, MULTAX/ON, FEDRAT).
 void write_apt(std::ostream& out, const OrientedPath& path, const PostJob& job, const PostOptions& options);
 
-// ---- linearisation (planner/post_linearize.cpp); exposed for tests and the verifier ----
+// ---- linearisation (planner/post/linearize.cpp); exposed for the tests ----
 
 // Deviation of joint-linear motion from the intended motion over one block, sampled at `samples`
 // interior points s: tip distance |tip(s) - lerp(tip0, tip1, s)| (mm) and axis angle

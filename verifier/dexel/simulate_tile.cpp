@@ -1,0 +1,282 @@
+// The verifier's work per tile of rays (one task of the parallel block loop in simulate.cpp): where the
+// block's swept parts meet each ray, the exact union of their intervals subtracted from the material, and
+// the collision, gouge and removal records of every ray they meet.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "ray_depths.hpp"
+#include "simulator.hpp"
+
+namespace tf::sim {
+
+namespace {
+
+// ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
+// from a mistyped coordinate) are clamped first, well inside int.
+int ceil_index(double x) {
+  x = std::clamp(x, -1e9, 1e9);
+  const int k = static_cast<int>(x);
+  return k < x ? k + 1 : k;
+}
+int floor_index(double x) {
+  x = std::clamp(x, -1e9, 1e9);
+  const int k = static_cast<int>(x);
+  return k > x ? k - 1 : k;
+}
+
+// Sorts and merges intervals in place into a disjoint union.
+void merge_union(std::vector<Interval>& v) {
+  std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+  size_t m = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
+    else v[m++] = v[i];
+  }
+  v.resize(m);
+}
+
+float overlap_longest(const Interval& iv, const Dexel& ray) {
+  double longest = 0.0;
+  overlap_length(&iv, 1, ray.begin(), ray.size(), &longest);
+  return static_cast<float>(longest);
+}
+
+void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float depth) {
+  float& slot = acc.depth[d][comp][static_cast<int>(with)][rapid ? 1 : 0];
+  slot = std::max(slot, depth);
+}
+
+// Takes the disjoint intervals cut[0..n) out of ray `ray` of grid d (the removed pieces into `pieces`
+// when not null); false when no material went.
+bool subtract(Dexel& ray, int d, const Interval* cut, size_t n, std::vector<Interval>* pieces, Accum& acc) {
+  const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, pieces);
+  if (!(gone > 0)) return false;
+  ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+  acc.removed[d] += gone;
+  return true;
+}
+
+}  // namespace
+
+void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
+  const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
+  acc.parts.clear();
+  for (size_t i = 0; i < sweep_.parts.size(); ++i)
+    if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
+  if (acc.parts.empty()) return;
+  const int iu0 = tu * kTile;
+  const TileRays t{d, u, v, tu, iu0, std::min(lattice_.n[u], iu0 + kTile), task.tv * kTile,
+                   std::min(lattice_.n[v], (task.tv + 1) * kTile)};
+  acc.t0.resize(acc.parts.size() * kTile);
+  acc.t1.resize(acc.parts.size() * kTile);
+  std::array<Interval, kTile> row_ext;
+  row_extents(t, row_ext);
+  part_shadows(t, row_ext, acc);
+  bool changed = false;
+  std::array<Interval, kTile> range;
+  for (int iv = t.iv0; iv < t.iv_end; ++iv) {
+    const Interval row = row_ext[iv - t.iv0];
+    if (row.lo > row.hi) continue;
+    const auto [first, last] = row_parts(t, iv, row, acc);
+    ray_ranges(t, iv, first, last, range);
+    part_intervals(t, iv, range, acc);
+    if (cut_row(t, iv, first, last, range, rapid, acc)) {
+      changed = true;
+      ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
+    }
+  }
+  if (changed) ext_.refresh_tile(d, tu, task.tv);
+}
+
+// Where along each row's rays a part must be to matter: the material, or an obstacle.
+void Simulator::row_extents(const TileRays& t, std::array<Interval, kTile>& row_ext) const {
+  for (int iv = t.iv0; iv < t.iv_end; ++iv) {
+    Interval& row = row_ext[iv - t.iv0];
+    row = ext_.row(t.d, t.tu, iv);
+    for (const Obstacle& ob : obstacles_) row = hull(row, ob.ext.row(t.d, t.tu, iv));
+  }
+}
+
+// Each part's shadow on the rows where it can matter (first..last), in one batch per part.
+void Simulator::part_shadows(const TileRays& t, const std::array<Interval, kTile>& row_ext, Accum& acc) const {
+  const double h = lattice_.h;
+  acc.shadow_lo.resize(acc.parts.size() * kTile);
+  acc.shadow_hi.resize(acc.parts.size() * kTile);
+  acc.rows.resize(acc.parts.size());
+  for (size_t j = 0; j < acc.parts.size(); ++j) {
+    const PartSpan& sp = span(acc.parts[j], t.d);
+    int r0 = std::max(t.iv0, sp.v0), r1 = std::min(t.iv_end - 1, sp.v1);
+    while (r0 <= r1 && !meets(row_ext[r0 - t.iv0], sp.lo, sp.hi)) ++r0;
+    while (r1 >= r0 && !meets(row_ext[r1 - t.iv0], sp.lo, sp.hi)) --r1;
+    acc.rows[j] = {r0, r1};
+    if (r1 >= r0)
+      shadow_rows(shadows_[size_t(acc.parts[j]) * 3 + t.d], lattice_.origin[t.v] + h * r0, h, r1 - r0 + 1,
+                  &acc.shadow_lo[j * kTile + (r0 - t.iv0)], &acc.shadow_hi[j * kTile + (r0 - t.iv0)]);
+  }
+}
+
+// The rays of row iv under each part's shadow (acc.row); returns the first and last of them all (last <
+// first when none).
+std::pair<int, int> Simulator::row_parts(const TileRays& t, int iv, const Interval& row, Accum& acc) const {
+  acc.row.clear();
+  int first = t.iu_end, last = t.iu0 - 1;
+  for (size_t j = 0; j < acc.parts.size(); ++j) {
+    const int pi = acc.parts[j];
+    const PartSpan& sp = span(pi, t.d);
+    if (iv < acc.rows[j].first || iv > acc.rows[j].second || !meets(row, sp.lo, sp.hi)) continue;
+    int a = std::max(t.iu0, sp.u0), b = std::min(t.iu_end - 1, sp.u1);
+    const double lo = acc.shadow_lo[j * kTile + (iv - t.iv0)], hi = acc.shadow_hi[j * kTile + (iv - t.iv0)];
+    if (!(hi >= lo)) continue;
+    a = std::max(a, ceil_index((lo - lattice_.origin[t.u]) * inv_h_));
+    b = std::min(b, floor_index((hi - lattice_.origin[t.u]) * inv_h_));
+    if (b < a) continue;
+    acc.row.push_back({pi, a, b, static_cast<std::ptrdiff_t>(j * kTile) - t.iu0});
+    first = std::min(first, a);
+    last = std::max(last, b);
+  }
+  return {first, last};
+}
+
+// Where each ray first..last of row iv holds material or meets an obstacle.
+void Simulator::ray_ranges(const TileRays& t, int iv, int first, int last, std::array<Interval, kTile>& range) const {
+  for (int iu = first; iu <= last; ++iu) {
+    Interval& r = range[iu - t.iu0];
+    r = material_range(stock_.ray(t.d, iu, iv));
+    for (const Obstacle& ob : obstacles_) r = hull(r, obstacle_range(*ob.table, t.d, iu, iv));
+  }
+}
+
+// The parts' intervals on the rays of row iv under their shadows (acc.t0/t1), in one batch per part and row.
+void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Interval, kTile>& range, Accum& acc) const {
+  const double h = lattice_.h;
+  const double cv = lattice_.origin[t.v] + h * iv;
+  for (const RowPart& rp : acc.row) {
+    const SweptPart& p = sweep_.parts[rp.part];
+    Eigen::Vector3d o = lattice_.origin;
+    o[t.u] += h * rp.first;
+    o[t.v] = cv;
+    if (p.kind == ToolPart::Kind::Sphere) {
+      ray_intervals(p, o, t.d, t.u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first],
+                    &acc.t1[rp.offset + rp.first]);
+      continue;
+    }
+    if (cylinder_intervals(p, o, t.d, t.u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first],
+                           &acc.t1[rp.offset + rp.first]))
+      continue;
+    // The rows the batch leaves to the scalar method: only the rays whose range the part can meet.
+    const PartSpan& sp = span(rp.part, t.d);
+    for (int iu = rp.first; iu <= rp.last; ++iu) {
+      o[t.u] = lattice_.origin[t.u] + h * iu;
+      double& t0 = acc.t0[rp.offset + iu];
+      double& t1 = acc.t1[rp.offset + iu];
+      if (!meets(range[iu - t.iu0], sp.lo, sp.hi) || !ray_interval(p, o, t.d, t0, t1)) {
+        t0 = std::numeric_limits<double>::infinity();
+        t1 = -t0;
+      }
+    }
+  }
+}
+
+// Per ray first..last of row iv, the parts' intervals that reach its range, cut from it; true when the
+// material of any ray changed.
+bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
+                        bool rapid, Accum& acc) {
+  bool row_changed = false;
+  for (int iu = first; iu <= last; ++iu) {
+    const Interval r = range[iu - t.iu0];
+    if (r.lo > r.hi) continue;
+    acc.hits.clear();
+    for (const RowPart& rp : acc.row) {
+      if (iu < rp.first || iu > rp.last) continue;
+      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
+      const SweptPart& p = sweep_.parts[rp.part];
+      acc.hits.push_back(
+          {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
+    }
+    if (!acc.hits.empty() && process_ray(t.d, iu, iv, rapid, acc)) row_changed = true;
+  }
+  return row_changed;
+}
+
+// The hits acc.hits on ray (iu, iv) of grid d: removal, collisions and gouges. True when its material changed.
+bool Simulator::process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
+  Dexel& ray = stock_.ray(d, iu, iv);
+  // The common case: one cutting part, nothing to check but the removal.
+  if (acc.hits.size() == 1 && acc.hits[0].cutting && !rapid && obstacles_.empty() && !design_)
+    return subtract(ray, d, &acc.hits[0].iv, 1, nullptr, acc);
+  // Union of the cutting parts' intervals.
+  acc.cut.clear();
+  for (const Hit& h : acc.hits)
+    if (h.cutting) acc.cut.push_back(h.iv);
+  merge_union(acc.cut);
+  bool changed = false;
+  acc.removed_pieces.clear();
+  if (!ray.empty()) changed = cut_stock(ray, d, rapid, acc);
+  record_obstacles(d, iu, iv, rapid, acc);
+  if (design_ && !acc.removed_pieces.empty()) record_gouge(d, iu, iv, acc);
+  return changed;
+}
+
+// On a ray holding material: the cutting parts' union (acc.cut) removed, and the overlaps of a rapid's
+// cutting parts and of the non-cutting parts with the material recorded. True when the material changed.
+bool Simulator::cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const {
+  bool changed = false;
+  if (rapid)
+    for (const Hit& h : acc.hits)
+      if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, ray));
+  const bool reaches =
+      !acc.cut.empty() && acc.cut.front().lo < (ray.end() - 1)->hi && acc.cut.back().hi > ray.begin()->lo;
+  if (reaches && subtract(ray, d, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, acc))
+    changed = true;
+  bool crash = false;
+  for (const Hit& h : acc.hits) {
+    if (h.cutting || ray.empty()) continue;
+    const float depth = overlap_longest(h.iv, ray);
+    record(acc, d, h.component, HitWith::Stock, rapid, depth);
+    crash |= depth > 0;
+  }
+  // A crash destroys the material the shank or holder met: take it away too, so the following
+  // blocks report their own collisions, not this one again.
+  if (crash) {
+    acc.cut.clear();
+    for (const Hit& h : acc.hits)
+      if (!h.cutting) acc.cut.push_back(h.iv);
+    merge_union(acc.cut);
+    if (subtract(ray, d, acc.cut.data(), acc.cut.size(), nullptr, acc)) changed = true;
+  }
+  return changed;
+}
+
+// Every part's overlap with the fixtures and check surfaces on ray (iu, iv) of grid d.
+void Simulator::record_obstacles(int d, int iu, int iv, bool rapid, Accum& acc) const {
+  for (const Obstacle& o : obstacles_) {
+    const Crossing* b = o.table->begin(d, iu, iv);
+    if (!b) continue;
+    const Crossing* e = o.table->end(d, iu, iv);
+    for (const Hit& h : acc.hits)
+      record(acc, d, h.component, o.with, rapid, obstacle_depth(b, e, o.table->solid(), h.iv.lo, h.iv.hi));
+  }
+}
+
+// The deepest over-cut of the design by the pieces just removed from ray (iu, iv) of grid d (acc.gouge).
+void Simulator::record_gouge(int d, int iu, int iv, Accum& acc) const {
+  double at = 0.0;
+  const double est = gouge_depth(design_->begin(d, iu, iv), design_->end(d, iu, iv), acc.removed_pieces, &at);
+  // The along-ray estimate selects the point; a point deep inside the part along a ray parallel to its
+  // surface is much closer to the surface than the ray says, so the depth is its true distance.
+  if (est > 0.25 * opt_.gouge_tolerance) {
+    Eigen::Vector3d p = lattice_.origin;
+    p[Lattice::u_axis(d)] += lattice_.h * iu;
+    p[Lattice::v_axis(d)] += lattice_.h * iv;
+    p[d] += at;
+    Eigen::Vector3d q, n;
+    const double dist = design_mesh_->closest(p, est + 1e-6, q, n) ? (p - q).norm() : est;
+    acc.gouge = std::max(acc.gouge, std::min(est, dist));
+  }
+}
+
+}  // namespace tf::sim

@@ -1,0 +1,171 @@
+// tiltfield verifier: the block loop, shared by simulate.cpp (per block: the sweep, the tiles it can touch,
+// the bookkeeping) and simulate_tile.cpp (per tile and ray: the exact union of the swept intervals
+// subtracted from the material, with collision, gouge and removal records).
+#pragma once
+#include <tbb/enumerable_thread_specific.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "obstacles.hpp"
+#include "ray_extents.hpp"
+#include "raycast.hpp"
+#include "sweep_rows.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace tf::sim {
+
+struct Hit {
+  Interval iv;
+  uint8_t component;
+  bool cutting;
+};
+
+// A part meeting rays first..last of a tile row; its intervals are at t0/t1[offset + iu].
+struct RowPart {
+  int part, first, last;
+  std::ptrdiff_t offset;
+};
+
+// Longest overlap along each grid direction, per component, obstacle kind and rapid flag.
+using Depths = std::array<std::array<std::array<std::array<float, 2>, 3>, 4>, 3>;
+
+// Per thread, per block.
+struct Accum {
+  std::array<double, 3> removed{};
+  Depths depth{};
+  double gouge = 0.0;
+  std::vector<Hit> hits;
+  std::vector<Interval> cut, mat, removed_pieces;
+  std::vector<int> parts;
+  std::vector<double> t0, t1;  // per part of the tile and ray of the row: its interval (see process_tile)
+  std::vector<double> shadow_lo, shadow_hi;  // per part and row of the tile: its shadow's stretch
+  std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
+  std::vector<RowPart> row;
+  void reset() {
+    removed = {};
+    for (auto& a : depth)
+      for (auto& b : a)
+        for (auto& c : b) c = {0.f, 0.f};
+    gouge = 0.0;
+  }
+};
+
+struct Task {
+  int d, tu, tv;
+};
+
+// The rays of one task: grid d (ray axis d, across it u and v), rays iu0..iu_end-1 of rows iv0..iv_end-1.
+struct TileRays {
+  int d, u, v, tu, iu0, iu_end, iv0, iv_end;
+};
+
+class Simulator {
+ public:
+  Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options);
+  VerifyResult run();
+
+ private:
+  struct Obstacle {
+    std::unique_ptr<RayTable> table;
+    HitWith with;
+    RayExtents ext;  // where along the rays the obstacle can be met (obstacle_range)
+  };
+
+  // Where a swept part is in ray indices for grid d: rays u0..u1 of rows v0..v1 (empty when u1 < u0 or
+  // v1 < v0), between lo and hi along the rays (relative to the lattice origin).
+  struct PartSpan {
+    int u0, u1, v0, v1;
+    float lo, hi;
+  };
+
+  // What the threads recorded for one block, merged.
+  struct BlockTotals {
+    std::array<double, 3> removed{};
+    double gouge = 0.0;
+    Depths depth{};
+  };
+
+  // The stretch of ray (iu, iv) of grid d where an obstacle can be met: between its first and last
+  // crossing, open-ended where the ray starts or ends inside a solid. Empty (lo > hi) without crossings.
+  static Interval obstacle_range(const RayTable& t, int d, int iu, int iv) {
+    const Crossing *b = t.begin(d, iu, iv), *e = t.end(d, iu, iv);
+    if (b == e) return kNoExtent;
+    const float inf = std::numeric_limits<float>::infinity();
+    return {t.solid() && b->cos > 0 ? -inf : b->t, t.solid() && (e - 1)->cos < 0 ? inf : (e - 1)->t};
+  }
+
+  static Interval material_range(const Dexel& ray) {
+    return ray.empty() ? kNoExtent : Interval{ray.begin()->lo, (ray.end() - 1)->hi};
+  }
+
+  const PartSpan& span(int part, int d) const { return spans_[size_t(part) * 3 + d]; }
+
+  // Can part `part` touch material or an obstacle in tile (tu, tv) of grid d?
+  bool relevant(int part, int d, int tu, int tv) const {
+    const PartSpan& s = span(part, d);
+    if (s.u1 < tu * kTile || s.u0 >= (tu + 1) * kTile || s.v1 < tv * kTile || s.v0 >= (tv + 1) * kTile) return false;
+    if (meets(ext_.tile(d, tu, tv), s.lo, s.hi)) return true;
+    for (const Obstacle& o : obstacles_)
+      if (meets(o.ext.tile(d, tu, tv), s.lo, s.hi)) return true;
+    return false;
+  }
+
+  // Per block (simulate.cpp).
+  static Lattice make_lattice(const Scene& scene, double h);
+  PartSpan part_span(const SweptPart& p, int d) const;
+  BlockResult simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep);
+  PoseAt block_pose(const Block& b, const Joints& from) const;
+  void select_tiles();
+  void measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  BlockTotals merged_totals();
+  void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
+                         VerifyReport& rep) const;
+  bool may_hold_material(const Eigen::AlignedBox3d& box) const;
+  bool tile_range(double lo, double hi, int axis, int& t0, int& t1) const;
+  double feed_path_mm(const Block& b, const Joints& from) const;
+  double block_minutes(const Block& b, double len) const;
+
+  // Per tile and ray (simulate_tile.cpp). The stages are inline, and process_tile their only caller, so
+  // that they compile into one loop nest as when they were one function: no call per row or ray.
+  void process_tile(const Task& task, bool rapid, Accum& acc);
+  inline void row_extents(const TileRays& t, std::array<Interval, kTile>& row_ext) const;
+  inline void part_shadows(const TileRays& t, const std::array<Interval, kTile>& row_ext, Accum& acc) const;
+  inline std::pair<int, int> row_parts(const TileRays& t, int iv, const Interval& row, Accum& acc) const;
+  inline void ray_ranges(const TileRays& t, int iv, int first, int last, std::array<Interval, kTile>& range) const;
+  inline void part_intervals(const TileRays& t, int iv, const std::array<Interval, kTile>& range, Accum& acc) const;
+  inline bool cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
+                      bool rapid, Accum& acc);
+  inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
+  inline bool cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const;
+  inline void record_obstacles(int d, int iu, int iv, bool rapid, Accum& acc) const;
+  inline void record_gouge(int d, int iu, int iv, Accum& acc) const;
+
+  const Scene& scene_;
+  const Program& program_;
+  ForwardFn forward_;
+  VerifyOptions opt_;
+  Lattice lattice_;
+  TriDexel stock_;
+  std::vector<Obstacle> obstacles_;
+  std::unique_ptr<RayTable> design_;
+  std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
+  std::vector<ToolPart> parts_;
+  double reach_cut_ = 0.0, reach_all_ = 0.0;
+  RayExtents ext_;                 // where the material is, per tile and row segment
+  std::vector<PartSpan> spans_;    // per swept part of the block and grid
+  std::vector<Shadow> shadows_;    // the same
+  double inv_h_ = 1.0;             // 1 / lattice spacing
+  std::array<std::vector<uint32_t>, 3> stamp_;
+  uint32_t stamp_value_ = 0;
+  std::vector<Task> tasks_;
+  BlockSweep sweep_;
+  tbb::enumerable_thread_specific<Accum> accum_;
+};
+
+}  // namespace tf::sim
