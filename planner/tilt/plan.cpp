@@ -245,9 +245,9 @@ void dynamic_stages(const PlanContext& ctx, const Progress& progress, StageClock
 
 void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::vector<std::string>& notes) {
   if (!machine)
-    notes.push_back("no machine: only max_tilt_deg limits the axis");
+    notes.emplace_back("no machine: only max_tilt_deg limits the axis");
   else if (!ctx.kinematics)
-    notes.push_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+    notes.emplace_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
 }
 
 // The oriented rows, the rows left below their clearance or without a joint solution, and the summary metrics.
@@ -306,7 +306,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
   if (options.smooth) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed)
-      result.notes.push_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
+      result.notes.emplace_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
     stage("smoothing");
   }
   note_axis_limits(ctx, machine, result.notes);
