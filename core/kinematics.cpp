@@ -1,4 +1,4 @@
-// The machine kinematics (see include/tiltfield/kinematics.hpp for the conventions of every type).
+// The machine kinematics (see tiltfield/core/kinematics.hpp for the conventions of every type).
 //
 // Every 5-axis type here shares one structure: a tilting axis T (A or B) and a C axis about +Z, with
 // the tool axis in the part frame = cos(T) ez + sin(T) w(C), w(C) a unit horizontal vector that turns
@@ -8,13 +8,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tiltfield/core/angles.hpp"
 #include "tiltfield/core/kinematics.hpp"
 
 namespace tf {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 // A horizontal axis component below this (unit vector length) is the pole itself: C is undefined.
 constexpr double kPoleEpsilon = 1e-12;
 

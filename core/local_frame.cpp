@@ -2,13 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <numbers>
+
+#include "tiltfield/core/angles.hpp"
 
 namespace tf {
-
-namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-}
 
 std::vector<LocalFrame> local_frames(const ToolPath& path) {
   const size_t n = path.rows.size();

@@ -11,7 +11,6 @@ using Eigen::Vector2d;
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-double cross(const Vector2d& u, const Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
 Vector2d perp(const Vector2d& v) { return {-v.y(), v.x()}; }
 Vector2d unit_dir(double theta) { return {std::cos(theta), std::sin(theta)}; }
 

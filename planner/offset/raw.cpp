@@ -11,8 +11,6 @@ namespace tf::offset {
 namespace {
 using Eigen::Vector2d;
 
-double cross(const Vector2d& u, const Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
-
 // Circle through three points; false when they are (nearly) collinear.
 bool circle_through(const Vector2d& p, const Vector2d& q, const Vector2d& r, Vector2d* c) {
   const Vector2d b = q - p, d = r - p;

@@ -10,8 +10,6 @@ namespace tf::offset {
 namespace {
 using Eigen::Vector2d;
 
-double cross(const Vector2d& u, const Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
-
 // Plane crossing of an edge, computed from the lexicographically smaller end so that both faces that
 // share the edge get bit-identical points (meshes from STL may not share vertex indices).
 Vector2d crossing(Eigen::Vector3d p, Eigen::Vector3d q, double z0) {
@@ -20,7 +18,7 @@ Vector2d crossing(Eigen::Vector3d p, Eigen::Vector3d q, double z0) {
   return {p.x() + t * (q.x() - p.x()), p.y() + t * (q.y() - p.y())};
 }
 
-bool circle_through(const Vector2d& p, const Vector2d& q, const Vector2d& r, Vector2d* c) {
+bool circle_through_samples(const Vector2d& p, const Vector2d& q, const Vector2d& r, Vector2d* c) {
   const Vector2d b = q - p, d = r - p;
   const double den = 2 * cross(b, d);
   if (std::abs(den) <= 1e-12 * b.norm() * d.norm() * std::max(b.norm(), d.norm())) return false;
@@ -42,7 +40,7 @@ bool arc_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol, Se
   if (j < i + 2) return false;
   const size_t m = (i + j) / 2;
   Vector2d c;
-  if (!circle_through(P[i], P[m], P[j], &c)) return false;
+  if (!circle_through_samples(P[i], P[m], P[j], &c)) return false;
   const Segment s = make_arc_to(P[i], P[j], c, cross(P[m] - P[i], P[j] - P[m]) > 0);
   if (s.r > 1e5 || std::abs(s.sweep) >= 2 * M_PI - 1e-9) return false;
   double last = 0;

@@ -14,8 +14,6 @@ namespace tf::offset {
 namespace {
 using Eigen::Vector2d;
 
-double cross(const Vector2d& u, const Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
-
 // Points where the supporting line/circle of `in` (continued past its end) meets that of `out`
 // (continued before its start). Lines are given as a point and a direction.
 std::vector<Vector2d> support_crossings(const Segment& s1, const Segment& s2) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <variant>
 
+#include "post_internal.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/post/post.hpp"
 
@@ -24,11 +25,6 @@ std::string cutter(const Tool& tool) {
   return "CUTTER/" + fixed(2.0 * r, 4) + "," + fixed(corner, 4);
 }
 
-double max_projection(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d c = box.center(), h = 0.5 * box.sizes();
-  return c.dot(dir) + h.x() * std::abs(dir.x()) + h.y() * std::abs(dir.y()) + h.z() * std::abs(dir.z());
-}
-
 }  // namespace
 
 void write_apt(std::ostream& out, const OrientedPath& path, const PostJob& job, const PostOptions& options) {
@@ -40,7 +36,7 @@ void write_apt(std::ostream& out, const OrientedPath& path, const PostJob& job, 
   // The retract point clears the part along the tool axis, as in the G-code dialects.
   auto clear = [&](const OrientedRow& r) {
     const Eigen::Vector3d axis = r.axis.normalized(), tip = row_tip(r, job.tool);
-    const double lift = std::max(0.0, max_projection(bounds, axis) - tip.dot(axis)) + job.machine.safe_z;
+    const double lift = std::max(0.0, post_detail::max_projection(bounds, axis) - tip.dot(axis)) + job.machine.safe_z;
     return goto_line(tip + lift * axis, axis);
   };
   std::string title;

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "tiltfield/core/angles.hpp"
 #include "post_internal.hpp"
 #include "tiltfield/core/local_frame.hpp"
 
 namespace tf {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) / kDeg;

@@ -18,11 +18,6 @@ Dialect effective_dialect(const PostOptions& options, const MachineSpec& machine
 
 namespace {
 
-double max_projection(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d c = box.center(), h = 0.5 * box.sizes();
-  return c.dot(dir) + h.x() * std::abs(dir.x()) + h.y() * std::abs(dir.y()) + h.z() * std::abs(dir.z());
-}
-
 class Builder {
  public:
   Builder(const Kinematics& kin, const PostJob& job, const PostOptions& opt, bool tcp, Eigen::AlignedBox3d bounds)

@@ -1,5 +1,7 @@
 // tiltfield (internal to the post-processor): the steps post_program() chains.
 #pragma once
+#include <Eigen/Geometry>
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,5 +49,11 @@ bool linearize(const Kinematics& kin, const ToolPose& p0, const Joints& j0, cons
 // The joints that put the tool at `pose` with the rotaries of `at` (the tilt re-derived exactly, C kept);
 // nullopt when outside the limits. For the xyz machine: the tip.
 std::optional<Joints> joints_at_rotaries(const Kinematics& kin, const ToolPose& pose, const Joints& at);
+
+// The largest projection of the box's points on `dir` (unit): the box's extent along a tool axis, mm.
+inline double max_projection(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& dir) {
+  const Eigen::Vector3d c = box.center(), h = 0.5 * box.sizes();
+  return c.dot(dir) + h.x() * std::abs(dir.x()) + h.y() * std::abs(dir.y()) + h.z() * std::abs(dir.z());
+}
 
 }  // namespace tf::post_detail

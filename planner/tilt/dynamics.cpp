@@ -6,12 +6,10 @@
 #include <map>
 #include <numbers>
 
+#include "tiltfield/core/angles.hpp"
+
 namespace tf {
 using Eigen::Vector3d;
-
-namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-}
 
 Vector3d rotate_axis(const Vector3d& a, const Vector3d& w) {
   const double th = w.norm();

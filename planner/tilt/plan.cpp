@@ -14,12 +14,12 @@
 
 #include "dynamics.hpp"
 #include "plan_context.hpp"
+#include "tiltfield/core/angles.hpp"
 
 namespace tf {
 using Eigen::Vector3d;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
 // Reported clearance when there is nothing to collide with (no check surfaces): JSON and CSV want a number.
 constexpr double kNoObstacle = 1e6;
 

@@ -14,7 +14,7 @@ constexpr double kYc = kWheelR + kBottom, kZEnd = 20.0;  // the wheel centre sto
 
 // Wheel axis along x (W = 0), centre (1, 42.5, z) moving from z = 60 down to z = 20: a straight groove from
 // the tip (z = 30) back to z = 20, running out below.
-const char* kProgram = R"(
+const char* kStraightFluteProgram = R"(
 OP fluting straight flute
 G0 X1 Y60 Z60
 G1 Y42.5 F300
@@ -73,7 +73,7 @@ double paths_area(const Paths& p) {
 }
 
 TEST(StraightFlute, SectionsMatchTheAnalyticGroove) {
-  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, kW, kE, kProgram);
+  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, kW, kE, kStraightFluteProgram);
   SectionOptions opt;
   opt.spacing = 0.5;
   const SectionStack stack = simulate_sections(scene, opt);
@@ -110,7 +110,7 @@ TEST(StraightFlute, SectionsMatchTheAnalyticGroove) {
 }
 
 TEST(StraightFlute, MeshVolumeMatchesTheAnalyticIntegral) {
-  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, kW, kE, kProgram);
+  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, kW, kE, kStraightFluteProgram);
   SectionOptions opt;
   opt.spacing = 0.1;
   const SectionStack stack = simulate_sections(scene, opt);

@@ -45,23 +45,6 @@ Canon parse_canon(const std::string& text) {
   return c;
 }
 
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d d = b - a;
-  const double L2 = d.squaredNorm();
-  const double t = L2 < 1e-300 ? 0.0 : std::clamp((p - a).dot(d) / L2, 0.0, 1.0);
-  return (a + t * d - p).norm();
-}
-
-double distance_to_arc(const Eigen::Vector3d& v, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double ends = std::min(angle_deg(v, a), angle_deg(v, b));
-  const Eigen::Vector3d n = a.cross(b);
-  if (n.norm() < 1e-12) return ends;
-  const Eigen::Vector3d u = n.normalized();
-  const Eigen::Vector3d w = (v - v.dot(u) * u).normalized();
-  if (std::abs(angle_deg(a, w) + angle_deg(w, b) - angle_deg(a, b)) > 1e-9) return ends;
-  return std::asin(std::min(1.0, std::abs(v.dot(u)))) / kDeg;
-}
-
 // Posts `oriented` for `scene` through the command line (joint dialect), runs rs274 on the program and
 // checks its STRAIGHT_FEED moves against the planned tips and axes.
 void check_program(const std::string& label, const fs::path& dir, const fs::path& scene, const tf::OrientedPath& path,

@@ -29,24 +29,6 @@ tf::PostJob job_for(const std::string& machine) {
 
 const char* kFiveAxisMachines[] = {"table-table-ac", "table-table-bc", "head-table-bc", "head-head-ac"};
 
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d d = b - a;
-  const double L2 = d.squaredNorm();
-  const double t = L2 < 1e-300 ? 0.0 : std::clamp((p - a).dot(d) / L2, 0.0, 1.0);
-  return (a + t * d - p).norm();
-}
-
-// Angle from v to the great-circle arc a..b, deg.
-double distance_to_arc(const Eigen::Vector3d& v, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double ends = std::min(angle_deg(v, a), angle_deg(v, b));
-  const Eigen::Vector3d n = a.cross(b);
-  if (n.norm() < 1e-12) return ends;
-  const Eigen::Vector3d u = n.normalized();
-  const Eigen::Vector3d w = (v - v.dot(u) * u).normalized();
-  if (std::abs(angle_deg(a, w) + angle_deg(w, b) - angle_deg(a, b)) > 1e-9) return ends;
-  return std::asin(std::min(1.0, std::abs(v.dot(u)))) / kDeg;
-}
-
 Joints lerp(const Joints& a, const Joints& b, double s) {
   return Joints{a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s, a.z + (b.z - a.z) * s,
                 a.a + (b.a - a.a) * s, a.b + (b.b - a.b) * s, a.c + (b.c - a.c) * s};

@@ -7,21 +7,19 @@
 namespace tf::scenes {
 
 namespace {
-double tidy(double v) { return std::round(v * 1e6) / 1e6; }
-void check(bool ok, const char* option, const std::string& what) { require_option(ok, "block", option, what); }
-bool positive(double v) { return std::isfinite(v) && v > 0; }
+void check_block(bool ok, const char* option, const std::string& what) { require_option(ok, "block", option, what); }
 }  // namespace
 
 void validate_block_options(const BlockOptions& o) {
-  check(positive(o.size_x), "--size-x", "must be positive");
-  check(positive(o.size_y), "--size-y", "must be positive");
-  check(positive(o.height), "--height", "must be positive");
-  check(positive(o.depth) && o.depth < o.height, "--depth", "must be positive and less than --height");
-  check(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
-  check(positive(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
+  check_block(positive(o.size_x), "--size-x", "must be positive");
+  check_block(positive(o.size_y), "--size-y", "must be positive");
+  check_block(positive(o.height), "--height", "must be positive");
+  check_block(positive(o.depth) && o.depth < o.height, "--depth", "must be positive and less than --height");
+  check_block(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
+  check_block(positive(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
         "must be positive and at most the tool diameter");
-  check(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
-  check(positive(o.feed), "--feed", "must be positive (mm/min)");
+  check_block(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
+  check_block(positive(o.feed), "--feed", "must be positive (mm/min)");
 }
 
 SceneBundle make_block_scene(const BlockOptions& o, const nlohmann::json& machine) {

@@ -2,12 +2,20 @@
 // chordal tolerance, solids of revolution, prisms, boxes). Units: mm, radians inside the code.
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
 #include <functional>
+#include <numbers>
 #include <vector>
 
 #include "tiltfield/core/mesh.hpp"
 
 namespace tf::scenes {
+
+inline constexpr double kPi = std::numbers::pi;
+inline double rad(double deg) { return deg * kPi / 180.0; }
+// Options and measured facts go to scene.json rounded to 1e-6, so the file stays readable.
+inline double tidy(double v) { return std::round(v * 1e6) / 1e6; }
+inline bool positive(double v) { return std::isfinite(v) && v > 0; }
 
 // Parameters t0 = p[0] < ... < p.back() = t1 such that, for every sample curve returned by `eval(t)`
 // (several curves evaluated at the same parameter, e.g. the lines of a surface at fixed spans), the

@@ -1,15 +1,12 @@
 // The impeller scene: assembles the model's meshes, the path and the scene description.
 #include "scene_impeller.hpp"
 
+#include "scene_geometry.hpp"
+
 #include <cmath>
 #include <numbers>
 
 namespace tf::scenes {
-
-namespace {
-// Options and measured facts go to scene.json rounded, so the file stays readable.
-double tidy(double v) { return std::round(v * 1e6) / 1e6; }
-}  // namespace
 
 SceneBundle make_impeller_scene(const ImpellerOptions& o, const nlohmann::json& machine) {
   validate_impeller_options(o);

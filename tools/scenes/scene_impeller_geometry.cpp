@@ -10,50 +10,48 @@
 namespace tf::scenes {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 constexpr double kHalfPi = std::numbers::pi / 2;
 // Share of the chordal tolerance given to each of the two tessellation directions: a triangle's deviation
 // is at most about the larger of the two sags on these saddle-like surfaces, the rest is margin.
 constexpr double kDirectionShare = 0.8;
 
-double rad(double deg) { return deg * kPi / 180.0; }
 
-void check(bool ok, const char* option, const std::string& what) { require_option(ok, "impeller", option, what); }
+void check_impeller(bool ok, const char* option, const std::string& what) { require_option(ok, "impeller", option, what); }
 bool finite_in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 }  // namespace
 
 void validate_impeller_options(const ImpellerOptions& o) {
-  check(o.blades >= 2 && o.blades <= 64, "--blades", "must be an integer from 2 to 64");
-  check(finite_in(o.splitter_start, 0.05, 0.9), "--splitter-start", "must be within [0.05, 0.9]");
-  check(std::isfinite(o.lean_deg) && std::abs(o.lean_deg) < 45, "--lean", "must be within (-45, 45) degrees");
-  check(finite_in(o.wrap_deg, -180, 180), "--wrap", "must be within [-180, 180] degrees");
-  check(std::isfinite(o.inlet_radius) && o.inlet_radius > 0, "--inlet-radius", "must be positive");
-  check(std::isfinite(o.outlet_radius) && o.outlet_radius > o.inlet_radius, "--outlet-radius",
+  check_impeller(o.blades >= 2 && o.blades <= 64, "--blades", "must be an integer from 2 to 64");
+  check_impeller(finite_in(o.splitter_start, 0.05, 0.9), "--splitter-start", "must be within [0.05, 0.9]");
+  check_impeller(std::isfinite(o.lean_deg) && std::abs(o.lean_deg) < 45, "--lean", "must be within (-45, 45) degrees");
+  check_impeller(finite_in(o.wrap_deg, -180, 180), "--wrap", "must be within [-180, 180] degrees");
+  check_impeller(std::isfinite(o.inlet_radius) && o.inlet_radius > 0, "--inlet-radius", "must be positive");
+  check_impeller(std::isfinite(o.outlet_radius) && o.outlet_radius > o.inlet_radius, "--outlet-radius",
         "must be greater than --inlet-radius");
-  check(std::isfinite(o.outlet_z) && o.outlet_z > 0, "--outlet-z", "must be positive");
-  check(std::isfinite(o.inlet_z) && o.inlet_z > o.outlet_z, "--inlet-z", "must be greater than --outlet-z");
-  check(std::isfinite(o.nose_z) && o.nose_z > o.inlet_z, "--nose-z", "must be greater than --inlet-z");
-  check(std::isfinite(o.inlet_height) && o.inlet_height > 0 && o.inlet_height < o.outlet_radius - o.inlet_radius,
+  check_impeller(std::isfinite(o.outlet_z) && o.outlet_z > 0, "--outlet-z", "must be positive");
+  check_impeller(std::isfinite(o.inlet_z) && o.inlet_z > o.outlet_z, "--inlet-z", "must be greater than --outlet-z");
+  check_impeller(std::isfinite(o.nose_z) && o.nose_z > o.inlet_z, "--nose-z", "must be greater than --inlet-z");
+  check_impeller(std::isfinite(o.inlet_height) && o.inlet_height > 0 && o.inlet_height < o.outlet_radius - o.inlet_radius,
         "--inlet-height", "must be positive and less than --outlet-radius minus --inlet-radius");
-  check(std::isfinite(o.outlet_height) && o.outlet_height > 0 && o.outlet_height < o.inlet_z - o.outlet_z,
+  check_impeller(std::isfinite(o.outlet_height) && o.outlet_height > 0 && o.outlet_height < o.inlet_z - o.outlet_z,
         "--outlet-height", "must be positive and less than --inlet-z minus --outlet-z");
-  check(std::isfinite(o.thickness_hub) && o.thickness_hub > 0, "--thickness-hub", "must be positive");
-  check(std::isfinite(o.thickness_tip) && o.thickness_tip > 0, "--thickness-tip", "must be positive");
-  check(std::isfinite(o.blade_sink) && o.blade_sink > 0 && o.blade_sink < o.outlet_z, "--blade-sink",
+  check_impeller(std::isfinite(o.thickness_hub) && o.thickness_hub > 0, "--thickness-hub", "must be positive");
+  check_impeller(std::isfinite(o.thickness_tip) && o.thickness_tip > 0, "--thickness-tip", "must be positive");
+  check_impeller(std::isfinite(o.blade_sink) && o.blade_sink > 0 && o.blade_sink < o.outlet_z, "--blade-sink",
         "must be positive and less than --outlet-z");
-  check(finite_in(o.tolerance, 0.0005, 1.0), "--tolerance", "must be within [0.0005, 1] mm");
-  check(finite_in(o.blade_tolerance, 0.0005, 1.0), "--blade-tolerance", "must be within [0.0005, 1] mm");
-  check(finite_in(o.stock_tolerance, 0.0005, 1.0), "--stock-tolerance", "must be within [0.0005, 1] mm");
-  check(std::isfinite(o.allowance) && o.allowance > 0 && o.allowance < o.inlet_radius, "--allowance",
+  check_impeller(finite_in(o.tolerance, 0.0005, 1.0), "--tolerance", "must be within [0.0005, 1] mm");
+  check_impeller(finite_in(o.blade_tolerance, 0.0005, 1.0), "--blade-tolerance", "must be within [0.0005, 1] mm");
+  check_impeller(finite_in(o.stock_tolerance, 0.0005, 1.0), "--stock-tolerance", "must be within [0.0005, 1] mm");
+  check_impeller(std::isfinite(o.allowance) && o.allowance > 0 && o.allowance < o.inlet_radius, "--allowance",
         "must be positive and less than --inlet-radius");
-  check(std::isfinite(o.tool_radius) && o.tool_radius > 0 && o.tool_radius <= 25, "--tool-radius",
+  check_impeller(std::isfinite(o.tool_radius) && o.tool_radius > 0 && o.tool_radius <= 25, "--tool-radius",
         "must be positive (at most 25 mm)");
-  check(finite_in(o.step, 0.01, 20), "--step", "must be within [0.01, 20] mm");
-  check(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
-  check(finite_in(o.m_start, 0.0, 1.0), "--m-start", "must be within [0, 1]");
-  check(finite_in(o.m_end, 0.0, 1.0) && o.m_end > o.m_start, "--m-end", "must be within [0, 1] and above --m-start");
-  check(finite_in(o.ball_clearance, 0.0, 10.0), "--ball-clearance", "must be within [0, 10] mm");
-  check(std::isfinite(o.feed) && o.feed > 0, "--feed", "must be positive (mm/min)");
+  check_impeller(finite_in(o.step, 0.01, 20), "--step", "must be within [0.01, 20] mm");
+  check_impeller(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
+  check_impeller(finite_in(o.m_start, 0.0, 1.0), "--m-start", "must be within [0, 1]");
+  check_impeller(finite_in(o.m_end, 0.0, 1.0) && o.m_end > o.m_start, "--m-end", "must be within [0, 1] and above --m-start");
+  check_impeller(finite_in(o.ball_clearance, 0.0, 10.0), "--ball-clearance", "must be within [0, 10] mm");
+  check_impeller(std::isfinite(o.feed) && o.feed > 0, "--feed", "must be positive (mm/min)");
 }
 
 ImpellerModel::ImpellerModel(const ImpellerOptions& options)

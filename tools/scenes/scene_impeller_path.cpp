@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "scene_distance.hpp"
+#include "scene_geometry.hpp"
 #include "scene_impeller.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
@@ -13,7 +14,6 @@
 namespace tf::scenes {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 // Width of the blend (in m) over which the passes narrow from the full channel to the channel between
 // blade 0 and its splitter, upstream of the splitter's leading edge.
 constexpr double kSplitterBlend = 0.15;

@@ -12,31 +12,28 @@
 namespace tf::scenes {
 
 namespace {
-double rad(double deg) { return deg * std::numbers::pi / 180.0; }
-double tidy(double v) { return std::round(v * 1e6) / 1e6; }
-void check(bool ok, const char* option, const std::string& what) { require_option(ok, "pocket", option, what); }
-bool positive(double v) { return std::isfinite(v) && v > 0; }
+void check_pocket(bool ok, const char* option, const std::string& what) { require_option(ok, "pocket", option, what); }
 }  // namespace
 
 void validate_pocket_options(const PocketOptions& o) {
-  check(positive(o.length), "--length", "must be positive");
-  check(positive(o.width), "--width", "must be positive");
-  check(positive(o.floor_thickness), "--floor-thickness", "must be positive");
-  check(positive(o.wall_height), "--wall-height", "must be positive");
-  check(positive(o.wall_thickness), "--wall-thickness", "must be positive");
-  check(std::isfinite(o.overhang_deg) && o.overhang_deg >= 0 && o.overhang_deg <= 60, "--overhang",
+  check_pocket(positive(o.length), "--length", "must be positive");
+  check_pocket(positive(o.width), "--width", "must be positive");
+  check_pocket(positive(o.floor_thickness), "--floor-thickness", "must be positive");
+  check_pocket(positive(o.wall_height), "--wall-height", "must be positive");
+  check_pocket(positive(o.wall_thickness), "--wall-thickness", "must be positive");
+  check_pocket(std::isfinite(o.overhang_deg) && o.overhang_deg >= 0 && o.overhang_deg <= 60, "--overhang",
         "must be within [0, 60] degrees");
-  check(std::isfinite(o.overhang_deg) && o.wall_height * std::tan(rad(o.overhang_deg)) < o.width, "--overhang",
+  check_pocket(std::isfinite(o.overhang_deg) && o.wall_height * std::tan(rad(o.overhang_deg)) < o.width, "--overhang",
         "the overhang would reach past the vertical wall (lower --overhang or --wall-height)");
-  check(positive(o.wall_sink) && o.wall_sink < o.floor_thickness, "--wall-sink",
+  check_pocket(positive(o.wall_sink) && o.wall_sink < o.floor_thickness, "--wall-sink",
         "must be positive and less than the floor thickness");
-  check(positive(o.allowance), "--allowance", "must be positive");
-  check(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
-  check(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
-  check(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
-  check(std::isfinite(o.ball_clearance) && o.ball_clearance >= 0 && o.ball_clearance <= 10, "--ball-clearance",
+  check_pocket(positive(o.allowance), "--allowance", "must be positive");
+  check_pocket(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
+  check_pocket(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
+  check_pocket(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
+  check_pocket(std::isfinite(o.ball_clearance) && o.ball_clearance >= 0 && o.ball_clearance <= 10, "--ball-clearance",
         "must be within [0, 10] mm");
-  check(positive(o.feed), "--feed", "must be positive (mm/min)");
+  check_pocket(positive(o.feed), "--feed", "must be positive (mm/min)");
 }
 
 SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& machine) {

@@ -9,6 +9,9 @@
 
 namespace tf::offset {
 
+// The z component of u x v (u, v in the plane): > 0 when v turns left of u.
+inline double cross(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+
 // Where a trajectory segment comes from; decides which exactness rule applies to it.
 enum class SegmentKind {
   Element,    // a profile element, or its exact offset (distance to the profile == gap)
