@@ -22,21 +22,10 @@ class BoxTree {
   // Calls visit(id) for every item whose box intersects `query`.
   template <class Visit>
   void query(const Eigen::AlignedBox2d& query, Visit&& visit) const {
-    if (nodes_.empty()) return;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& n = nodes_[stack[--top]];
-      if (!n.box.intersects(query)) continue;
-      if (n.left < 0) {
-        for (int k = n.begin; k < n.end; ++k)
-          if (boxes_[order_[k]].intersects(query)) visit(order_[k]);
-      } else {
-        stack[top++] = n.left;
-        stack[top++] = n.right;
-      }
-    }
+    any(query, [&](int id) {
+      visit(id);
+      return false;
+    });
   }
 
   // True when pred(id) holds for some item whose box intersects `query`; stops at the first.
