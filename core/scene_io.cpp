@@ -102,10 +102,13 @@ PlannerBasics parse_planner_basics(const json& j, const std::string& file) {
   if (p.safety_distance < 0) throw InputError(file, 0, "planner.safety_distance", "must not be negative");
   p.shank_clearance = optional_number(j, "shank_clearance", file, "planner");
   p.holder_clearance = optional_number(j, "holder_clearance", file, "planner");
+  p.fixture_clearance = optional_number(j, "fixture_clearance", file, "planner");
   if (p.shank_clearance && *p.shank_clearance < 0)
     throw InputError(file, 0, "planner.shank_clearance", "must not be negative");
   if (p.holder_clearance && *p.holder_clearance < 0)
     throw InputError(file, 0, "planner.holder_clearance", "must not be negative");
+  if (p.fixture_clearance && *p.fixture_clearance < 0)
+    throw InputError(file, 0, "planner.fixture_clearance", "must not be negative");
   p.max_tilt_deg = number_or(j, "max_tilt_deg", p.max_tilt_deg, file, "planner");
   if (!(p.max_tilt_deg > 0 && p.max_tilt_deg <= 90))
     throw InputError(file, 0, "planner.max_tilt_deg", "must be in (0, 90] degrees");

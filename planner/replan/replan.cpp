@@ -32,12 +32,10 @@ double smoothstep(double x) {
 
 std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<double>& arc, const Tool& tool,
                                       const std::vector<Collision>& collisions, double pad_mm) {
-  const double cl = tool.cl_height();
   std::vector<ReplanWindow> w;
   for (const auto& s : collisions) {
-    const size_t i0 = nearest_row(path, s.start.tip + cl * s.start.axis);
-    const size_t i1 = nearest_row(path, s.end.tip + cl * s.end.axis);
-    size_t a = std::min(i0, i1), b = std::max(i0, i1);
+    if (!unfixable_reason(s).empty()) continue;
+    auto [a, b] = collision_rows(path, tool, s);
     const double sa = arc[a] - pad_mm, sb = arc[b] + pad_mm;
     while (a > 0 && arc[a - 1] >= sa) --a;
     while (b + 1 < arc.size() && arc[b + 1] <= sb) ++b;
@@ -57,6 +55,21 @@ std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<do
 }
 
 }  // namespace
+
+std::string unfixable_reason(const Collision& c) {
+  if (c.rapid) return "a rapid move: the post's retracts and links must clear it, not the tool axis";
+  if (c.component == ToolComponent::Ball)
+    return std::string("the ball itself meets the ") + (c.with == HitWith::Check ? "check surface" : std::string(to_string(c.with))) +
+           " at the cutter location; no tool axis moves it";
+  return {};
+}
+
+std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c) {
+  const double cl = tool.cl_height();
+  const size_t i0 = nearest_row(path, c.start.tip + cl * c.start.axis);
+  const size_t i1 = nearest_row(path, c.end.tip + cl * c.end.axis);
+  return {std::min(i0, i1), std::max(i0, i1)};
+}
 
 std::vector<Collision> read_replan_collisions(const std::filesystem::path& verify_json) {
   VerifyReport report = read_verify_json(verify_json);
@@ -87,15 +100,16 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   const std::vector<double> arc = path.arc_length();
   result.windows = windows_for(path, arc, scene.tool, collisions, pad);
 
-  std::vector<const Mesh*> obstacles;
-  for (const auto& c : scene.check_surfaces) obstacles.push_back(&c);
-  obstacles.insert(obstacles.end(), extra_obstacles.begin(), extra_obstacles.end());
+  // The stock obstacle is kept like a check surface (each component its own clearance).
+  PlanObstacles obstacles = scene_obstacles(scene);
+  obstacles.check_surfaces.insert(obstacles.check_surfaces.end(), extra_obstacles.begin(), extra_obstacles.end());
   const std::vector<LocalFrame> frames = local_frames(path);
 
   for (const ReplanWindow& w : result.windows) {
     ToolPath sub;
     sub.rows.assign(path.rows.begin() + static_cast<long>(w.first), path.rows.begin() + static_cast<long>(w.last) + 1);
-    const PlanResult planned = plan_path(sub, scene.tool, obstacles, scene.planner, scene.feed, plan_options);
+    const PlanResult planned = plan_path(sub, scene.tool, obstacles, scene.planner, scene.feed, plan_options,
+                                         scene.machine ? &*scene.machine : nullptr);
     const double s0 = arc[w.first], length = arc[w.last] - s0;
     const double ramp = std::min(blend, 0.5 * length);
     for (size_t i = w.first; i <= w.last; ++i) {

@@ -82,6 +82,12 @@ BodySamples make_body_samples(const Tool& tool, const PlannerBasics& basics, dou
   return out;
 }
 
+BodySamples with_clearance(BodySamples samples, double required) {
+  std::fill(samples.required.begin(), samples.required.end(), required);
+  for (auto& c : samples.chunks) c.required = required;
+  return samples;
+}
+
 DynamicsParams dynamics_params(const PlanOptions& o, const Tool& tool, const PlannerBasics& basics) {
   DynamicsParams p;
   p.inertia = o.inertia;
@@ -111,11 +117,11 @@ struct ChunkCache {
 
 class Repulsion {
  public:
-  Repulsion(const ClearanceBvh& bvh, DistanceField& field, const BodySamples& s, const DynamicsParams& p)
-      : bvh_(bvh), field_(field), s_(s), p_(p) {
-    cache_.centre.assign(s.chunks.size(), Vector3d::Constant(std::numeric_limits<double>::infinity()));
-    cache_.bound.assign(s.chunks.size(), -1.0);
-    cache_.hint.assign(s.chunks.size(), -1);
+  Repulsion(const PotentialSource& source, const DynamicsParams& p)
+      : bvh_(*source.bvh), field_(*source.field), s_(*source.samples), p_(p) {
+    cache_.centre.assign(s_.chunks.size(), Vector3d::Constant(std::numeric_limits<double>::infinity()));
+    cache_.bound.assign(s_.chunks.size(), -1.0);
+    cache_.hint.assign(s_.chunks.size(), -1);
   }
 
   // Total repulsive torque about c for the axis a (e1 fixes the azimuth of the samples).
@@ -194,8 +200,9 @@ struct Body {
 };
 
 // One semi-implicit step: attraction and damping implicit (unconditionally stable), repulsion explicit.
-Body step(const Body& b, const PathState& s, double dt, Repulsion& rep, const DynamicsParams& p) {
-  const Vector3d tau_rep = rep.torque(s.c, b.axis, s.f);
+Body step(const Body& b, const PathState& s, double dt, std::vector<Repulsion>& reps, const DynamicsParams& p) {
+  Vector3d tau_rep = Vector3d::Zero();
+  for (Repulsion& rep : reps) tau_rep += rep.torque(s.c, b.axis, s.f);
   const Vector3d cr = b.axis.cross(s.nominal);
   const double ang = std::atan2(cr.norm(), b.axis.dot(s.nominal));
   const Vector3d tau_att = cr.norm() > 1e-15 ? Vector3d(p.attraction * ang * cr / cr.norm()) : Vector3d::Zero();
@@ -219,7 +226,8 @@ Body step(const Body& b, const PathState& s, double dt, Repulsion& rep, const Dy
 
 // Advances b over a stretch of duration T from state s0 to s1, halving the sub-step while the axis
 // would turn more than max_substep_rad in one.
-Body advance(Body b, const PathState& s0, const PathState& s1, double T, Repulsion& rep, const DynamicsParams& p) {
+Body advance(Body b, const PathState& s0, const PathState& s1, double T, std::vector<Repulsion>& rep,
+             const DynamicsParams& p) {
   double done = 0, dt = T;
   int guard = 0;
   while (done < T - 1e-15 && guard++ < 4096) {
@@ -241,13 +249,14 @@ Body advance(Body b, const PathState& s0, const PathState& s1, double T, Repulsi
 }  // namespace
 
 void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames, const std::vector<Vector3d>& nominal,
-                    const std::vector<double>& feed, const ClearanceBvh& bvh, DistanceField& field,
-                    const BodySamples& samples, const DynamicsParams& p, const Progress& progress,
-                    std::vector<Vector3d>& axes, std::atomic<size_t>* published) {
+                    const std::vector<double>& feed, const std::vector<PotentialSource>& sources,
+                    const DynamicsParams& p, const Progress& progress, std::vector<Vector3d>& axes,
+                    std::atomic<size_t>* published) {
   const size_t n = path.rows.size();
   axes.resize(n);
   if (n == 0) return;
-  Repulsion rep(bvh, field, samples, p);
+  std::vector<Repulsion> rep;
+  for (const PotentialSource& s : sources) rep.emplace_back(s, p);
   auto state = [&](size_t i) {
     return PathState{path.rows[i].p, frames[i].f, frames[i].n, frames[i].t, nominal[i]};
   };

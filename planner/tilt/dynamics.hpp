@@ -31,6 +31,16 @@ struct BodySamples {
 // The ball of a ball cutter is left out: a sphere turning about its own centre keeps its distances, so
 // any torque it felt would only be sampling noise. Holder segments are sampled at least 24 points round.
 BodySamples make_body_samples(const Tool& tool, const PlannerBasics& basics, double spacing);
+// The same points keeping one clearance (mm) for every component (the fixtures' clearance).
+BodySamples with_clearance(BodySamples samples, double required);
+
+// One obstacle set as the body feels it: its triangles, their distance field, and the samples with the
+// clearances they keep from that set. The repulsions of all sets add up.
+struct PotentialSource {
+  const ClearanceBvh* bvh = nullptr;
+  DistanceField* field = nullptr;
+  const BodySamples* samples = nullptr;
+};
 
 // What the integrator needs at one instant along the path.
 struct PathState {
@@ -51,8 +61,8 @@ DynamicsParams dynamics_params(const PlanOptions& options, const Tool& tool, con
 // thread can work on them while the integration goes on.
 void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
                     const std::vector<Eigen::Vector3d>& nominal, const std::vector<double>& feed,
-                    const ClearanceBvh& bvh, DistanceField& field, const BodySamples& samples,
-                    const DynamicsParams& params, const Progress& progress, std::vector<Eigen::Vector3d>& axes,
+                    const std::vector<PotentialSource>& sources, const DynamicsParams& params,
+                    const Progress& progress, std::vector<Eigen::Vector3d>& axes,
                     std::atomic<size_t>* published = nullptr);
 
 // Axis `a` turned by the rotation vector w (rad), Rodrigues.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "dynamics.hpp"
@@ -12,22 +13,64 @@
 namespace tf {
 using Eigen::Vector3d;
 
-bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, std::vector<int>* hints) const {
-  if (hints && hints->size() != pieces.size()) hints->assign(pieces.size(), -1);
+namespace {
+std::vector<int>* set_hints(ClearanceHints* hints, size_t set, size_t pieces) {
+  if (!hints) return nullptr;
+  if (hints->size() <= set) hints->resize(set + 1);
+  std::vector<int>& h = (*hints)[set];
+  if (h.size() != pieces) h.assign(pieces, -1);
+  return &h;
+}
+}  // namespace
+
+BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, ClearanceHints* hints) const {
+  BodyClearance out;
+  out.distance = out.margin = std::numeric_limits<double>::infinity();
   const Pose p = pose(row, axis);
-  for (size_t k = 0; k < pieces.size(); ++k) {
-    const size_t i = piece_query_order(pieces, k);
-    const double need = required[i] + extra;
-    if (piece_distance(bvh, pieces[i], p, need, true, hints ? &(*hints)[i] : nullptr) < need) return false;
+  for (size_t s = 0; s < obstacles.size(); ++s) {
+    const ObstacleSet& set = obstacles[s];
+    if (set.bvh.empty()) continue;
+    const BodyClearance c = body_clearance(set.bvh, pieces, set.required, p, set_hints(hints, s, pieces.size()));
+    if (c.distance < out.distance) {
+      out.distance = c.distance;
+      out.nearest_set = static_cast<int>(s);
+    }
+    if (c.margin < out.margin) {
+      out.margin = c.margin;
+      out.piece = c.piece;
+      out.margin_set = static_cast<int>(s);
+    }
+  }
+  return out;
+}
+
+bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, ClearanceHints* hints) const {
+  const Pose p = pose(row, axis);
+  for (size_t s = 0; s < obstacles.size(); ++s) {
+    const ObstacleSet& set = obstacles[s];
+    if (set.bvh.empty()) continue;
+    std::vector<int>* h = set_hints(hints, s, pieces.size());
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      const size_t i = piece_query_order(pieces, k);
+      const double need = set.required[i] + extra;
+      if (piece_distance(set.bvh, pieces[i], p, need, true, h ? &(*h)[i] : nullptr) < need) return false;
+    }
   }
   return true;
+}
+
+double PlanContext::max_required() const {
+  double m = 0;
+  for (const ObstacleSet& set : obstacles)
+    for (double r : set.required) m = std::max(m, r);
+  return m;
 }
 
 void clearances(const PlanContext& ctx, const std::vector<Vector3d>& axes, size_t begin, size_t end,
                 std::vector<BodyClearance>& out) {
   if (begin >= end) return;
   tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<int> hints;  // consecutive rows are close: each row's nearest triangles seed the next
+    ClearanceHints hints;  // consecutive rows are close: each row's nearest triangles seed the next
     for (size_t i = r.begin(); i != r.end(); ++i) out[i] = ctx.clearance(i, axes[i], &hints);
   });
 }
@@ -41,15 +84,16 @@ std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vec
 bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra, double step,
                             Vector3d& turn) {
   turn.setZero();
-  std::vector<int> hints;  // every query below is at this row, at nearby axes
+  ClearanceHints hints;  // every query below is at this row, at nearby axes
   const bool clear_now = ctx.clears(row, axis, extra, &hints);
   if (clear_now && ctx.reachable(row, axis)) return true;
   // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
   for (size_t i = 0; i < ctx.pieces.size() && !clear_now; ++i)
-    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0) {
-      const double need = ctx.required[i] + extra;
-      if (piece_distance(ctx.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
-    }
+    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0)
+      for (const ObstacleSet& set : ctx.obstacles) {
+        const double need = set.required[i] + extra;
+        if (!set.bvh.empty() && piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
+      }
   const LocalFrame& fr = ctx.frames[row];
   // Directions: 16 round, plus the ascent direction of the margin (finite differences), tried first.
   std::vector<Vector3d> dirs;
@@ -106,9 +150,19 @@ size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, st
   const double W = ctx.options.correction_window_mm;
   const double step = 0.5 * std::numbers::pi / 180.0;
   for (int iter = 0; iter < ctx.options.correction_iterations; ++iter) {
+    // A row whose motion to a neighbour comes too close (the row itself clear) must gain what it lacked.
+    const std::vector<SegmentCheck> segments = check_segments(ctx, axes, clear);
+    std::vector<double> lacks(n, 0.0);
+    for (size_t i = 0; i < segments.size(); ++i)
+      if (segments[i].failed) {
+        lacks[i] = std::max(lacks[i], segments[i].deficit);
+        lacks[i + 1] = std::max(lacks[i + 1], segments[i].deficit);
+      }
     std::vector<size_t> failing;
     std::vector<char> bad(n, 0);
-    tbb::parallel_for(size_t{0}, n, [&](size_t i) { bad[i] = clear[i].margin < 0 || !ctx.reachable(i, axes[i]); });
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+      bad[i] = clear[i].margin < 0 || lacks[i] > 0 || !ctx.reachable(i, axes[i]);
+    });
     for (size_t i = 0; i < n; ++i)
       if (bad[i]) failing.push_back(i);
     if (failing.empty()) break;
@@ -118,7 +172,8 @@ size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, st
     std::vector<char> found(failing.size(), 0);
     tbb::parallel_for(size_t{0}, failing.size(), [&](size_t k) {
       const size_t i = failing[k];
-      found[k] = smallest_clearing_turn(ctx, i, axes[i], extra, step, turn[k]) ? 1 : 0;
+      const double aim = lacks[i] > 0 ? std::max(extra, clear[i].margin + lacks[i] + extra) : extra;
+      found[k] = smallest_clearing_turn(ctx, i, axes[i], aim, step, turn[k]) ? 1 : 0;
     });
     // Spread each turn over the window with a smooth bump; where windows overlap take, per component,
     // the largest push each way (an envelope, so no row gets less than its own correction).

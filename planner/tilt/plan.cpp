@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <thread>
 
@@ -96,12 +97,26 @@ bool has_limited_rotary(const MachineSpec& machine) {
   return limited;
 }
 
-// The tool's pieces with the clearance each must keep, and the kinematics when reachability matters.
+// The tool's pieces, and the kinematics when reachability matters.
 void set_up_body(PlanContext& ctx, const Tool& tool, const PlannerBasics& basics, const MachineSpec* machine) {
   ctx.pieces = body_pieces(tool);
-  for (const auto& p : ctx.pieces) ctx.required.push_back(required_clearance(basics, p.component));
-  merge_coaxial_pieces(ctx.pieces, ctx.required);
+  std::vector<double> required;
+  for (const auto& p : ctx.pieces) required.push_back(required_clearance(basics, p.component));
+  // Pieces are merged only where their check-surface clearances agree; the fixture clearance is one value.
+  merge_coaxial_pieces(ctx.pieces, required);
+  for (const BodyPiece& p : ctx.pieces) ctx.reach.push_back(body_reach(p));
+  ctx.obstacles.resize(2);
+  ctx.obstacles[0].required = std::move(required);
+  ctx.obstacles[1].name = "fixtures";
+  ctx.obstacles[1].required.assign(ctx.pieces.size(), fixture_clearance(basics));
   if (machine && has_limited_rotary(*machine)) ctx.kinematics.emplace(*machine, tool.length);
+}
+
+void set_up_obstacles(PlanContext& ctx, const PlanObstacles& obstacles, PlanMetrics& metrics) {
+  ctx.obstacles[0].bvh = ClearanceBvh(obstacles.check_surfaces);
+  ctx.obstacles[1].bvh = ClearanceBvh(obstacles.fixtures);
+  metrics.check_triangles = ctx.obstacles[0].bvh.size();
+  metrics.fixture_triangles = ctx.obstacles[1].bvh.size();
 }
 
 // How many rows the nominal axis leaves too close (for the report).
@@ -109,7 +124,7 @@ size_t count_nominal_colliding(const PlanContext& ctx) {
   return tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, ctx.nominal.size(), 64), size_t{0},
       [&](const tbb::blocked_range<size_t>& r, size_t acc) {
-        std::vector<int> hints;
+        ClearanceHints hints;
         for (size_t i = r.begin(); i != r.end(); ++i) acc += ctx.clears(i, ctx.nominal[i], 0.0, &hints) ? 0 : 1;
         return acc;
       },
@@ -130,8 +145,9 @@ void pointwise_stages(const PlanContext& ctx, const Progress& progress, StageClo
 }
 
 // Builds in parallel the bricks the nominal poses will need: around every chunk of the body that is
-// within `reach` of an obstacle, at rows about a brick apart.
-void prefetch_nominal_bricks(const PlanContext& ctx, const BodySamples& samples, double reach, DistanceField& field) {
+// within `reach` of an obstacle of `bvh`, at rows about a brick apart.
+void prefetch_nominal_bricks(const PlanContext& ctx, const ClearanceBvh& bvh, const BodySamples& samples, double reach,
+                             DistanceField& field) {
   const size_t n = ctx.path->rows.size();
   std::vector<Vector3d> centres;
   const double brick = DistanceField::kBrick * field.cell();
@@ -144,7 +160,7 @@ void prefetch_nominal_bricks(const PlanContext& ctx, const BodySamples& samples,
   std::vector<char> near(centres.size(), 0);
   tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
     const auto& ch = samples.chunks[k % samples.chunks.size()];
-    near[k] = ctx.bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
+    near[k] = bvh.closest(centres[k], reach + ch.rho).triangle >= 0 ? 1 : 0;
   });
   std::vector<Vector3d> wanted;
   for (size_t k = 0; k < centres.size(); ++k)
@@ -169,7 +185,7 @@ void clear_behind(const PlanContext& ctx, const std::vector<Vector3d>& axes, std
   metrics.rows_nominal_colliding = count_nominal_colliding(ctx);
   shared.nominal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   constexpr size_t kBlock = 256;
-  std::vector<int> hints;
+  ClearanceHints hints;
   size_t next = 0;
   while (!shared.stop.load(std::memory_order_acquire)) {
     if (shared.published.load(std::memory_order_acquire) < next + kBlock) {
@@ -205,9 +221,9 @@ struct StopAndJoin {
 // The dynamics are sequential along the path. Meanwhile another thread counts the nominal collisions,
 // then computes the exact clearances of the rows the integration has finished; what it has not reached
 // when the dynamics end is done in parallel afterwards.
-void integrate_and_clear(const PlanContext& ctx, const BodySamples& samples, DistanceField& field,
-                         const Progress& progress, StageClock& stage, PlanMetrics& metrics,
-                         std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear) {
+void integrate_and_clear(const PlanContext& ctx, const std::vector<PotentialSource>& sources, const Progress& progress,
+                         StageClock& stage, PlanMetrics& metrics, std::vector<Vector3d>& axes,
+                         std::vector<BodyClearance>& clear) {
   const size_t n = ctx.path->rows.size();
   axes.resize(n);
   clear.resize(n);
@@ -216,7 +232,7 @@ void integrate_and_clear(const PlanContext& ctx, const BodySamples& samples, Dis
   background.run([&] { clear_behind(ctx, axes, clear, metrics, shared); });
   {
     StopAndJoin join{shared.stop, background};
-    integrate_axes(*ctx.path, ctx.frames, ctx.nominal, ctx.feed, ctx.bvh, field, samples,
+    integrate_axes(*ctx.path, ctx.frames, ctx.nominal, ctx.feed, sources,
                    dynamics_params(ctx.options, *ctx.tool, ctx.basics), progress, axes, &shared.published);
     report(progress, "plan", 0.7);
     stage("axes");
@@ -228,19 +244,30 @@ void integrate_and_clear(const PlanContext& ctx, const BodySamples& samples, Dis
   metrics.stage_seconds.emplace_back("nominal_check", shared.nominal_seconds);
 }
 
-// The rigid-body model: the distance field it feels, then the integration along the path.
+// The rigid-body model: per obstacle set the distance field it feels (the samples keeping that set's
+// clearances), then the integration along the path.
 void dynamic_stages(const PlanContext& ctx, const Progress& progress, StageClock& stage, PlanMetrics& metrics,
                     std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear) {
   const PlanOptions& options = ctx.options;
   metrics.method = "dynamic";
-  const BodySamples samples = make_body_samples(*ctx.tool, ctx.basics, options.sample_spacing_mm);
-  double max_req = 0;
-  for (double r : ctx.required) max_req = std::max(max_req, r);
-  DistanceField field(ctx.bvh, options.field_cell_mm, options.influence_mm + max_req + 2 * options.field_cell_mm);
-  prefetch_nominal_bricks(ctx, samples, options.influence_mm + max_req, field);
+  const BodySamples check_samples = make_body_samples(*ctx.tool, ctx.basics, options.sample_spacing_mm);
+  const BodySamples fixture_samples = with_clearance(check_samples, fixture_clearance(ctx.basics));
+  std::vector<std::unique_ptr<DistanceField>> fields;
+  std::vector<PotentialSource> sources;
+  for (size_t s = 0; s < ctx.obstacles.size(); ++s) {
+    const ObstacleSet& set = ctx.obstacles[s];
+    if (set.bvh.empty() && s > 0) continue;  // the check set always runs, as before: it may be empty
+    const BodySamples& samples = s == 0 ? check_samples : fixture_samples;
+    double max_req = 0;
+    for (double r : set.required) max_req = std::max(max_req, r);
+    fields.push_back(std::make_unique<DistanceField>(set.bvh, options.field_cell_mm,
+                                                     options.influence_mm + max_req + 2 * options.field_cell_mm));
+    prefetch_nominal_bricks(ctx, set.bvh, samples, options.influence_mm + max_req, *fields.back());
+    sources.push_back({&set.bvh, fields.back().get(), &samples});
+  }
   stage("field");
   report(progress, "plan", 0.1);
-  integrate_and_clear(ctx, samples, field, progress, stage, metrics, axes, clear);
+  integrate_and_clear(ctx, sources, progress, stage, metrics, axes, clear);
 }
 
 void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::vector<std::string>& notes) {
@@ -252,7 +279,7 @@ void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::v
 
 // The oriented rows, the rows left below their clearance or without a joint solution, and the summary metrics.
 void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, const std::vector<BodyClearance>& clear,
-                  PlanResult& result) {
+                  const std::vector<SegmentCheck>& segments, PlanResult& result) {
   const ToolPath& path = *ctx.path;
   const size_t n = path.rows.size();
   std::vector<char> unreachable(n, 0);
@@ -260,6 +287,7 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
 
   result.path.rows.resize(n);
   double min_c = std::numeric_limits<double>::infinity();
+  auto set_name = [&](int s) { return s < 0 ? std::string() : std::string(ctx.obstacles[static_cast<size_t>(s)].name); };
   for (size_t i = 0; i < n; ++i) {
     OrientedRow& o = result.path.rows[i];
     o.p = path.rows[i].p;
@@ -269,29 +297,37 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
     o.tilt_deg = lt.y();
     o.clearance_mm = finite_or(clear[i].distance, kNoObstacle);
     o.feed = path.rows[i].feed;
-    min_c = std::min(min_c, o.clearance_mm);
-    if (clear[i].margin < 0 || unreachable[i])
-      result.uncleared.push_back({i, o.clearance_mm, clear[i].margin, unreachable[i] != 0});
+    if (o.clearance_mm < min_c) {
+      min_c = o.clearance_mm;
+      if (clear[i].nearest_set >= 0) result.metrics.min_clearance_obstacle = set_name(clear[i].nearest_set);
+    }
+    const bool motion = i < segments.size() && segments[i].failed;
+    if (clear[i].margin < 0 || unreachable[i] || motion) {
+      const bool row_clear = clear[i].margin >= 0;
+      result.uncleared.push_back({i, o.clearance_mm, row_clear && motion ? -segments[i].deficit : clear[i].margin,
+                                  set_name(clear[i].margin_set), unreachable[i] != 0, row_clear && motion});
+    }
+    result.metrics.segments_below_safety += motion ? 1 : 0;
   }
   result.metrics.rows = n;
   result.metrics.min_clearance_mm = n ? min_c : kNoObstacle;
   result.metrics.rows_below_safety = 0;
-  for (const auto& u : result.uncleared) result.metrics.rows_below_safety += u.margin_mm < 0 ? 1 : 0;
+  for (const auto& u : result.uncleared) result.metrics.rows_below_safety += u.margin_mm < 0 && !u.between_rows ? 1 : 0;
   axis_metrics(result.path, result.metrics);
 }
 }  // namespace
 
-PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles& obstacles,
                      const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
                      const Progress& progress) {
   PlanResult result;
   StageClock stage(result.metrics);
   PlanContext ctx;
   set_up_rows(ctx, path, tool, basics, feed, options);
-  report(progress, "plan", 0.0);
-  ctx.bvh = ClearanceBvh(check_surfaces);
-  stage("bvh");
   set_up_body(ctx, tool, basics, machine);
+  report(progress, "plan", 0.0);
+  set_up_obstacles(ctx, obstacles, result.metrics);
+  stage("bvh");
   report(progress, "plan", 0.05);
 
   std::vector<Vector3d> axes;
@@ -310,16 +346,23 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<c
     stage("smoothing");
   }
   note_axis_limits(ctx, machine, result.notes);
-  write_result(ctx, axes, clear, result);
+  const std::vector<SegmentCheck> segments = check_segments(ctx, axes, clear);
+  stage("between_rows");
+  write_result(ctx, axes, clear, segments, result);
   result.metrics.seconds = stage.total_seconds();
   report(progress, "plan", 1.0);
   return result;
 }
 
+PlanObstacles scene_obstacles(const Scene& scene) {
+  PlanObstacles o;
+  for (const auto& m : scene.check_surfaces) o.check_surfaces.push_back(&m);
+  for (const auto& m : scene.fixtures) o.fixtures.push_back(&m);
+  return o;
+}
+
 PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress) {
-  std::vector<const Mesh*> meshes;
-  for (const auto& m : scene.check_surfaces) meshes.push_back(&m);
-  return plan_path(scene.path, scene.tool, meshes, scene.planner, scene.feed, options,
+  return plan_path(scene.path, scene.tool, scene_obstacles(scene), scene.planner, scene.feed, options,
                    scene.machine ? &*scene.machine : nullptr, progress);
 }
 
@@ -330,9 +373,12 @@ nlohmann::json plan_report_json(const PlanResult& r) {
   j["smoothed"] = m.smoothed;
   j["rows"] = m.rows;
   j["min_clearance_mm"] = m.min_clearance_mm;
+  j["min_clearance_obstacle"] = m.min_clearance_obstacle;
+  j["obstacles"] = {{"check_surface_triangles", m.check_triangles}, {"fixture_triangles", m.fixture_triangles}};
   j["rows_below_safety"] = m.rows_below_safety;
   j["rows_nominal_colliding"] = m.rows_nominal_colliding;
   j["corrected_rows"] = m.corrected_rows;
+  j["segments_below_safety"] = m.segments_below_safety;
   j["max_step_deg"] = m.max_step_deg;
   j["max_deg_per_mm"] = m.max_deg_per_mm;
   j["rms_second_difference"] = m.rms_second_difference;
@@ -342,7 +388,12 @@ nlohmann::json plan_report_json(const PlanResult& r) {
   j["stage_seconds"] = st;
   nlohmann::json un = nlohmann::json::array();
   for (const auto& u : r.uncleared)
-    un.push_back({{"row", u.row}, {"clearance_mm", u.clearance_mm}, {"margin_mm", u.margin_mm}, {"unreachable", u.unreachable}});
+    un.push_back({{"row", u.row},
+                  {"clearance_mm", u.clearance_mm},
+                  {"margin_mm", u.margin_mm},
+                  {"obstacle", u.obstacle},
+                  {"unreachable", u.unreachable},
+                  {"between_rows", u.between_rows}});
   j["uncleared"] = un;
   j["notes"] = r.notes;
   return j;

@@ -12,6 +12,17 @@
 
 namespace tf {
 
+// One set of obstacles and the clearance each body piece must keep from it: the check surfaces (each
+// component its own clearance) or the fixtures (one clearance for the whole tool).
+struct ObstacleSet {
+  const char* name = "check_surfaces";  // as PLAN.json names it
+  ClearanceBvh bvh;
+  std::vector<double> required;  // per piece, mm
+};
+
+// Search hints for runs of clearance queries at nearby poses: per obstacle set, one triangle per piece.
+using ClearanceHints = std::vector<std::vector<int>>;
+
 struct PlanContext {
   const ToolPath* path = nullptr;
   const Tool* tool = nullptr;
@@ -21,9 +32,9 @@ struct PlanContext {
   std::vector<Eigen::Vector3d> nominal;  // nominal axis per row
   std::vector<double> feed;              // mm/min per row
   std::vector<double> arc;               // cumulative arc length, mm
-  ClearanceBvh bvh;
   std::vector<BodyPiece> pieces;
-  std::vector<double> required;  // per piece, mm
+  std::vector<double> reach;           // per piece: its farthest point from the cutter location, mm (body_reach)
+  std::vector<ObstacleSet> obstacles;  // [0] the check surfaces, [1] the fixtures
   double cos_max_tilt = 0.5;
   // Set when the scene's machine has rotary axes with limits: axes must then have a joint solution.
   std::optional<Kinematics> kinematics;
@@ -35,13 +46,31 @@ struct PlanContext {
   }
 
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {path->rows[row].p, axis}; }
-  // `hints` (one triangle per piece, see piece_distance) speed up runs of queries at nearby poses.
-  BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, std::vector<int>* hints = nullptr) const {
-    return body_clearance(bvh, pieces, required, pose(row, axis), hints);
-  }
-  // True when every piece keeps its required clearance plus `extra` (early exit, cheap when far).
-  bool clears(size_t row, const Eigen::Vector3d& axis, double extra, std::vector<int>* hints = nullptr) const;
+  // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
+  BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;
+  // True when every piece keeps its required clearance plus `extra` from every set (early exit, cheap
+  // when far).
+  bool clears(size_t row, const Eigen::Vector3d& axis, double extra, ClearanceHints* hints = nullptr) const;
+  // The largest clearance any piece must keep from any set, mm.
+  double max_required() const;
 };
+
+// How far a point of the piece can lie from the cutter location, mm: what a turn of the axis by theta
+// moves it at most (times theta). 0 for a ball centred on the cutter location.
+double body_reach(const BodyPiece& piece);
+
+// The motion from row i to row i + 1, proven (see between_rows.cpp) or not.
+struct SegmentCheck {
+  bool failed = false;
+  double deficit = 0;  // how far below its clearance the motion was found to come, mm (> 0 when failed)
+};
+// The motion between rows i and i + 1 with axes a0, a1 and the rows' clearances c0, c1. Motions whose
+// end rows are themselves below their clearance are not checked (those rows are corrected first).
+SegmentCheck check_segment(const PlanContext& ctx, size_t i, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
+                           const BodyClearance& c0, const BodyClearance& c1);
+// Every motion between consecutive rows, in parallel (n - 1 results).
+std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes,
+                                         const std::vector<BodyClearance>& clear);
 
 // Exact clearances of all rows, in parallel.
 std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes);

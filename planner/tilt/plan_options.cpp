@@ -46,11 +46,13 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   if (!j.is_object()) throw InputError(file, 0, "planner", "must be a JSON object");
   static const char* const kKeys[] = {
       // shared with the scene loader (PlannerBasics)
-      "lead_deg", "tilt_deg", "safety_distance", "shank_clearance", "holder_clearance", "max_tilt_deg", "comment",
+      "lead_deg", "tilt_deg", "safety_distance", "shank_clearance", "holder_clearance", "fixture_clearance",
+      "max_tilt_deg", "comment",
       // the planner's own
       "method", "smooth", "response_length_mm", "damping_ratio", "inertia", "attraction", "damping", "influence_mm",
       "repulsion_gain", "min_gap_mm", "max_substep_deg", "field_cell_mm", "sample_spacing_mm",
-      "correction_window_mm", "correction_margin_mm", "correction_iterations", "pointwise_step_deg",
+      "correction_window_mm", "correction_margin_mm", "correction_iterations", "between_rows_tolerance_mm",
+      "pointwise_step_deg",
       "smooth_weight", "smooth_deviation_weight", "smooth_iterations"};
   for (auto it = j.begin(); it != j.end(); ++it) {
     bool known = false;
@@ -90,6 +92,7 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   o.correction_window_mm = r.number("correction_window_mm", 2.0 * o.response_length_mm, false);
   o.correction_margin_mm = r.number("correction_margin_mm", o.correction_margin_mm, false);
   o.correction_iterations = static_cast<int>(r.number("correction_iterations", o.correction_iterations, false));
+  o.between_rows_tolerance_mm = r.number("between_rows_tolerance_mm", o.between_rows_tolerance_mm, true);
   o.pointwise_step_deg = r.number("pointwise_step_deg", o.pointwise_step_deg, true);
   o.smooth_weight = r.number("smooth_weight", o.smooth_weight, true);
   o.smooth_deviation_weight = r.number("smooth_deviation_weight", o.smooth_deviation_weight, true);
@@ -98,6 +101,8 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   if (o.field_cell_mm < 0.05) throw InputError(file, 0, "planner.field_cell_mm", "must be at least 0.05 mm");
   if (o.sample_spacing_mm < 0.05) throw InputError(file, 0, "planner.sample_spacing_mm", "must be at least 0.05 mm");
   if (o.correction_iterations > 100) throw InputError(file, 0, "planner.correction_iterations", "at most 100");
+  if (o.between_rows_tolerance_mm < 0.001)
+    throw InputError(file, 0, "planner.between_rows_tolerance_mm", "must be at least 0.001 mm");
   if (o.pointwise_step_deg > 10) throw InputError(file, 0, "planner.pointwise_step_deg", "at most 10 degrees");
   return o;
 }

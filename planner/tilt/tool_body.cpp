@@ -40,6 +40,8 @@ double required_clearance(const PlannerBasics& b, ToolComponent c) {
   }
 }
 
+double fixture_clearance(const PlannerBasics& b) { return b.fixture_clearance.value_or(b.safety_distance); }
+
 namespace {
 
 // Closest point to the origin of the simplex y[0..n), by checking every face of it (Johnson's
@@ -291,17 +293,19 @@ BodyClearance body_clearance(const TriangleBvh& bvh, const std::vector<BodyPiece
 }
 
 std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::vector<size_t>& rows, const Tool& tool,
-                                        const PlannerBasics& basics, const std::vector<const Mesh*>& obstacles) {
-  const TriangleBvh bvh(obstacles);
+                                        const PlannerBasics& basics, const PlanObstacles& obstacles) {
+  const TriangleBvh checks(obstacles.check_surfaces), fixtures(obstacles.fixtures);
   const std::vector<BodyPiece> pieces = body_pieces(tool);
   std::vector<double> required;
   for (const auto& p : pieces) required.push_back(required_clearance(basics, p.component));
+  const std::vector<double> fixture_required(pieces.size(), fixture_clearance(basics));
   std::vector<RowClearance> out;
   out.reserve(rows.size());
   for (size_t i : rows) {
     const OrientedRow& row = path.rows.at(i);
-    const BodyClearance c = body_clearance(bvh, pieces, required, {row.p, row.axis});
-    out.push_back({c.distance, c.margin});
+    const BodyClearance c = body_clearance(checks, pieces, required, {row.p, row.axis});
+    const BodyClearance f = body_clearance(fixtures, pieces, fixture_required, {row.p, row.axis});
+    out.push_back({std::min(c.distance, f.distance), std::min(c.margin, f.margin)});
   }
   return out;
 }

@@ -27,9 +27,12 @@ struct BodyPiece {
 // a conservative simplification). Pieces of zero length are left out.
 std::vector<BodyPiece> body_pieces(const Tool& tool);
 
-// Clearance each component must keep: ball and flutes the safety distance, the shank and holder their
-// own when given (else the safety distance). mm.
+// Clearance each component must keep from the check surfaces: ball and flutes the safety distance, the
+// shank and holder their own when given (else the safety distance). mm.
 double required_clearance(const PlannerBasics& basics, ToolComponent component);
+// Clearance every component must keep from the fixtures: planner.fixture_clearance, else the safety
+// distance. mm.
+double fixture_clearance(const PlannerBasics& basics);
 
 struct Pose {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();          // rotation centre (cutter location), mm
@@ -49,6 +52,9 @@ struct BodyClearance {
   double distance = 0;  // smallest distance of the whole body to the surfaces, mm
   double margin = 0;    // smallest (piece distance - its required clearance), mm; >= 0 means clear
   int piece = -1;       // the piece that sets `margin`
+  // With several obstacle sets (check surfaces, fixtures): the set of the smallest distance and the set
+  // that sets `margin`; -1 when nothing is near.
+  int nearest_set = -1, margin_set = -1;
 };
 
 // `required[i]` is the clearance piece i must keep. Exact for both figures.

@@ -3,6 +3,9 @@
 // scene: 8 blades at a blade chordal tolerance of 0.002 mm (about 409k blade triangles), each triangle
 // then split 1:4 at its edge midpoints (same geometry, 1.64M triangles: the generator's channel-width
 // checks do not allow enough blades to get there otherwise with the default tool).
+// BM_PlanDynamicWithFixture adds a clamp block (a 6 mm cube, 1.5 mm into the holder's side at the nominal
+// axis, on the side nearer the blades) halfway along the path: the same plan, with fixtures as a second
+// obstacle set, should cost at most about 10 % more.
 // Options: TILTFIELD_BENCH_ROWS (default 100000), TILTFIELD_BENCH_TOLERANCE (hub, default 0.0005 mm),
 // TILTFIELD_BENCH_BLADE_TOLERANCE (blades, default 0.002 mm), TILTFIELD_BENCH_REPEAT (default 1: plans
 // this many times and reports the fastest, for a machine shared with other jobs; the rate counter then
@@ -12,10 +15,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 
 #include "scenes/scene_impeller.hpp"
 #include "scenes/scene_writer.hpp"
+#include "tiltfield/core/triangle_bvh.hpp"
 #include "tiltfield/tilt/plan.hpp"
 
 namespace {
@@ -23,6 +28,7 @@ namespace {
 struct BenchScene {
   tf::scenes::SceneBundle bundle;
   size_t triangles = 0;
+  tf::Mesh clamp;
 };
 
 double env_or(const char* name, double fallback) {
@@ -53,6 +59,29 @@ tf::Mesh split_1_to_4(const tf::Mesh& m) {
   return tf::mesh_from_arrays(V, F);
 }
 
+tf::Mesh clamp_beside_holder(const tf::scenes::SceneBundle& b) {
+  const auto& rows = b.path.rows;
+  const size_t m = rows.size() / 2;
+  const tf::Tool& t = b.tool;
+  const Eigen::Vector3d n = rows[m].n, f = (rows[m + 1].p - rows[m - 1].p).normalized();
+  const Eigen::Vector3d side = n.cross(f).normalized();
+  const double h = t.length - t.cl_height() + 0.5 * t.holder[0].length, size = 6.0;
+  std::vector<const tf::Mesh*> blades;
+  for (const auto& c : b.check_surfaces) blades.push_back(&c.mesh);
+  const tf::TriangleBvh bvh(blades);
+  Eigen::Vector3d best = Eigen::Vector3d::Zero();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (double s : {-1.0, 1.0}) {
+    const Eigen::Vector3d centre = rows[m].p + h * n + s * (t.holder[0].radius + 0.5 * size - 1.5) * side;
+    const double d = bvh.closest(centre).distance;
+    if (d < nearest) nearest = d, best = centre;
+  }
+  tf::Stock box;
+  box.kind = tf::Stock::Kind::Box;
+  box.box = {best - Eigen::Vector3d::Constant(0.5 * size), best + Eigen::Vector3d::Constant(0.5 * size)};
+  return tf::stock_to_mesh(box);
+}
+
 const BenchScene& scene() {
   static std::unique_ptr<BenchScene> s;  // built once, outside the timed loops
   if (s) return *s;
@@ -79,10 +108,11 @@ const BenchScene& scene() {
     c.mesh = split_1_to_4(c.mesh);
     s->triangles += c.mesh.n_faces();
   }
+  s->clamp = clamp_beside_holder(s->bundle);
   return *s;
 }
 
-void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
+void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows, bool fixture = false) {
   const BenchScene& s = scene();
   tf::ToolPath path = s.bundle.path;
   if (path.rows.size() > max_rows) path.rows.resize(max_rows);
@@ -94,7 +124,9 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
   const int repeat = std::max(1, static_cast<int>(env_or("TILTFIELD_BENCH_REPEAT", 1)));
   for (auto _ : state) {
     for (int k = 0; k < repeat; ++k) {  // on a shared machine: keep the fastest of `repeat` plans
-      tf::PlanResult x = tf::plan_path(path, s.bundle.tool, meshes, s.bundle.planner, s.bundle.feed, o);
+      tf::PlanObstacles obstacles{meshes, {}};
+      if (fixture) obstacles.fixtures.push_back(&s.clamp);
+      tf::PlanResult x = tf::plan_path(path, s.bundle.tool, obstacles, s.bundle.planner, s.bundle.feed, o);
       if (k == 0 || x.metrics.seconds < r.metrics.seconds) r = std::move(x);
     }
     benchmark::DoNotOptimize(r);
@@ -108,15 +140,19 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows) {
   state.counters["cl_points_per_plan_s"] = static_cast<double>(path.rows.size()) / r.metrics.seconds;
   state.counters["rows_nominal_colliding"] = static_cast<double>(r.metrics.rows_nominal_colliding);
   state.counters["rows_below_safety"] = static_cast<double>(r.metrics.rows_below_safety);
+  state.counters["segments_below_safety"] = static_cast<double>(r.metrics.segments_below_safety);
+  state.counters["corrected_rows"] = static_cast<double>(r.metrics.corrected_rows);
   state.counters["rms_second_difference"] = r.metrics.rms_second_difference;
   for (const auto& [name, sec] : r.metrics.stage_seconds) state.counters["s_" + name] = sec;
 }
 
 void BM_PlanDynamic(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX); }
+void BM_PlanDynamicWithFixture(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX, true); }
 // The baseline searches every colliding row independently, on the same path.
 void BM_PlanPointwise(benchmark::State& state) { run(state, tf::PlanMethod::Pointwise, SIZE_MAX); }
 
 BENCHMARK(BM_PlanDynamic)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_PlanDynamicWithFixture)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_PlanPointwise)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace

@@ -53,6 +53,44 @@ TEST(Replan, RowsOutsideTheWindowsAreUnchangedAndEndsAreSmooth) {
   }
 }
 
+// The post as a fixture the plan did not know: the holder collision is re-planned against the fixture,
+// with the fixture clearance, and a collision of the ball itself is left alone with its reason.
+TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
+  tf::test::TempDir dir;
+  tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
+  const tf::PlanOptions po =
+      tf::parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
+  const tf::PlanResult planned = tf::plan(scene, po);
+  scene.fixtures.push_back(tf::test::box({15, 8, 1}, {25, 20, 80}));
+  scene.planner.fixture_clearance = 2.0;
+  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}};
+  std::vector<size_t> rows;
+  for (size_t i = 100; i <= 140; ++i) rows.push_back(i);
+  double before = 1e9;
+  for (const auto& c : tf::row_clearances(planned.path, rows, scene.tool, scene.planner, only_fixture))
+    before = std::min(before, c.margin_mm);
+  EXPECT_LT(before, 0.0);  // the plan without the fixture meets it
+
+  tf::Collision site;
+  site.component = tf::ToolComponent::Holder;
+  site.with = tf::HitWith::Fixture;
+  site.start = {Eigen::Vector3d(19.5, 0, 0), Eigen::Vector3d::UnitZ()};
+  site.end = {Eigen::Vector3d(20, 0, 0), Eigen::Vector3d::UnitZ()};
+  tf::Collision ball = site;
+  ball.component = tf::ToolComponent::Ball;
+  EXPECT_TRUE(tf::unfixable_reason(site).empty());
+  EXPECT_NE(tf::unfixable_reason(ball).find("ball itself"), std::string::npos);
+  EXPECT_TRUE(tf::replan(scene, planned.path, {ball}, {}, po).windows.empty());
+
+  const tf::ReplanResult r = tf::replan(scene, planned.path, {site}, {}, po);
+  ASSERT_EQ(r.windows.size(), 1u);
+  EXPECT_EQ(r.rows_below_safety, 0u);
+  rows.clear();
+  for (size_t i = r.windows[0].first; i <= r.windows[0].last; ++i) rows.push_back(i);
+  for (const auto& c : tf::row_clearances(r.path, rows, scene.tool, scene.planner, only_fixture))
+    EXPECT_GE(c.margin_mm, -0.01);  // at least fixture_clearance from the post
+}
+
 TEST(Replan, StockObstacleKeepsOnlyWhatTheCuttingPartCannotReach) {
   tf::test::TempDir dir;
   const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));

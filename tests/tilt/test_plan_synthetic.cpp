@@ -30,7 +30,7 @@ PlanResult run(const WallScene& s, PlanMethod m, bool smooth = false) {
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   o.method = m;
   o.smooth = smooth;
-  return plan_path(s.path, s.tool, s.meshes(), s.basics, s.feed, o);
+  return plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
 }
 
 double max_angle_deg(const OrientedPath& a, const OrientedPath& b) {

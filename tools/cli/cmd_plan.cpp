@@ -74,7 +74,9 @@ void add_plan_command(CLI::App& app) {
       msg << result.uncleared.size() << " row(s) could not be cleared (row: clearance mm):";
       for (size_t k = 0; k < result.uncleared.size() && k < 10; ++k)
         msg << (k ? "," : "") << " " << result.uncleared[k].row << ": " << fixed(result.uncleared[k].clearance_mm, 4)
-            << (result.uncleared[k].unreachable ? " (unreachable)" : "");
+            << (result.uncleared[k].unreachable ? " (unreachable)" : "")
+            << (result.uncleared[k].between_rows ? " (the motion to the next row)" : "")
+            << (result.uncleared[k].obstacle == "fixtures" ? " (fixture)" : "");
       if (result.uncleared.size() > 10) msg << ", ... (all in --json)";
       throw JobError(msg.str());
     }

@@ -20,15 +20,16 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--resolution", a.options.resolution_mm, "verification dexel spacing, mm")->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rounds", a.options.max_rounds, "re-plan rounds at most")->capture_default_str()->check(CLI::Range(0, 20));
-  cmd->add_flag("--fail-on-collision", a.fail_on_collision, "exit 1 when collisions are left after re-planning");
+  // Exit 1 when collisions are left is the default now; the flag stays so that scripts keep working.
+  cmd->add_flag("--fail-on-collision", a.fail_on_collision, "(the default) exit 1 when collisions are left");
   cmd->callback([] {
     const Scene scene = load_scene(a.scene.empty() ? bundled_scene("impeller") : std::filesystem::path(a.scene));
     a.options.out_dir = a.dir;
     a.options.progress = terminal_progress();
     const JobSummary s = run_job(scene, a.options);
     std::cout << format_summary(s, scene);
-    if (a.fail_on_collision && s.collisions_final > 0)
-      throw JobError(std::to_string(s.collisions_final) + " collision(s) left after re-planning");
+    if (s.collisions_final > 0)
+      throw JobError(std::to_string(s.collisions_final) + " collision(s) left after re-planning (see `left` above)");
   });
 }
 

@@ -2,6 +2,7 @@
 
 #include "report/report.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -117,13 +118,19 @@ class PostAndVerify {
   VerifyOptions verify_options_;
 };
 
-// Re-plans around the collisions against the in-process stock while collisions remain and each round
-// reduces them; `current` ends as the last round kept. Returns the row windows re-planned in kept rounds.
+bool any_fixable(const std::vector<Collision>& collisions) {
+  return std::any_of(collisions.begin(), collisions.end(),
+                     [](const Collision& c) { return unfixable_reason(c).empty(); });
+}
+
+// Re-plans around the collisions against the in-process stock while some may be fixed and each round
+// reduces them; `current` ends as the last round kept. Returns the row windows re-planned in kept rounds;
+// `uncleared` receives the rows the last re-planning could not clear.
 std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOptions& plan_options,
                                                 const PostAndVerify& post_and_verify, const JobOptions& options,
-                                                Round& current, JobSummary& summary) {
+                                                Round& current, JobSummary& summary, std::vector<size_t>& uncleared) {
   std::vector<reporting::RowWindow> replanned;
-  while (!current.verified.report.collisions.empty() && summary.rounds < options.max_rounds) {
+  while (any_fixable(current.verified.report.collisions) && summary.rounds < options.max_rounds) {
     auto t = std::chrono::steady_clock::now();
     StockMeshOptions mesh_options;
     mesh_options.colour_by_deviation = false;
@@ -133,6 +140,7 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
     const ReplanResult re = replan(scene, current.path, current.verified.report.collisions, {&obstacle}, plan_options);
     summary.seconds.replan += seconds_since(t);
     ++summary.rounds;
+    uncleared = re.uncleared;
     Round next = post_and_verify(re.path, summary.seconds);
     if (next.verified.report.collisions.size() >= current.verified.report.collisions.size()) break;
     summary.rows_replanned += re.rows_changed;
@@ -140,6 +148,38 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
     current = std::move(next);
   }
   return replanned;
+}
+
+// Why a collision is left: the replan library's reason, else the rows no axis could clear, else the rounds.
+std::string left_reason(const Scene& scene, const Collision& c, const std::vector<size_t>& uncleared,
+                        const JobSummary& summary, const JobOptions& options) {
+  if (std::string r = unfixable_reason(c); !r.empty()) return r;
+  const auto [first, last] = collision_rows(scene.path, scene.tool, c);
+  const auto it = std::lower_bound(uncleared.begin(), uncleared.end(), first);
+  if (it != uncleared.end() && *it <= last)
+    return "no tool axis within max_tilt_deg and the machine's limits keeps the clearance there";
+  if (summary.rounds >= options.max_rounds)
+    return "not fixed within " + std::to_string(options.max_rounds) + " re-plan round(s) (--rounds)";
+  return "re-planning did not reduce the collisions";
+}
+
+void explain_left(const Scene& scene, const Round& current, const std::vector<size_t>& uncleared,
+                  const JobOptions& options, JobSummary& summary) {
+  for (const Collision& c : current.verified.report.collisions) {
+    std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
+    if (c.rapid) kind += " (rapid)";
+    const std::string reason = left_reason(scene, c, uncleared, summary, options);
+    const auto [first, last] = collision_rows(scene.path, scene.tool, c);
+    auto it = std::find_if(summary.left.begin(), summary.left.end(),
+                           [&](const LeftCollisions& l) { return l.kind == kind && l.reason == reason; });
+    if (it == summary.left.end()) {
+      summary.left.push_back({kind, reason, 0, first, last});
+      it = summary.left.end() - 1;
+    }
+    ++it->count;
+    it->first_row = std::min(it->first_row, first);
+    it->last_row = std::max(it->last_row, last);
+  }
 }
 
 void summarise_final_round(const Round& current, JobSummary& summary) {
@@ -192,9 +232,11 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   const PostAndVerify post_and_verify(scene, options);
   Round current = post_and_verify(planned.result.path, summary.seconds);
   summary.collisions_first = current.verified.report.collisions.size();
+  std::vector<size_t> uncleared;
   const std::vector<reporting::RowWindow> replanned =
-      replan_rounds(scene, planned.options, post_and_verify, options, current, summary);
+      replan_rounds(scene, planned.options, post_and_verify, options, current, summary, uncleared);
   summarise_final_round(current, summary);
+  explain_left(scene, current, uncleared, options, summary);
   write_outputs(scene, planned.result.path, current, replanned, options, summary);
   return summary;
 }
@@ -207,7 +249,11 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
     << " mm (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n"
     << "  program      " << s.blocks << " blocks\n"
     << "  collisions   " << s.collisions_first << " found, " << (s.collisions_first - std::min(s.collisions_first, s.collisions_final))
-    << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n"
+    << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n";
+  for (const auto& l : s.left)
+    o << "  left         " << l.count << " " << l.kind << ", rows " << l.first_row << "-" << l.last_row << ": " << l.reason
+      << "\n";
+  o
     << "  gouges       " << s.gouges_final << " (max " << fixed(s.max_gouge_mm, 3) << " mm)\n"
     << "  removed      " << fixed(s.removed_volume_mm3, 1) << " mm3\n"
     << "  time (s)     plan " << fixed(s.seconds.plan, 2) << ", post " << fixed(s.seconds.post, 2) << ", verify "

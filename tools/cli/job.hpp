@@ -22,6 +22,14 @@ struct StageSeconds {
   double plan = 0, post = 0, verify = 0, replan = 0, report = 0;
 };
 
+// Collisions left after the last round, grouped by kind and by why they were not fixed.
+struct LeftCollisions {
+  std::string kind;    // e.g. "holder in fixture", "ball in check (rapid)"
+  std::string reason;  // why re-planning did not remove them
+  size_t count = 0;
+  size_t first_row = 0, last_row = 0;  // the path rows they span
+};
+
 struct JobSummary {
   size_t rows = 0;
   size_t nominal_colliding_rows = 0;  // rows the nominal axis leaves below the safety distance
@@ -34,6 +42,7 @@ struct JobSummary {
   double max_gouge_mm = 0;
   int rounds = 0;                // re-plan rounds done
   size_t rows_replanned = 0;
+  std::vector<LeftCollisions> left;
   double removed_volume_mm3 = 0;
   StageSeconds seconds;
   std::vector<std::string> files;  // written, in order

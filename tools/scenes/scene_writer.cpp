@@ -74,6 +74,7 @@ fs::path write_scene_folder(const SceneBundle& s, const fs::path& dir) {
   try {
     write_mesh(s.design.mesh, dir / s.design.file);
     for (const auto& c : s.check_surfaces) write_mesh(c.mesh, dir / c.file);
+    for (const auto& f : s.fixtures) write_mesh(f.mesh, dir / f.file);
     if (s.stock_mesh) write_mesh(s.stock_mesh->mesh, dir / s.stock_mesh->file);
     write_toolpath_csv(s.path, dir / "path.csv");
     write_file_atomic(dir / "machine.json", [&](std::ostream& out) { out << s.machine.dump(2) << '\n'; });
@@ -95,11 +96,13 @@ fs::path write_scene_folder(const SceneBundle& s, const fs::path& dir) {
     j["stock"] = {{"box", {{"min", {b.min.x(), b.min.y(), b.min.z()}}, {"max", {b.max.x(), b.max.y(), b.max.z()}}}}};
   }
   j["fixtures"] = json::array();
+  for (const auto& f : s.fixtures) j["fixtures"].push_back(f.file);
   j["tool"] = tool_to_json(s.tool);
   j["path"] = {{"file", "path.csv"}, {"feed", s.feed}};
   j["planner"] = {{"lead_deg", s.planner.lead_deg},
                   {"tilt_deg", s.planner.tilt_deg},
                   {"safety_distance", s.planner.safety_distance}};
+  if (s.planner.fixture_clearance) j["planner"]["fixture_clearance"] = *s.planner.fixture_clearance;
   j["machine"] = "machine.json";
   if (!s.generator.is_null()) j["generator"] = s.generator;
   const fs::path scene_file = dir / "scene.json";

@@ -26,6 +26,7 @@ struct SceneBundle {
   std::vector<NamedMesh> check_surfaces; // obstacles for the whole tool
   std::optional<NamedMesh> stock_mesh;   // a closed stock mesh, or else:
   StockBox stock_box;                    // the raw block (used when stock_mesh is empty)
+  std::vector<NamedMesh> fixtures;       // clamps and the like: the whole tool must never touch them
   Tool tool;
   ToolPath path;                         // ball centres (cutter locations) and design normals
   double feed = 1500.0;                  // mm/min

@@ -48,6 +48,7 @@ struct PlannerBasics {
   double safety_distance = 1.0;   // clearance of the whole tool to the check surfaces, mm
   std::optional<double> shank_clearance;   // mm, defaults to safety_distance
   std::optional<double> holder_clearance;  // mm, defaults to safety_distance
+  std::optional<double> fixture_clearance; // of every part of the tool to the fixtures, mm; defaults to safety_distance
   double max_tilt_deg = 60.0;     // largest angle between the tool axis and the surface normal, deg
 };
 

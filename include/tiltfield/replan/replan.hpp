@@ -15,6 +15,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tiltfield/core/mesh.hpp"
@@ -41,6 +42,15 @@ struct ReplanOptions {
   double crop_margin_mm = 0.5;
 };
 
+// Why no tool axis can remove `c`, or empty when re-planning may: a rapid (the post's links and retracts
+// must clear it, not the axis), or the ball itself inside a fixture or check surface (it sits at the
+// cutter location whatever the axis; only another path can move it).
+std::string unfixable_reason(const Collision& c);
+
+// The path rows (inclusive, first <= last) nearest to the tool poses at the start and end of the
+// collision's block.
+std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c);
+
 struct ReplanWindow {
   size_t first = 0, last = 0;  // rows, inclusive
   int collisions = 0;          // collision sites that fell into it
@@ -64,8 +74,10 @@ struct ReplanResult {
 Mesh stock_obstacle(const Mesh& stock, const ToolPath& path, const Tool& tool, const PlannerBasics& basics,
                     double edge_mm, double margin_mm);
 
-// Re-plans the windows around `collisions`. `original` must have one row per scene path row. `extra_obstacles`
-// are added to the check surfaces for the windows (e.g. stock_obstacle of the in-process or raw stock).
+// Re-plans the windows around `collisions` (those with an unfixable_reason are left alone), against the
+// check surfaces, the fixtures and the machine's limits. `original` must have one row per scene path row.
+// `extra_obstacles` are added to the check surfaces for the windows (e.g. stock_obstacle of the
+// in-process or raw stock).
 ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
                     const std::vector<const Mesh*>& extra_obstacles, const PlanOptions& plan_options,
                     const ReplanOptions& options = {});

@@ -2,16 +2,18 @@
 // 2015), with a point-by-point geometric baseline, clearance guarantees and an optional Ceres smoothing.
 //
 // In: a tool path (cutter locations and design normals), the tool (ball, flutes, shank, holder segments),
-// the check surfaces as triangle meshes, the planner's basics (safety distance, nominal lead/tilt, max
-// tilt) and PlanOptions. Out: an OrientedPath (a unit tool axis, lead/tilt and the body's exact clearance
-// per row), metrics, and the rows that could not be cleared. Units: mm, deg, mm/min.
+// the check surfaces and fixtures as triangle meshes, the planner's basics (safety distance, nominal
+// lead/tilt, max tilt, fixture clearance) and PlanOptions. Out: an OrientedPath (a unit tool axis,
+// lead/tilt and the body's exact clearance to check surfaces and fixtures per row), metrics, and the rows
+// that could not be cleared. Units: mm, deg, mm/min.
 //
 // At each cutter location C_L the tool turns about C_L. Its orientation is a state carried along the path:
 // J dOmega/dt = repulsion + attraction + damping, integrated in time (time = arc length / feed). The
-// repulsion is the gradient of a potential of the distance to the check surfaces, felt by points spread
-// over the whole tool body; the attraction pulls toward the nominal lead/tilt. Every row is then checked
-// exactly (GJK against each triangle) and corrected where it is below its clearance. Defaults derive from
-// the tool and the feed (derive_plan_options). See docs/planner.md.
+// repulsion is the gradient of a potential of the distance to the check surfaces and to the fixtures
+// (each set with its own clearances), felt by points spread over the whole tool body; the attraction
+// pulls toward the nominal lead/tilt. Every row, and the motion between consecutive rows, is then
+// checked exactly (GJK against each triangle) and corrected where it is below its clearance. Defaults
+// derive from the tool and the feed (derive_plan_options). See docs/planner.md.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -55,6 +57,10 @@ struct PlanOptions {
   double correction_window_mm = 0;     // "correction_window_mm", default 2 x response_length
   double correction_margin_mm = 0.05;  // "correction_margin_mm": aimed above the required clearance
   int correction_iterations = 8;       // "correction_iterations"
+  // Between consecutive rows (cutter location along the chord, axis along the great circle) every pose
+  // keeps its clearance less at most this much: the motion is refined until the displacement bound of
+  // each piece proves it, and rows whose motion does not are corrected like colliding rows.
+  double between_rows_tolerance_mm = 0.01;  // "between_rows_tolerance_mm"
 
   // Pointwise baseline.
   double pointwise_step_deg = 0.5;  // "pointwise_step_deg": ring step of the search around the nominal axis
@@ -72,18 +78,32 @@ PlanOptions derive_plan_options(const Tool& tool, const PlannerBasics& basics, d
 PlanOptions parse_plan_options(const nlohmann::json& planner, const std::string& file, const Tool& tool,
                                const PlannerBasics& basics, double feed_mm_min);
 
+// What the planner keeps the whole tool clear of. From the check surfaces each component keeps its own
+// clearance (PlannerBasics: safety_distance, shank_clearance, holder_clearance); from the fixtures every
+// component keeps fixture_clearance. Either list may be empty.
+struct PlanObstacles {
+  std::vector<const Mesh*> check_surfaces;
+  std::vector<const Mesh*> fixtures;
+};
+// The scene's check surfaces and fixtures.
+PlanObstacles scene_obstacles(const Scene& scene);
+
 struct PlanMetrics {
   size_t rows = 0;
   double min_clearance_mm = 0;
+  std::string min_clearance_obstacle = "none";  // the set it is measured to: "check_surfaces" | "fixtures"
+  size_t check_triangles = 0, fixture_triangles = 0;  // the obstacles the plan was made against
   size_t rows_below_safety = 0;       // rows whose some component is below its required clearance
   size_t rows_nominal_colliding = 0;  // the same figure for the nominal axis
   double max_step_deg = 0;            // largest axis turn between consecutive rows
   double max_deg_per_mm = 0;          // largest axis turn per mm of path
   double rms_second_difference = 0;   // RMS of |a[i-1] - 2 a[i] + a[i+1]| (unit axes), rad
   size_t corrected_rows = 0;          // rows changed by the guarantee pass
+  size_t segments_below_safety = 0;   // motions between rows not proven to keep the clearance (see
+                                      // PlanOptions::between_rows_tolerance_mm)
   double seconds = 0;                 // wall time of the whole plan, preprocessing included
   // Wall time per stage: "bvh", "nominal_check", "field", "axes" (dynamics or search), "clearance",
-  // "corrections", "smoothing".
+  // "corrections", "smoothing", "between_rows".
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::string method;
   bool smoothed = false;
@@ -93,7 +113,9 @@ struct UnclearedRow {
   size_t row = 0;          // 0-based row of the path
   double clearance_mm = 0; // smallest distance of the body
   double margin_mm = 0;    // clearance minus the required clearance of the offending component
+  std::string obstacle;    // the set of that component's margin: "check_surfaces" | "fixtures" (or empty)
   bool unreachable = false;  // the machine has no joint solution for the axis (rotary limits)
+  bool between_rows = false; // the row is clear but the motion to the next row is not
 };
 
 struct PlanResult {
@@ -103,13 +125,14 @@ struct PlanResult {
   std::vector<std::string> notes;       // e.g. limits that were not checked
 };
 
-// Plans the scene's path against its check surfaces. Never throws for uncleared rows (see `uncleared`).
+// Plans the scene's path against its check surfaces and fixtures. Never throws for uncleared rows (see
+// `uncleared`).
 PlanResult plan(const Scene& scene, const PlanOptions& options, const Progress& progress = {});
 
 // The same on explicit inputs (tests, benchmarks). `feed` is the default feed, mm/min.
 // `machine`: when given and it has rotary axes with limits, every axis must have a joint solution
 // (Kinematics::inverse); rows without one are corrected like colliding rows, or listed.
-PlanResult plan_path(const ToolPath& path, const Tool& tool, const std::vector<const Mesh*>& check_surfaces,
+PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles& obstacles,
                      const PlannerBasics& basics, double feed, const PlanOptions& options,
                      const MachineSpec* machine = nullptr, const Progress& progress = {});
 
@@ -125,7 +148,7 @@ struct RowClearance {
   double margin_mm = 0;
 };
 std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::vector<size_t>& rows, const Tool& tool,
-                                        const PlannerBasics& basics, const std::vector<const Mesh*>& obstacles);
+                                        const PlannerBasics& basics, const PlanObstacles& obstacles);
 
 // Metrics that only depend on the axes (step, deg/mm, RMS second difference); the rest left as is.
 void axis_metrics(const OrientedPath& path, PlanMetrics& metrics);
