@@ -113,8 +113,11 @@ void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& r
 // is known (or known to clear), the triangles near the junction are pruned on the capsule bound instead
 // of each needing the exact (GJK) cylinder distance.
 size_t piece_query_order(const std::vector<BodyPiece>& pieces, size_t k);
-// `hints`, when given, holds one hint per piece (resized as needed).
+// `hints`, when given, holds one hint per piece (resized as needed). `below`, when given, is a result
+// already known (another obstacle set's): only distances and margins below it are searched for, and it
+// is returned unchanged where none is found.
 BodyClearance body_clearance(const ClearanceBvh& bvh, const std::vector<BodyPiece>& pieces,
-                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints = nullptr);
+                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints = nullptr,
+                             const BodyClearance* below = nullptr);
 
 }  // namespace tf

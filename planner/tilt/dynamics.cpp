@@ -118,7 +118,10 @@ struct ChunkCache {
 class Repulsion {
  public:
   Repulsion(const PotentialSource& source, const DynamicsParams& p)
-      : bvh_(*source.bvh), field_(*source.field), s_(*source.samples), p_(p) {
+      : bvh_(*source.bvh), field_(*source.field), s_(*source.samples), p_(p),
+        // A small set (a few fixtures) is cheap to query without a limit, and its exact distance keeps a
+        // chunk's bound valid far longer than the limited query's.
+        unlimited_(source.bvh->size() <= 4096) {
     cache_.centre.assign(s_.chunks.size(), Vector3d::Constant(std::numeric_limits<double>::infinity()));
     cache_.bound.assign(s_.chunks.size(), -1.0);
     cache_.hint.assign(s_.chunks.size(), -1);
@@ -149,7 +152,7 @@ class Repulsion {
         }
       }
       if (lb < reach && !fresh) {
-        const double limit = 2 * (reach + ch.rho);
+        const double limit = unlimited_ ? std::numeric_limits<double>::infinity() : 2 * (reach + ch.rho);
         const ClosestHit h = bvh_.closest(cc, limit, cache_.hint[k]);
         cache_.hint[k] = h.triangle;
         cache_.centre[k] = cc;
@@ -179,6 +182,7 @@ class Repulsion {
   DistanceField& field_;
   const BodySamples& s_;
   const DynamicsParams& p_;
+  bool unlimited_;
   ChunkCache cache_;
 };
 

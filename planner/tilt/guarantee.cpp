@@ -30,16 +30,13 @@ BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, Clearance
   for (size_t s = 0; s < obstacles.size(); ++s) {
     const ObstacleSet& set = obstacles[s];
     if (set.bvh.empty()) continue;
-    const BodyClearance c = body_clearance(set.bvh, pieces, set.required, p, set_hints(hints, s, pieces.size()));
-    if (c.distance < out.distance) {
-      out.distance = c.distance;
-      out.nearest_set = static_cast<int>(s);
-    }
-    if (c.margin < out.margin) {
-      out.margin = c.margin;
-      out.piece = c.piece;
-      out.margin_set = static_cast<int>(s);
-    }
+    // Searched only below what the sets before found: a far fixture costs a node or two.
+    const BodyClearance c = body_clearance(set.bvh, pieces, set.required, p, set_hints(hints, s, pieces.size()), &out);
+    if (c.distance < out.distance) out.nearest_set = static_cast<int>(s);
+    if (c.margin < out.margin) out.margin_set = static_cast<int>(s);
+    out.distance = c.distance;
+    out.margin = c.margin;
+    out.piece = c.piece;
   }
   return out;
 }

@@ -257,11 +257,13 @@ double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pos
 }
 
 BodyClearance body_clearance(const ClearanceBvh& bvh, const std::vector<BodyPiece>& pieces,
-                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints) {
+                             const std::vector<double>& required, const Pose& pose, std::vector<int>* hints,
+                             const BodyClearance* below) {
   if (hints && hints->size() != pieces.size()) hints->assign(pieces.size(), -1);
   BodyClearance out;
   out.distance = std::numeric_limits<double>::infinity();
   out.margin = std::numeric_limits<double>::infinity();
+  if (below) out = *below;
   for (size_t k = 0; k < pieces.size(); ++k) {
     const size_t i = piece_query_order(pieces, k);
     const double limit = std::max(out.distance, out.margin + required[i]);
