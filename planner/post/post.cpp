@@ -1,10 +1,12 @@
 // The post-processor's main loop: rows -> tool poses -> joints -> linearised blocks, with the safe
-// approach, retract and (where the limits force one) change of configuration.
+// approach, retract, links between rows too far apart to cut through and (where the limits force one)
+// change of configuration.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "post_internal.hpp"
+#include "transit_check.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
 
@@ -16,12 +18,25 @@ Dialect effective_dialect(const PostOptions& options, const MachineSpec& machine
   return machine.output == OutputMode::Tcp ? Dialect::Tcp : Dialect::Joint;
 }
 
+double effective_link_gap(const PostOptions& options, const Tool& tool) {
+  return options.link_gap_mm.value_or(std::max(1.0, kLinkGapToolRadii * tool.radius()));
+}
+
+void set_transit_obstacles(PostJob& job, const Scene& scene) {
+  job.stock = stock_to_mesh(scene.stock);
+  job.fixtures.clear();
+  job.check_surfaces.clear();
+  for (const Mesh& m : scene.fixtures) job.fixtures.push_back(&m);
+  for (const Mesh& m : scene.check_surfaces) job.check_surfaces.push_back(&m);
+}
+
 namespace {
 
 class Builder {
  public:
-  Builder(const Kinematics& kin, const PostJob& job, const PostOptions& opt, bool tcp, Eigen::AlignedBox3d bounds)
-      : kin_(kin), job_(job), opt_(opt), tcp_(tcp), bounds_(bounds) {
+  Builder(const Kinematics& kin, const PostJob& job, const PostOptions& opt, bool tcp, Eigen::AlignedBox3d bounds,
+          const TransitChecker& check)
+      : kin_(kin), job_(job), opt_(opt), tcp_(tcp), bounds_(bounds), check_(check) {
     zsafe_ = transit_height();
     const auto zl = job.machine.limits.find('Z');
     if (!tcp_ && zl != job.machine.limits.end() && zsafe_ > zl->second.max) {
@@ -49,6 +64,32 @@ class Builder {
     const Transit t = transit(pose, j);
     rapid(t.retract);
     rapid(t.high);
+  }
+
+  // A link between rows too far apart to cut through: retract, rapid(s), approach and a feed plunge. With
+  // the rotaries unchanged the rapid runs at the lowest height whose swept motion clears the obstacles;
+  // where they turn, at the transit height (on a table machine the part turns with them, and that height
+  // clears any turn).
+  void link(const ToolPose& from_pose, const Joints& from, const ToolPose& to_pose, const Joints& to, double feed) {
+    const bool same_rotaries =
+        std::abs(from.a - to.a) < 1e-9 && std::abs(from.b - to.b) < 1e-9 && std::abs(from.c - to.c) < 1e-9;
+    if (!same_rotaries || !check_.active()) {
+      reposition(from_pose, from, to_pose, to, feed);
+      return;
+    }
+    const Transit a = transit(from_pose, from, false), b = transit(to_pose, to, false);
+    const std::optional<double> h = link_height(a.retract, b.retract, from_pose.axis);
+    if (!h) {
+      reposition(from_pose, from, to_pose, to, feed);
+      return;
+    }
+    Joints over_a = a.retract, over_b = b.retract;
+    over_a.z = over_b.z = *h;
+    rapid(a.retract);
+    if (over_a.z > a.retract.z) rapid(over_a);
+    rapid(over_b);
+    if (over_b.z > b.retract.z) rapid(b.retract);
+    plunge(target(to_pose, to), feed);
   }
 
   // A change of configuration between two solutions of (possibly different) poses: retract, turn at the
@@ -102,6 +143,57 @@ class Builder {
     Joints high;     // further along the axis up to the transit height
   };
 
+  // The tool pose at programmed joints (tcp: the tip itself, with `axis`).
+  ToolPose pose_at(const Joints& j, const Eigen::Vector3d& axis) const {
+    if (tcp_) return ToolPose{Eigen::Vector3d(j.x, j.y, j.z), axis};
+    return kin_.forward(j);
+  }
+
+  // Whether the rapids through `corners` (rotaries fixed, so each is a translation of the tool in the
+  // part frame) stay within the limits and keep half of safe_z from the obstacles. Half: the corners
+  // themselves clear by safe_z, so a move that starts at one has room before the margin is reached.
+  bool rapids_clear(const std::vector<Joints>& corners, const Eigen::Vector3d& axis) const {
+    const double margin = 0.5 * job_.machine.safe_z;
+    for (size_t k = 0; k < corners.size(); ++k) {
+      if (!tcp_ && !kin_.within_limits(corners[k])) return false;
+      if (k == 0) continue;
+      const ToolPose p0 = pose_at(corners[k - 1], axis), p1 = pose_at(corners[k], axis);
+      if (!check_.translation_clear(p0, p1.tip - p0.tip, margin)) return false;
+    }
+    return true;
+  }
+
+  // The lowest programmed Z from the higher of the two retracts up to the transit height at which the
+  // rapids retract -> up -> across -> down -> retract clear (rapids_clear): 16 steps up to the transit
+  // height, then 8 bisections between the last step that fails and the first that clears (so within
+  // 1/4096 of that range of the lowest, where clearing is monotone in the height there). nullopt: none.
+  std::optional<double> link_height(const Joints& a, const Joints& b, const Eigen::Vector3d& axis) const {
+    const double lo = std::max(a.z, b.z), hi = std::max(lo, zsafe_);
+    auto clears_at = [&](double z) {
+      Joints up_a = a, up_b = b;
+      up_a.z = up_b.z = z;
+      return rapids_clear({a, up_a, up_b, b}, axis);
+    };
+    constexpr int kSteps = 16;
+    for (int k = 0; k <= kSteps; ++k) {
+      double good = lo + (hi - lo) * k / kSteps;
+      if (!clears_at(good)) continue;
+      if (k == 0) return good;
+      double bad = lo + (hi - lo) * (k - 1) / kSteps;
+      for (int i = 0; i < 8; ++i) {
+        const double mid = 0.5 * (bad + good);
+        (clears_at(mid) ? good : bad) = mid;
+      }
+      return good;
+    }
+    return std::nullopt;
+  }
+
+  // How far to back off along the axis: to the part's extent plus safe_z.
+  double full_lift(const ToolPose& pose) const {
+    return std::max(0.0, max_projection(bounds_, pose.axis) - pose.tip.dot(pose.axis)) + job_.machine.safe_z;
+  }
+
   // The height (joint Z, or part Z for tcp) above which the rotaries may turn without hitting the part.
   double transit_height() const {
     const MachineSpec& m = job_.machine;
@@ -117,8 +209,23 @@ class Builder {
     return top + L;  // head machines: a vertical tool is the lowest; joint Z = tip Z + L there
   }
 
-  Transit transit(const ToolPose& pose, const Joints& j) {
-    double lift = std::max(0.0, max_projection(bounds_, pose.axis) - pose.tip.dot(pose.axis)) + job_.machine.safe_z;
+  // The retract and the point at the transit height above it. With obstacles the retract backs off only
+  // as far as the body needs to clear them by safe_z (at least 1 mm, so that the plunge is a move), never
+  // farther than full_lift; when the rise to the transit height (`check_rise`) would come within half of
+  // safe_z of them, the retract is the full one, as without obstacles.
+  Transit transit(const ToolPose& pose, const Joints& j, bool check_rise = true) {
+    const double full = full_lift(pose);
+    if (!check_.active()) return transit_at(pose, j, full);
+    const double lift = check_.lowest_lift(pose, std::min(1.0, full), full, job_.machine.safe_z).value_or(full);
+    Transit t = transit_at(pose, j, lift);
+    if (!check_rise || lift >= full) return t;
+    const ToolPose low = pose_at(t.retract, pose.axis), high = pose_at(t.high, pose.axis);
+    if (check_.translation_clear(low, high.tip - low.tip, 0.5 * job_.machine.safe_z)) return t;
+    return transit_at(pose, j, full);
+  }
+
+  Transit transit_at(const ToolPose& pose, const Joints& j, double lift) {
+    const double wanted = lift;  // the limits may shorten it
     Transit t;
     Eigen::Vector3d dir = pose.axis;  // how the programmed XYZ move when the tip moves along its axis
     if (tcp_) {
@@ -129,7 +236,7 @@ class Builder {
       for (int tries = 0; tries < 8 && !r; ++tries, lift *= 0.5)
         r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
       if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
-      if (tries_warned_ == 0 && lift * 2.0 < job_.machine.safe_z) {
+      if (tries_warned_ == 0 && lift * 2.0 < std::min(wanted, job_.machine.safe_z) - 1e-9) {
         prog_.warnings.push_back("a retract is shortened to " + fixed(lift * 2.0, 3) + " mm by the machine's limits");
         ++tries_warned_;
       }
@@ -173,6 +280,7 @@ class Builder {
   const PostOptions& opt_;
   bool tcp_;
   Eigen::AlignedBox3d bounds_;
+  const TransitChecker& check_;
   double zsafe_ = 0.0;
   int tries_warned_ = 0;
   Program prog_;
@@ -291,10 +399,15 @@ struct RowMove {
 
 // The cutting blocks between consecutive rows, each move linearised within the tolerances.
 void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, const std::vector<Joints>& joints,
-                const LinearizeOptions& lo, const Progress& progress) {
+                const LinearizeOptions& lo, double link_gap, const Progress& progress) {
   const std::vector<ToolPose>& poses = rows.poses;
   std::vector<PosedJoints> pieces;
   for (size_t i = 1; i < poses.size(); ++i) {
+    if ((poses[i].tip - poses[i - 1].tip).norm() > link_gap) {
+      // A jump (another pass, across a boss): linked, not cut through whatever lies between.
+      b.link(poses[i - 1], joints[i - 1], poses[i], joints[i], rows.feeds[i]);
+      continue;
+    }
     pieces.clear();
     RowMove move{kin, rows, joints, lo, b, i, poses[i - 1], joints[i - 1], pieces};
     if (!linearize(kin, move.p0, move.j0, poses[i], joints[i], lo, pieces) && !move.change_before() &&
@@ -320,9 +433,12 @@ Program post_program(const OrientedPath& path, const PostJob& job, const PostOpt
 
   const bool tcp = dialect == Dialect::Tcp;
   const LinearizeOptions lo = linearize_options(options, tcp);
-  Builder b(kin, job, options, tcp, rows.bounds);
+  const double link_gap = effective_link_gap(options, job.tool);
+  if (!(link_gap > 0.0)) throw JobError("the link gap must be positive");
+  const TransitChecker check(job);
+  Builder b(kin, job, options, tcp, rows.bounds, check);
   b.start(rows.poses[0], joints[0], rows.feeds[0]);
-  post_moves(b, kin, rows, joints, lo, progress);
+  post_moves(b, kin, rows, joints, lo, link_gap, progress);
   b.finish(rows.poses.back(), joints.back());
   report(progress, "post", 1.0);
   return std::move(b.program());

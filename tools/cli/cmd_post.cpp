@@ -1,4 +1,5 @@
 // tiltfield post SCENE ORIENTED.csv -o PROGRAM.ngc: inverse kinematics, linearisation and G-code/APT output.
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -22,6 +23,8 @@ struct PostArgs {
   PostOptions options;
   FeedScheduleOptions schedule;  // max_mrr > 0: feeds scheduled on a verification of the posted program
   double resolution = 0.1;       // mm, of that verification
+  double link_gap = 0.0;         // mm, taken only when --link-gap is given
+  CLI::Option* link_gap_option = nullptr;
 };
 
 void positive_option(double v, const char* name) {
@@ -55,6 +58,11 @@ void run_post(PostArgs& a) {
   if (!(o.pole_tolerance_deg >= 0.0)) throw InputError("", 0, "--pole-tol", "must not be negative");
   positive_option(o.spindle_rpm, "--spindle");
   if (o.tool_number < 0) throw InputError("", 0, "--tool-number", "must not be negative");
+  if (a.link_gap_option && a.link_gap_option->count() > 0) {
+    if (!(a.link_gap > 0.0) || !std::isfinite(a.link_gap))
+      throw InputError("", 0, "--link-gap", "must be a positive number of mm");
+    o.link_gap_mm = a.link_gap;
+  }
   if (!a.dialect.empty())
     o.dialect = a.dialect == "joint" ? Dialect::Joint : a.dialect == "tcp" ? Dialect::Tcp : Dialect::Apt;
   if (!a.tcp_style.empty()) o.tcp_style = a.tcp_style == "M128" ? TcpStyle::M128 : TcpStyle::G43_4;
@@ -68,6 +76,7 @@ void run_post(PostArgs& a) {
   job.tool = scene.tool;
   job.feed = scene.feed;
   job.part_bounds = scene_bounds(scene);
+  set_transit_obstacles(job, scene);
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);
@@ -121,6 +130,9 @@ void add_post_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--spindle", a.options.spindle_rpm, "spindle speed, rev/min")->capture_default_str();
   cmd->add_option("--tool-number", a.options.tool_number, "tool number (T and H words)")->capture_default_str();
+  a.link_gap_option = cmd->add_option("--link-gap", a.link_gap,
+                                      "rows farther apart are linked (retract, rapid, approach), not cut through, mm; "
+                                      "default: 4 x the tool radius");
   cmd->add_option("--max-mrr", a.schedule.max_mrr,
                   "simulate the program and lower feeds so that no block removes more than this many mm3/min");
   cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")->capture_default_str();

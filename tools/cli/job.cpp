@@ -89,6 +89,7 @@ class PostAndVerify {
     post_job_.tool = scene.tool;
     post_job_.feed = scene.feed;
     post_job_.part_bounds = scene_bounds(scene);
+    set_transit_obstacles(post_job_, scene);
     post_job_.title = "tiltfield run: " + scene.file.filename().string();
     verify_options_.resolution = options.resolution_mm;
     verify_options_.progress = options.progress;

@@ -1,11 +1,13 @@
 // tiltfield post: the post-processor: an oriented path -> Program (machine axes, linearised) -> text.
 //
-// In: an OrientedPath and a PostJob (machine, tool, feed, part bounds for the safe heights). Out: a Program
-// of motion blocks (joint solutions through the machine's inverse kinematics, the nearest to the previous
-// row, bisected until the tip stays within tip_tolerance_mm of the straight segment and the axis within
-// axis_tolerance_deg of the great circle; safe approach and retract), then RS274/NGC text (joint or TCP
-// dialect, G93 inverse time on rotary joint moves) or APT CLDATA. Units: mm, deg, mm/min. Defaults in
-// PostOptions. See docs/post.md.
+// In: an OrientedPath and a PostJob (machine, tool, feed, part bounds for the safe heights, and optionally
+// the stock, fixtures and check surfaces the transit moves must clear). Out: a Program of motion blocks
+// (joint solutions through the machine's inverse kinematics, the nearest to the previous row, bisected
+// until the tip stays within tip_tolerance_mm of the straight segment and the axis within
+// axis_tolerance_deg of the great circle; approach, retract and links between rows farther apart than
+// link_gap_mm, lifted only as far as the obstacles need), then RS274/NGC text (joint or TCP dialect, G93
+// inverse time on rotary joint moves) or APT CLDATA. Units: mm, deg, mm/min. Defaults in PostOptions.
+// See docs/post.md.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -18,7 +20,9 @@
 #include "tiltfield/core/kinematics.hpp"
 #include "tiltfield/core/oriented_path.hpp"
 #include "tiltfield/core/program.hpp"
+#include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/scene.hpp"
 #include "tiltfield/core/tool.hpp"
 
 namespace tf {
@@ -39,7 +43,16 @@ struct PostOptions {
   double spindle_rpm = 10000.0;        // S word, rev/min
   int tool_number = 1;                 // T and H words
   double plunge_feed_fraction = 0.5;   // approach feed = this fraction of the first row's feed
+  // Consecutive rows whose tool tips are farther apart than this are not cut through but linked:
+  // retract, rapid(s), approach and a feed plunge. Default (nullopt): kLinkGapToolRadii x the tool
+  // radius (at least 1 mm), above any cutting step of the bundled scenes (<= 2 radii). mm, > 0.
+  std::optional<double> link_gap_mm;
 };
+
+// The default link gap in tool radii (see PostOptions::link_gap_mm).
+inline constexpr double kLinkGapToolRadii = 4.0;
+// The link gap in effect for these options and tool, mm.
+double effective_link_gap(const PostOptions& options, const Tool& tool);
 
 // What the post needs to know besides the path.
 struct PostJob {
@@ -48,7 +61,18 @@ struct PostJob {
   double feed = 1000.0;               // mm/min, for rows without their own feed
   Eigen::AlignedBox3d part_bounds;    // stock, design and fixtures, part frame, mm (for safe heights)
   std::string title = "tiltfield";    // a comment line in the program header
+  // What the approach, retract and link moves are checked against, part frame. All empty: every retract
+  // lifts to part_bounds' extent along the axis plus safe_z (the behaviour without obstacles). Otherwise
+  // a retract lifts only until the tool body clears all of them by safe_z (never above that extent) and
+  // a link's rapid runs at the lowest height whose swept motion clears them (docs/post.md).
+  Mesh stock;                               // closed: a solid (no faces: not checked)
+  std::vector<const Mesh*> fixtures;        // distance only; the meshes outlive the job
+  std::vector<const Mesh*> check_surfaces;  // distance only; the meshes outlive the job
 };
+
+// Fills job.stock, job.fixtures and job.check_surfaces from the scene (the stock as a closed mesh,
+// pointers to the scene's fixtures and check surfaces: the scene must outlive the job).
+void set_transit_obstacles(PostJob& job, const Scene& scene);
 
 // A row that cannot be posted (unreachable pose, axis out of limits). The CLI turns it into exit 2
 // naming the file line of that row.

@@ -1,0 +1,158 @@
+// Clearance of the tool body (a stack of capsules) to the stock solid and to the fixture and check
+// surfaces, for the post's approach, retract and link moves.
+#include "transit_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tf::post_detail {
+
+namespace {
+
+constexpr double kTransitInf = std::numeric_limits<double>::infinity();
+
+// Three fixed ray directions with no zero component (so the slab test needs no special case) and no
+// simple relation to the axes or to each other: a ray grazing an edge or vertex of one is unlikely to
+// graze one with another, and the majority of the three parities decides.
+const Eigen::Vector3d kParityRays[3] = {Eigen::Vector3d(0.2345, 0.4567, 0.8581).normalized(),
+                                        Eigen::Vector3d(-0.6789, 0.1234, 0.7239).normalized(),
+                                        Eigen::Vector3d(0.3141, -0.8272, -0.4657).normalized()};
+
+// Moeller-Trumbore: does the ray p + t dir, t > 0, pass through triangle tri?
+bool ray_meets_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& dir, const Triangle& tri) {
+  const Eigen::Vector3d e1 = tri.b - tri.a, e2 = tri.c - tri.a;
+  const Eigen::Vector3d h = dir.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-14 * (e1.squaredNorm() + e2.squaredNorm())) return false;  // parallel or degenerate
+  const double f = 1.0 / det;
+  const Eigen::Vector3d s = p - tri.a;
+  const double u = f * s.dot(h);
+  if (u < 0.0 || u > 1.0) return false;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = f * dir.dot(q);
+  if (v < 0.0 || u + v > 1.0) return false;
+  return f * e2.dot(q) > 0.0;
+}
+
+}  // namespace
+
+std::vector<BodyCapsule> body_capsules(const Tool& tool) {
+  std::vector<BodyCapsule> caps;
+  caps.push_back({tool.cl_height(), tool.flute_length, tool.radius()});
+  caps.push_back({tool.flute_length, tool.length, tool.shank_radius});
+  double h = tool.length;
+  for (const HolderSegment& s : tool.holder) {
+    caps.push_back({h, h + s.length, s.radius});
+    h += s.length;
+  }
+  for (size_t i = 1; i < caps.size(); ++i) caps[i].radius = std::max(caps[i].radius, caps[i - 1].radius);
+  return caps;
+}
+
+TransitChecker::TransitChecker(const PostJob& job) : capsules_(body_capsules(job.tool)) {
+  if (job.stock.n_faces() > 0) {
+    stock_ = TriangleBvh(std::vector<const Mesh*>{&job.stock});
+    stock_box_ = stock_.bounds();
+  }
+  std::vector<const Mesh*> surfaces = job.fixtures;
+  surfaces.insert(surfaces.end(), job.check_surfaces.begin(), job.check_surfaces.end());
+  std::erase(surfaces, nullptr);
+  if (!surfaces.empty()) surfaces_ = TriangleBvh(surfaces);
+}
+
+double TransitChecker::segment_distance(const TriangleBvh& bvh, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                        double start) const {
+  const Eigen::Vector3d lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+  // The distance between the segment's box and a node's box bounds the segment's distance from below.
+  return bvh.minimum(
+      [&](const Eigen::Vector3d& nlo, const Eigen::Vector3d& nhi) {
+        return (nlo - hi).cwiseMax(lo - nhi).cwiseMax(0.0).norm();
+      },
+      [&](int i, double) { return segment_triangle_distance(a, b, bvh.triangle(i)); }, start);
+}
+
+int TransitChecker::ray_crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const {
+  const Eigen::Vector3d inv = dir.cwiseInverse();
+  int crossings = 0;
+  // The best-first search visits every node whose bound is below the start (1): the nodes the ray meets
+  // get 0, the others +inf; the leaf never lowers the minimum and only counts.
+  stock_.minimum(
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        const Eigen::Vector3d t0 = (lo - p).cwiseProduct(inv), t1 = (hi - p).cwiseProduct(inv);
+        const double enter = std::max(t0.cwiseMin(t1).maxCoeff(), 0.0), leave = t0.cwiseMax(t1).minCoeff();
+        return leave >= enter ? 0.0 : kTransitInf;
+      },
+      [&](int i, double) {
+        crossings += ray_meets_triangle(p, dir, stock_.triangle(i)) ? 1 : 0;
+        return kTransitInf;
+      },
+      1.0);
+  return crossings;
+}
+
+bool TransitChecker::inside_stock(const Eigen::Vector3d& p) const {
+  if (stock_.empty() || !stock_box_.contains(p)) return false;
+  int odd = 0;
+  for (const Eigen::Vector3d& dir : kParityRays) odd += ray_crossings(p, dir) % 2;
+  return odd >= 2;
+}
+
+double TransitChecker::capsule_clearance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
+                                         double enough) const {
+  // Each search stops at enough + radius. Beyond it a segment is well clear of a surface; from the stock
+  // it is either well clear or deep inside, which the parity test tells (the capped depth then still
+  // bounds the way out from below, and the returned value from above).
+  double c = enough;
+  if (!surfaces_.empty()) c = std::min(c, segment_distance(surfaces_, a, b, enough + radius) - radius);
+  if (!stock_.empty()) {
+    const double d = segment_distance(stock_, a, b, enough + radius);
+    if (d < 1e-12)
+      c = std::min(c, -radius);
+    else if (inside_stock(a))
+      c = std::min(c, -(d + radius));
+    else
+      c = std::min(c, d - radius);
+  }
+  return c;
+}
+
+double TransitChecker::clearance(const ToolPose& pose, double enough) const {
+  double c = enough;
+  for (const BodyCapsule& k : capsules_)
+    c = std::min(c, capsule_clearance(pose.tip + k.h0 * pose.axis, pose.tip + k.h1 * pose.axis, k.radius, enough));
+  return c;
+}
+
+std::optional<double> TransitChecker::lowest_lift(const ToolPose& pose, double min_lift, double max_lift,
+                                                  double margin) const {
+  const double enough = margin + 50.0;  // larger steps are not needed; a cap keeps the searches short
+  double lift = min_lift;
+  for (int k = 0; k < 4096 && lift <= max_lift; ++k) {
+    const double c = clearance(ToolPose{pose.tip + lift * pose.axis, pose.axis}, enough);
+    if (c >= margin) {
+      // The motion out of the cut: the top capsule lengthened by the lift must touch nothing.
+      const BodyCapsule& top = capsules_.back();
+      const double swept = capsule_clearance(pose.tip + top.h0 * pose.axis, pose.tip + (top.h1 + lift) * pose.axis,
+                                             top.radius, enough);
+      if (swept < kMinStepMm) return std::nullopt;  // lifting further only lengthens it
+      return lift;
+    }
+    lift += std::max(margin - c, kMinStepMm);
+  }
+  return std::nullopt;
+}
+
+bool TransitChecker::translation_clear(const ToolPose& pose, const Eigen::Vector3d& move, double margin) const {
+  const double length = move.norm(), enough = margin + 50.0;
+  double s = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    const double c = clearance(ToolPose{pose.tip + s * move, pose.axis}, enough);
+    if (c < margin + kMinStepMm) return false;
+    if (s >= 1.0 || length < 1e-12) return true;
+    s = std::min(1.0, s + (c - margin) / length);
+  }
+  return false;
+}
+
+}  // namespace tf::post_detail
