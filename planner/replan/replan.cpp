@@ -33,9 +33,10 @@ double smoothstep(double x) {
 std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<double>& arc, const Tool& tool,
                                       const std::vector<Collision>& collisions, double pad_mm) {
   std::vector<ReplanWindow> w;
-  for (const auto& s : collisions) {
-    if (!unfixable_reason(s).empty()) continue;
-    auto [a, b] = collision_rows(path, tool, s);
+  const std::vector<std::string> unfixable = unfixable_reasons(path, tool, collisions);
+  for (size_t k = 0; k < collisions.size(); ++k) {
+    if (!unfixable[k].empty()) continue;
+    auto [a, b] = collision_rows(path, tool, collisions[k]);
     const double sa = arc[a] - pad_mm, sb = arc[b] + pad_mm;
     while (a > 0 && arc[a - 1] >= sa) --a;
     while (b + 1 < arc.size() && arc[b + 1] <= sb) ++b;
@@ -69,6 +70,34 @@ std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool,
   const size_t i0 = nearest_row(path, c.start.tip + cl * c.start.axis);
   const size_t i1 = nearest_row(path, c.end.tip + cl * c.end.axis);
   return {std::min(i0, i1), std::max(i0, i1)};
+}
+
+std::vector<std::string> unfixable_reasons(const ToolPath& path, const Tool& tool,
+                                           const std::vector<Collision>& collisions) {
+  std::vector<std::string> out;
+  struct Span {
+    size_t first, last;
+    HitWith with;
+  };
+  std::vector<Span> ball;
+  for (const Collision& c : collisions) {
+    out.push_back(unfixable_reason(c));
+    if (c.component == ToolComponent::Ball && !c.rapid) {
+      const auto [a, b] = collision_rows(path, tool, c);
+      ball.push_back({a, b, c.with});
+    }
+  }
+  for (size_t k = 0; k < collisions.size(); ++k) {
+    if (!out[k].empty()) continue;
+    const auto [a, b] = collision_rows(path, tool, collisions[k]);
+    for (const Span& s : ball)
+      if (s.with == collisions[k].with && a <= s.last && s.first <= b) {
+        out[k] = "the cutter passes through the " + std::string(to_string(s.with)) +
+                 " here (the ball meets it on the same rows); no tool axis fixes that";
+        break;
+      }
+  }
+  return out;
 }
 
 std::vector<Collision> read_replan_collisions(const std::filesystem::path& verify_json) {

@@ -119,9 +119,9 @@ class PostAndVerify {
   VerifyOptions verify_options_;
 };
 
-bool any_fixable(const std::vector<Collision>& collisions) {
-  return std::any_of(collisions.begin(), collisions.end(),
-                     [](const Collision& c) { return unfixable_reason(c).empty(); });
+bool any_fixable(const Scene& scene, const std::vector<Collision>& collisions) {
+  const std::vector<std::string> reasons = unfixable_reasons(scene.path, scene.tool, collisions);
+  return std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) { return r.empty(); });
 }
 
 // Re-plans around the collisions against the in-process stock while some may be fixed and each round
@@ -131,7 +131,7 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
                                                 const PostAndVerify& post_and_verify, const JobOptions& options,
                                                 Round& current, JobSummary& summary, std::vector<size_t>& uncleared) {
   std::vector<reporting::RowWindow> replanned;
-  while (any_fixable(current.verified.report.collisions) && summary.rounds < options.max_rounds) {
+  while (any_fixable(scene, current.verified.report.collisions) && summary.rounds < options.max_rounds) {
     auto t = std::chrono::steady_clock::now();
     StockMeshOptions mesh_options;
     mesh_options.colour_by_deviation = false;
@@ -151,10 +151,11 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
   return replanned;
 }
 
-// Why a collision is left: the replan library's reason, else the rows no axis could clear, else the rounds.
-std::string left_reason(const Scene& scene, const Collision& c, const std::vector<size_t>& uncleared,
-                        const JobSummary& summary, const JobOptions& options) {
-  if (std::string r = unfixable_reason(c); !r.empty()) return r;
+// Why a collision is left: the replan library's reason (`unfixable`), else the rows no axis could clear,
+// else the rounds.
+std::string left_reason(const Scene& scene, const Collision& c, const std::string& unfixable,
+                        const std::vector<size_t>& uncleared, const JobSummary& summary, const JobOptions& options) {
+  if (!unfixable.empty()) return unfixable;
   const auto [first, last] = collision_rows(scene.path, scene.tool, c);
   const auto it = std::lower_bound(uncleared.begin(), uncleared.end(), first);
   if (it != uncleared.end() && *it <= last)
@@ -166,10 +167,13 @@ std::string left_reason(const Scene& scene, const Collision& c, const std::vecto
 
 void explain_left(const Scene& scene, const Round& current, const std::vector<size_t>& uncleared,
                   const JobOptions& options, JobSummary& summary) {
-  for (const Collision& c : current.verified.report.collisions) {
+  const std::vector<Collision>& left = current.verified.report.collisions;
+  const std::vector<std::string> unfixable = unfixable_reasons(scene.path, scene.tool, left);
+  for (size_t k = 0; k < left.size(); ++k) {
+    const Collision& c = left[k];
     std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
     if (c.rapid) kind += " (rapid)";
-    const std::string reason = left_reason(scene, c, uncleared, summary, options);
+    const std::string reason = left_reason(scene, c, unfixable[k], uncleared, summary, options);
     const auto [first, last] = collision_rows(scene.path, scene.tool, c);
     auto it = std::find_if(summary.left.begin(), summary.left.end(),
                            [&](const LeftCollisions& l) { return l.kind == kind && l.reason == reason; });

@@ -51,6 +51,11 @@ std::string unfixable_reason(const Collision& c);
 // collision's block.
 std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c);
 
+// unfixable_reason for each collision, and more: a collision of another part on rows where the ball
+// itself meets the same obstacle is the cutter passing through it, which no axis fixes either.
+std::vector<std::string> unfixable_reasons(const ToolPath& path, const Tool& tool,
+                                           const std::vector<Collision>& collisions);
+
 struct ReplanWindow {
   size_t first = 0, last = 0;  // rows, inclusive
   int collisions = 0;          // collision sites that fell into it
