@@ -33,10 +33,11 @@ double smoothstep(double x) {
 std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<double>& arc, const Tool& tool,
                                       const std::vector<Collision>& collisions, double pad_mm) {
   std::vector<ReplanWindow> w;
-  const std::vector<std::string> unfixable = unfixable_reasons(path, tool, collisions);
+  const std::vector<RowSpan> spans = collision_spans(path, tool, collisions);
+  const std::vector<std::string> unfixable = unfixable_reasons(collisions, spans);
   for (size_t k = 0; k < collisions.size(); ++k) {
     if (!unfixable[k].empty()) continue;
-    auto [a, b] = collision_rows(path, tool, collisions[k]);
+    auto [a, b] = spans[k];
     const double sa = arc[a] - pad_mm, sb = arc[b] + pad_mm;
     while (a > 0 && arc[a - 1] >= sa) --a;
     while (b + 1 < arc.size() && arc[b + 1] <= sb) ++b;
@@ -72,27 +73,26 @@ std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool,
   return {std::min(i0, i1), std::max(i0, i1)};
 }
 
-std::vector<std::string> unfixable_reasons(const ToolPath& path, const Tool& tool,
-                                           const std::vector<Collision>& collisions) {
+std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions) {
+  std::vector<RowSpan> spans;
+  spans.reserve(collisions.size());
+  for (const Collision& c : collisions) spans.push_back(collision_rows(path, tool, c));
+  return spans;
+}
+
+std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans) {
   std::vector<std::string> out;
-  struct Span {
-    size_t first, last;
-    HitWith with;
-  };
-  std::vector<Span> ball;
-  for (const Collision& c : collisions) {
-    out.push_back(unfixable_reason(c));
-    if (c.component == ToolComponent::Ball && !c.rapid) {
-      const auto [a, b] = collision_rows(path, tool, c);
-      ball.push_back({a, b, c.with});
-    }
+  std::vector<size_t> ball;  // collisions of the ball itself on a feed move
+  for (size_t k = 0; k < collisions.size(); ++k) {
+    out.push_back(unfixable_reason(collisions[k]));
+    if (collisions[k].component == ToolComponent::Ball && !collisions[k].rapid) ball.push_back(k);
   }
   for (size_t k = 0; k < collisions.size(); ++k) {
     if (!out[k].empty()) continue;
-    const auto [a, b] = collision_rows(path, tool, collisions[k]);
-    for (const Span& s : ball)
-      if (s.with == collisions[k].with && a <= s.last && s.first <= b) {
-        out[k] = "the cutter passes through the " + std::string(to_string(s.with)) +
+    for (size_t b : ball)
+      if (collisions[b].with == collisions[k].with && spans[k].first <= spans[b].second &&
+          spans[b].first <= spans[k].second) {
+        out[k] = "the cutter passes through the " + std::string(to_string(collisions[b].with)) +
                  " here (the ball meets it on the same rows); no tool axis fixes that";
         break;
       }

@@ -120,7 +120,7 @@ class PostAndVerify {
 };
 
 bool any_fixable(const Scene& scene, const std::vector<Collision>& collisions) {
-  const std::vector<std::string> reasons = unfixable_reasons(scene.path, scene.tool, collisions);
+  const std::vector<std::string> reasons = unfixable_reasons(collisions, collision_spans(scene.path, scene.tool, collisions));
   return std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) { return r.empty(); });
 }
 
@@ -153,10 +153,10 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
 
 // Why a collision is left: the replan library's reason (`unfixable`), else the rows no axis could clear,
 // else the rounds.
-std::string left_reason(const Scene& scene, const Collision& c, const std::string& unfixable,
-                        const std::vector<size_t>& uncleared, const JobSummary& summary, const JobOptions& options) {
+std::string left_reason(const RowSpan& rows, const std::string& unfixable, const std::vector<size_t>& uncleared,
+                        const JobSummary& summary, const JobOptions& options) {
   if (!unfixable.empty()) return unfixable;
-  const auto [first, last] = collision_rows(scene.path, scene.tool, c);
+  const auto [first, last] = rows;
   const auto it = std::lower_bound(uncleared.begin(), uncleared.end(), first);
   if (it != uncleared.end() && *it <= last)
     return "no tool axis within max_tilt_deg and the machine's limits keeps the clearance there";
@@ -168,13 +168,14 @@ std::string left_reason(const Scene& scene, const Collision& c, const std::strin
 void explain_left(const Scene& scene, const Round& current, const std::vector<size_t>& uncleared,
                   const JobOptions& options, JobSummary& summary) {
   const std::vector<Collision>& left = current.verified.report.collisions;
-  const std::vector<std::string> unfixable = unfixable_reasons(scene.path, scene.tool, left);
+  const std::vector<RowSpan> spans = collision_spans(scene.path, scene.tool, left);
+  const std::vector<std::string> unfixable = unfixable_reasons(left, spans);
   for (size_t k = 0; k < left.size(); ++k) {
     const Collision& c = left[k];
     std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
     if (c.rapid) kind += " (rapid)";
-    const std::string reason = left_reason(scene, c, unfixable[k], uncleared, summary, options);
-    const auto [first, last] = collision_rows(scene.path, scene.tool, c);
+    const std::string reason = left_reason(spans[k], unfixable[k], uncleared, summary, options);
+    const auto [first, last] = spans[k];
     auto it = std::find_if(summary.left.begin(), summary.left.end(),
                            [&](const LeftCollisions& l) { return l.kind == kind && l.reason == reason; });
     if (it == summary.left.end()) {

@@ -50,11 +50,14 @@ std::string unfixable_reason(const Collision& c);
 // The path rows (inclusive, first <= last) nearest to the tool poses at the start and end of the
 // collision's block.
 std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c);
+// The same for every collision (each a scan of the path: compute them once).
+using RowSpan = std::pair<size_t, size_t>;
+std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions);
 
 // unfixable_reason for each collision, and more: a collision of another part on rows where the ball
-// itself meets the same obstacle is the cutter passing through it, which no axis fixes either.
-std::vector<std::string> unfixable_reasons(const ToolPath& path, const Tool& tool,
-                                           const std::vector<Collision>& collisions);
+// itself meets the same obstacle is the cutter passing through it, which no axis fixes either. `spans`:
+// collision_spans of the same collisions.
+std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans);
 
 struct ReplanWindow {
   size_t first = 0, last = 0;  // rows, inclusive
