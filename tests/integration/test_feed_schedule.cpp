@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "rs274.hpp"
 #include "test_support.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/engagement/feed_schedule.hpp"
@@ -133,7 +134,7 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
   EXPECT_LE(after, 6000.0 + 0.005);
   EXPECT_GE(after, 6000.0 * 0.99);  // the limit is used, not undercut
   TF_REQUIRE_RS274();
-  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 
@@ -147,7 +148,7 @@ TEST_F(ScheduleCli, InverseTimeProgram) {
   EXPECT_LE(after, 4000.0 + 0.005);
   EXPECT_GE(after, 4000.0 * 0.99);
   TF_REQUIRE_RS274();
-  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 
@@ -181,7 +182,7 @@ TEST_F(ScheduleCli, PostMaxMrr) {
   EXPECT_NE(r.out.find("--max-mrr"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
   TF_REQUIRE_RS274();
-  const auto rs = test::run_command("cd " + dir.path().string() + " && rs274 -g p2.ngc");
+  const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "offset_test_util.hpp"
+#include "rs274.hpp"
 #include "tiltfield/offset/offset_program.hpp"
 
 namespace tf::offset::test {
@@ -24,7 +25,7 @@ void require_rs274() {
 // Runs rs274 -g; returns its exit status and fills `log` with its output.
 int run_rs274(const std::string& ngc, std::string* log) {
   const std::string out = ngc + ".rs274.txt";
-  const int rc = std::system(("rs274 -g " + ngc + " > " + out + " 2>&1 < /dev/null").c_str());
+  const int rc = std::system((tf::test::rs274_command(ngc) + " > " + out + " 2>&1 < /dev/null").c_str());
   std::ifstream in(out);
   std::stringstream ss;
   ss << in.rdbuf();

@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "post_fixture.hpp"
+#include "rs274.hpp"
 #include "tiltfield/core/machine.hpp"
 #include "tiltfield/core/scene.hpp"
 
@@ -54,7 +55,7 @@ void check_program(const std::string& label, const fs::path& dir, const fs::path
   const auto post = run_command(std::string(TILTFIELD_EXE) + " --quiet post " + scene.string() + " " +
                                 (dir / "oriented.csv").string() + " -o " + ngc.string() + " --dialect joint");
   ASSERT_EQ(post.exit_code, 0) << post.output;
-  const auto rs = run_command("cd " + dir.string() + " && rs274 -g " + ngc.string());
+  const auto rs = run_command("cd " + dir.string() + " && " + tf::test::rs274_command(ngc.string()));
   ASSERT_EQ(rs.exit_code, 0) << label << ": rs274 refused the program:\n" << rs.output.substr(0, 4000);
   const Canon canon = parse_canon(rs.output);
   ASSERT_GE(canon.feeds.size(), path.rows.size()) << label;
