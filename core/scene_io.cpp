@@ -118,6 +118,11 @@ PlannerBasics parse_planner_basics(const json& j, const std::string& file) {
 }
 }  // namespace
 
+void require_for_planning(const Scene& s) {
+  if (s.design.n_faces() == 0) throw InputError(s.file.string(), 0, "design", "missing (planning needs the design surface)");
+  if (s.path.rows.empty()) throw InputError(s.file.string(), 0, "path", "missing (planning needs the input path)");
+}
+
 Scene load_scene(const fs::path& file) {
   Scene s;
   s.file = file;
@@ -133,8 +138,9 @@ Scene load_scene(const fs::path& file) {
     s.units = string(j["units"], name, "units");
     if (s.units != "mm") throw InputError(name, 0, "units", "only 'mm' is supported");
   }
-  if (!j.contains("design")) throw InputError(name, 0, "design", "missing (the design surface mesh)");
-  s.design = load_mesh(resolve(s, j["design"], "design"));
+  // Optional: a program verified on its own often comes without a design (no gouge figures then) or a
+  // path; planning needs both (require_for_planning).
+  if (j.contains("design")) s.design = load_mesh(resolve(s, j["design"], "design"));
   if (j.contains("check_surfaces")) {
     const auto& c = j["check_surfaces"];
     if (!c.is_array()) throw InputError(name, 0, "check_surfaces", "must be an array of mesh files");
@@ -153,8 +159,7 @@ Scene load_scene(const fs::path& file) {
   }
   if (!j.contains("tool")) throw InputError(name, 0, "tool", "missing");
   s.tool = parse_tool_json(j["tool"], name, "tool");
-  if (!j.contains("path")) throw InputError(name, 0, "path", "missing");
-  {
+  if (j.contains("path")) {
     const auto& p = j["path"];
     require_object(p, name, "path");
     only_keys(p, {"file", "feed"}, name, "path");

@@ -3,10 +3,14 @@
 //      (BM_FreeformFinishing/500/x: 500 lines x 1000 moves; /5 and /50 are quick fractions of it), with
 //      and without the engagement measurement;
 //  (b) the bundled impeller, planned and posted in process, at 0.05 mm; at 0.1 mm with and without the
-//      engagement measurement (its cost).
+//      engagement measurement (its cost);
+//  (c) LinuxCNC's own simultaneous 5-axis demo impeller-7bl-xyzac.ngc (4492 blocks, TCP, G93) on the
+//      scene tests/data/linuxcnc/impeller-7bl.json, at 0.05 and 0.1 mm, default options, with and
+//      without engagement; its sweep error bounds as counters.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -168,6 +172,50 @@ void BM_Impeller(benchmark::State& state) {
 }
 // Engagement cost: /10/0 against /10/1. /5/1: the impeller at 0.05 mm.
 BENCHMARK(BM_Impeller)->Args({10, 0})->Args({10, 1})->Args({5, 1})->Iterations(1)->Unit(benchmark::kSecond);
+
+constexpr const char* kLinuxcncDemo =
+    "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/vismach/5axis/table-rotary-tilting/demos/"
+    "impeller-7bl-xyzac.ngc";
+
+// Arguments: resolution in 1/100 mm, engagement on (1) or off (0). Whole verify as the command runs it:
+// scene and program read, stock built, simulated (wall_seconds); sim_seconds is the block loop.
+void BM_LinuxcncImpeller(benchmark::State& state) {
+  const std::filesystem::path scene_file =
+      std::filesystem::path(TILTFIELD_SOURCE_DIR) / "tests" / "data" / "linuxcnc" / "impeller-7bl.json";
+  if (!std::filesystem::exists(kLinuxcncDemo)) {
+    state.SkipWithError("LinuxCNC's demo is missing (Debian package linuxcnc-uspace)");
+    return;
+  }
+  tf::VerifyOptions opt;
+  opt.resolution = state.range(0) / 100.0;
+  double seconds = 0.0, wall = 0.0, engagement = 0.0, removed = 0.0, err = 0.0, holder_err = 0.0;
+  size_t collisions = 0, blocks = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const tf::Scene scene = tf::load_scene(scene_file);
+    const tf::Program program = tf::read_gcode(kLinuxcncDemo, *scene.machine);
+    if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
+    const tf::VerifyResult r = tf::verify_program(scene, program, tf::scene_forward(scene), opt);
+    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    seconds = r.report.seconds;
+    engagement = r.report.engagement_seconds;
+    removed = r.report.removed_volume_mm3;
+    err = r.report.sweep_error_mm;
+    holder_err = r.report.holder_sweep_error_mm;
+    collisions = r.report.collisions.size();
+    blocks = program.blocks.size();
+  }
+  state.counters["moves"] = static_cast<double>(blocks);
+  state.counters["wall_seconds"] = wall;
+  state.counters["sim_seconds"] = seconds;
+  state.counters["engagement_pct"] = 100.0 * engagement / std::max(seconds - engagement, 1e-9);
+  state.counters["removed_mm3"] = removed;
+  state.counters["sweep_error_um"] = 1000.0 * err;
+  state.counters["holder_error_um"] = 1000.0 * holder_err;
+  state.counters["collisions"] = static_cast<double>(collisions);
+  state.counters["peak_MB"] = peak_rss_mb();
+}
+BENCHMARK(BM_LinuxcncImpeller)->Args({5, 1})->Args({5, 0})->Args({10, 1})->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace
 

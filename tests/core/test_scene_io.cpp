@@ -22,6 +22,38 @@ TEST(SceneIO, ValidSceneLoads) {
   EXPECT_DOUBLE_EQ(s.planner.safety_distance, 1.0);
 }
 
+TEST(SceneIO, DesignAndPathAreOptionalUntilPlanning) {
+  tf::test::TempDir dir;
+  json j = tf::test::valid_scene_json();
+  j.erase("design");
+  const tf::Scene no_design = tf::load_scene(tf::test::write_scene(dir, j));
+  EXPECT_EQ(no_design.design.n_faces(), 0u);
+  EXPECT_EQ(no_design.path.rows.size(), 3u);
+  try {
+    tf::require_for_planning(no_design);
+    ADD_FAILURE() << "planning accepted a scene without design";
+  } catch (const tf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("design"), std::string::npos) << e.what();
+  }
+  j = tf::test::valid_scene_json();
+  j.erase("path");
+  const tf::Scene no_path = tf::load_scene(tf::test::write_scene(dir, j));
+  EXPECT_TRUE(no_path.path.rows.empty());
+  EXPECT_GT(no_path.design.n_faces(), 0u);
+  try {
+    tf::require_for_planning(no_path);
+    ADD_FAILURE() << "planning accepted a scene without path";
+  } catch (const tf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("path"), std::string::npos) << e.what();
+  }
+  // The command line: `plan` refuses it with exit 2 naming the field; `check` describes it.
+  const auto file = tf::test::write_scene(dir, j);
+  const auto plan = tf::test::run_tiltfield("plan '" + file.string() + "' -o '" + (dir / "o.csv").string() + "'");
+  EXPECT_EQ(plan.exit_code, 2) << plan.out;
+  EXPECT_NE(plan.out.find("path"), std::string::npos) << plan.out;
+  EXPECT_EQ(tf::test::run_tiltfield("check '" + file.string() + "'").exit_code, 0);
+}
+
 TEST(SceneIO, StockKindsAndInlineMachine) {
   tf::test::TempDir dir;
   json j = tf::test::valid_scene_json();
@@ -50,7 +82,6 @@ struct BadScene {
 std::vector<BadScene> bad_scenes() {
   const std::string nan_row = "x,y,z,nx,ny,nz\n10,10,21,0,0,1\n11,nan,21,0,0,1\n";
   return {
-      {"missing design", [](json& j) { j.erase("design"); }, "", "", "scene.json", "design"},
       {"missing mesh file", [](json& j) { j["design"] = "nope.stl"; }, "", "", "nope.stl", "not found"},
       {"design wrong type", [](json& j) { j["design"] = 3; }, "", "", "scene.json", "'design'"},
       {"check not array", [](json& j) { j["check_surfaces"] = "wall.stl"; }, "", "", "scene.json", "check_surfaces"},

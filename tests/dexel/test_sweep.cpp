@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -207,30 +210,156 @@ TEST(Sweep, ShadowRowsBoundTheHits) {
   EXPECT_GT(tilted, 20);
 }
 
+// Distance from p to a stack of coaxial solids in the tool frame at pose (tip, axis): the ball (a
+// sphere of radius R about height R) and the cylinders [h0, h1] x radius, closed form.
+struct Body {
+  double ball = 0.0;  // ball radius, 0: none
+  std::vector<std::array<double, 3>> cylinders;  // h0, h1, radius
+  double distance(const ToolPose& pose, const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d w = p - pose.tip;
+    const double h = w.dot(pose.axis), rho = (w - h * pose.axis).norm();
+    double d = std::numeric_limits<double>::infinity();
+    if (ball > 0) d = std::max(0.0, std::hypot(rho, h - ball) - ball);
+    for (const auto& c : cylinders)
+      d = std::min(d, std::hypot(std::max(rho - c[2], 0.0), std::max({c[0] - h, h - c[1], 0.0})));
+    return d;
+  }
+};
+
+// A random point of the solid at pose `pose` at least `margin` inside it.
+Eigen::Vector3d point_inside(const Body& body, const ToolPose& pose, double margin, std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const Eigen::Vector3d e1 = pose.axis.unitOrthogonal(), e2 = pose.axis.cross(e1);
+  for (;;) {
+    const double top = body.cylinders.empty() ? 2 * body.ball : body.cylinders.back()[1];
+    double rmax = body.ball;
+    for (const auto& c : body.cylinders) rmax = std::max(rmax, c[2]);
+    const Eigen::Vector3d p = pose.tip + pose.axis * (U(rng) * top) + e1 * ((2 * U(rng) - 1) * rmax) +
+                              e2 * ((2 * U(rng) - 1) * rmax);
+    // Inside by at least margin: every point within margin is in the body (sampled on the axis directions).
+    bool deep = body.distance(pose, p) == 0.0;
+    for (const Eigen::Vector3d& dir : {e1, e2, Eigen::Vector3d(pose.axis)})
+      for (double sgn : {-1.0, 1.0}) deep = deep && body.distance(pose, p + sgn * margin * dir) == 0.0;
+    if (deep) return p;
+  }
+}
+
+// The sweep's stated bound, checked both ways against the true motion: a point of the true tool at any
+// time, well inside it, lies in the swept parts; a point of a swept part lies within the bound of the
+// true tool at some time of the block (times sampled finely enough that the sampling adds < 0.001 mm).
+void check_bound(const PoseAt& pose_at, const Body& body, const BlockSweep& bs, bool cutting, double bound) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<const SweptPart*> parts;
+  for (const SweptPart& p : bs.parts)
+    if (p.cutting == cutting) parts.push_back(&p);
+  ASSERT_FALSE(parts.empty());
+  for (int i = 0; i < 3000; ++i) {
+    const ToolPose pose = pose_at(U(rng));
+    const Eigen::Vector3d x = point_inside(body, pose, bound + 1e-6, rng);
+    bool in = false;
+    for (const SweptPart* p : parts) in = in || inside_swept(*p, x);
+    ASSERT_TRUE(in) << "true point not swept, sample " << i;
+  }
+  // The start and end positions bound the swept region: points just inside their side walls.
+  for (int i = 0; i < 4000; ++i) {
+    const ToolPose pose = pose_at(i % 2);
+    const auto& c = body.cylinders[size_t(U(rng) * body.cylinders.size()) % body.cylinders.size()];
+    const double margin = bound + 1e-6 + U(rng) * 0.02;
+    if (c[1] - c[0] < 2 * margin) continue;
+    const Eigen::Vector3d e1 = pose.axis.unitOrthogonal(), e2 = pose.axis.cross(e1);
+    const double ang = U(rng) * 2 * std::numbers::pi, h = c[0] + margin + U(rng) * (c[1] - c[0] - 2 * margin);
+    const Eigen::Vector3d x =
+        pose.tip + pose.axis * h + (e1 * std::cos(ang) + e2 * std::sin(ang)) * (c[2] - margin);
+    bool in = false;
+    for (const SweptPart* p : parts) in = in || inside_swept(*p, x);
+    ASSERT_TRUE(in) << "wall point not swept, sample " << i << " height " << h;
+  }
+  constexpr int kTimes = 40000;
+  std::vector<ToolPose> poses(kTimes + 1);
+  for (int k = 0; k <= kTimes; ++k) poses[k] = pose_at(double(k) / kTimes);
+  // The ends of the swept parts' union along random rays: on the boundary of the approximation, where a
+  // wrong bound shows.
+  Eigen::AlignedBox3d box;
+  for (const SweptPart* p : parts) box.extend(p->box);
+  double worst = 0.0;
+  int ends = 0;
+  for (int i = 0; i < 400; ++i) {
+    const int dir = i % 3;
+    Eigen::Vector3d o = box.min() + (box.max() - box.min()).cwiseProduct(Eigen::Vector3d(U(rng), U(rng), U(rng)));
+    o[dir] = box.min()[dir] - 1.0;
+    std::vector<std::pair<double, double>> iv;
+    for (const SweptPart* p : parts) {
+      double t0, t1;
+      if (ray_interval(*p, o, dir, t0, t1)) iv.emplace_back(t0, t1);
+    }
+    std::sort(iv.begin(), iv.end());
+    std::vector<double> at;
+    for (size_t k = 0; k < iv.size();) {
+      double hi = iv[k].second;
+      const double lo = iv[k].first;
+      while (++k < iv.size() && iv[k].first <= hi) hi = std::max(hi, iv[k].second);
+      at.push_back(lo);
+      at.push_back(hi);
+    }
+    for (double t : at) {
+      Eigen::Vector3d y = o;
+      y[dir] += t;
+      double best = std::numeric_limits<double>::infinity();
+      for (const ToolPose& q : poses) best = std::min(best, body.distance(q, y));
+      worst = std::max(worst, best);
+      ++ends;
+    }
+  }
+  EXPECT_GT(ends, 100);
+  EXPECT_LE(worst, bound + 1e-3);
+}
+
 TEST(Sweep, BlockSubstepsBoundTheError) {
-  // A 30 degree tilt about the tip: the sub-step count follows the reach and the tolerance.
+  // A 30 degree tilt while the tip runs a curve: every part's sub-steps hold their own tolerance.
   const Tool tool = [] {
     Tool t;
     t.cutter = BallCutter{3};
     t.flute_length = 12;
     t.shank_radius = 3;
     t.length = 40;
+    t.holder = {{10.0, 20.0}};
     return t;
   }();
   SweepOptions opt;
   opt.tolerance = 0.01;
+  opt.holder_tolerance = 0.05;
   const auto parts = tool_parts(tool, opt);
   BlockSweep bs;
   const double alpha = 30.0 * std::numbers::pi / 180.0;
-  sweep_block([&](double tau) {
-    return ToolPose{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -std::sin(alpha * tau), std::cos(alpha * tau))};
-  }, parts, std::hypot(3.0, 12.0), 40.0, opt, bs);
-  EXPECT_LE(bs.cutting_error, opt.tolerance + 1e-12);
-  EXPECT_GE(bs.substeps, static_cast<int>(alpha * std::hypot(3.0, 12.0) / 0.01));
-  // A pure translation is one exact step.
+  const PoseAt tilt = [&](double tau) {
+    return ToolPose{Eigen::Vector3d(10 * tau, 2 * std::sin(std::numbers::pi * tau), 0),
+                    Eigen::Vector3d(0, -std::sin(alpha * tau), std::cos(alpha * tau))};
+  };
+  sweep_block(tilt, parts, opt, bs);
+  EXPECT_LE(bs.cutting_error, opt.tolerance);
+  EXPECT_LE(bs.holder_error, opt.holder_tolerance);
+  EXPECT_GT(bs.cutting_error, 0.3 * opt.tolerance);  // the count is not wastefully high either
+  check_bound(tilt, Body{3.0, {{3.0, 12.0, 3.0}}}, bs, true, bs.cutting_error);
+  check_bound(tilt, Body{0.0, {{12.0, 40.0, 3.0}, {40.0, 60.0, 10.0}}}, bs, false, bs.holder_error);
+  // A straight tip path (as under tool-centre-point control): the tilt alone sets the sub-steps.
+  const PoseAt straight = [&](double tau) {
+    return ToolPose{Eigen::Vector3d(10 * tau, 0, 0), Eigen::Vector3d(0, -std::sin(alpha * tau), std::cos(alpha * tau))};
+  };
+  sweep_block(straight, parts, opt, bs);
+  EXPECT_LE(bs.cutting_error, opt.tolerance);
+  check_bound(straight, Body{3.0, {{3.0, 12.0, 3.0}}}, bs, true, bs.cutting_error);
+  check_bound(straight, Body{0.0, {{12.0, 40.0, 3.0}, {40.0, 60.0, 10.0}}}, bs, false, bs.holder_error);
+  // The same motion at a tenth of the tolerance still holds it.
+  opt.tolerance = 0.001;
+  sweep_block(tilt, parts, opt, bs);
+  EXPECT_LE(bs.cutting_error, opt.tolerance);
+  check_bound(tilt, Body{3.0, {{3.0, 12.0, 3.0}}}, bs, true, bs.cutting_error);
+  // A pure translation is one exact step of whole parts.
   sweep_block([&](double tau) { return ToolPose{Eigen::Vector3d(10 * tau, 0, 0), Eigen::Vector3d::UnitZ()}; }, parts,
-              12.4, 40.0, opt, bs);
+              opt, bs);
   EXPECT_EQ(bs.substeps, 1);
+  EXPECT_EQ(bs.parts.size(), parts.size());
   EXPECT_DOUBLE_EQ(bs.cutting_error, 0.0);
   EXPECT_NEAR(bs.tip_length, 10.0, 1e-12);
 }

@@ -26,7 +26,8 @@ void add_check_command(CLI::App& app) {
                 << s.check_surfaces.size() << " check surface(s) with " << check_faces << " triangles, "
                 << s.fixtures.size() << " fixture(s), tool " << s.tool.type_name() << " R"
                 << fixed(s.tool.radius(), 3) << " gauge " << fixed(s.tool.length, 3) << ", path "
-                << s.path.rows.size() << " rows over " << fixed(s.path.arc_length().back(), 1) << " mm, machine "
+                << s.path.rows.size() << " rows over "
+                << fixed(s.path.rows.empty() ? 0.0 : s.path.arc_length().back(), 1) << " mm, machine "
                 << (s.machine ? std::string(to_string(s.machine->kinematics)) : std::string("none")) << "\n";
     }
     if (!oriented.empty())

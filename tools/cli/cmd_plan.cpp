@@ -56,6 +56,7 @@ void add_plan_command(CLI::App& app) {
   cmd->add_flag("--smooth", a.smooth, "global smoothing pass (Ceres) after the dynamics");
   cmd->callback([] {
     const Scene scene = load_scene(a.scene);
+    require_for_planning(scene);
     PlanOptions options = parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
     if (a.method == "pointwise") options.method = PlanMethod::Pointwise;
     if (a.method == "dynamic") options.method = PlanMethod::Dynamic;

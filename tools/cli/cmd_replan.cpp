@@ -18,6 +18,7 @@ struct ReplanArgs {
 
 void run_replan(const ReplanArgs& a) {
   const Scene scene = load_scene(a.scene);
+  require_for_planning(scene);
   const OrientedPath original = read_oriented_csv(a.oriented);
   if (original.rows.size() != scene.path.rows.size())
     throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +

@@ -24,6 +24,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("--fail-on-collision", a.fail_on_collision, "(the default) exit 1 when collisions are left");
   cmd->callback([] {
     const Scene scene = load_scene(a.scene.empty() ? bundled_scene("impeller") : std::filesystem::path(a.scene));
+    require_for_planning(scene);
     a.options.out_dir = a.dir;
     a.options.progress = terminal_progress();
     const JobSummary s = run_job(scene, a.options);

@@ -22,6 +22,7 @@ struct VerifyArgs {
   bool no_engagement = false;
   double resolution = 0.1;
   double tolerance = 0.01;
+  double holder_tolerance = 0.05;
   int mesh_refine = 0;
   bool stop_at_first = false;
   bool fail_on_collision = false;
@@ -30,12 +31,14 @@ struct VerifyArgs {
 void run_verify(const VerifyArgs& a) {
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
+  if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
   const Program program = read_gcode(a.program, machine);
   VerifyOptions opt;
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;
+  opt.sweep.holder_tolerance = a.holder_tolerance;
   opt.stop_at_first_collision = a.stop_at_first;
   if (!a.no_engagement) {
     EngagementOptions eo;
@@ -94,6 +97,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
   cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
   cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
+  cmd->add_option("--holder-tolerance", args.holder_tolerance,
+                  "5-axis sub-step error bound of shank and holder (collision only), mm (default 0.05)");
   cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
       ->check(CLI::Range(0, 4));
   cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");

@@ -37,12 +37,6 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
     design_mesh_ = std::make_unique<RayMesh>(scene.design);
   }
   parts_ = tool_parts(scene.tool, options.sweep);
-  for (const ToolPart& p : parts_) {
-    const double reach =
-        p.kind == ToolPart::Kind::Sphere ? std::hypot(p.offset, p.h0) + p.radius : std::hypot(p.radius, p.h1);
-    reach_all_ = std::max(reach_all_, reach);
-    if (p.cutting) reach_cut_ = std::max(reach_cut_, reach);
-  }
   inv_h_ = 1.0 / lattice_.h;
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
@@ -53,6 +47,8 @@ VerifyResult Simulator::run() {
   const auto t_start = std::chrono::steady_clock::now();
   VerifyReport rep;
   rep.resolution_mm = lattice_.h;
+  rep.sweep_tolerance_mm = opt_.sweep.tolerance;
+  rep.holder_tolerance_mm = opt_.sweep.holder_tolerance;
   rep.rays = stock_.ray_count();
   rep.material_rays = stock_.material_rays();
   rep.stock_volume_start_mm3 = stock_.volume();
@@ -142,7 +138,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.block = index;
   br.line = b.line;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, parts_, reach_cut_, reach_all_, opt_.sweep, sweep_);
+  sweep_block(pose_at, parts_, opt_.sweep, sweep_);
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);

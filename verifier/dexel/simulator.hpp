@@ -156,7 +156,6 @@ class Simulator {
   std::unique_ptr<RayTable> design_;
   std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
   std::vector<ToolPart> parts_;
-  double reach_cut_ = 0.0, reach_all_ = 0.0;
   RayExtents ext_;                 // where the material is, per tile and row segment
   std::vector<PartSpan> spans_;    // per swept part of the block and grid
   std::vector<Shadow> shadows_;    // the same

@@ -24,12 +24,14 @@ constexpr double kInside = 1e-3;
 // Signed along-ray distance from coordinate t to the nearest material boundary of a ray: negative
 // inside material, positive outside, +inf for an empty ray.
 double along_ray_distance(const Dexel& ray, float t) {
+  // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
+  const Interval* b = ray.begin();
+  const Interval* e = ray.end();
+  const Interval* it = std::lower_bound(b, e, t, [](const Interval& iv, float x) { return iv.hi < x; });
+  if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
   double best = std::numeric_limits<double>::infinity();
-  for (const Interval& iv : ray) {
-    if (t >= iv.lo && t <= iv.hi) return -std::min(t - iv.lo, iv.hi - t);
-    best = std::min<double>(best, t < iv.lo ? iv.lo - t : t - iv.hi);
-    if (iv.lo > t) break;
-  }
+  if (it != e) best = it->lo - t;
+  if (it != b) best = std::min<double>(best, t - (it - 1)->hi);
   return best;
 }
 
@@ -385,13 +387,16 @@ void set_engaged_arc(const std::vector<RingResult>& rings, Engagement& out) {
 
 bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) {
   const Lattice& L = stock.lattice();
+  const double inv_h = 1.0 / L.h;
   double best = std::numeric_limits<double>::infinity();
   bool inside = false;
   for (int d = 0; d < 3; ++d) {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    const long iu = std::lround((p[u] - L.origin[u]) / L.h), iv = std::lround((p[v] - L.origin[v]) / L.h);
-    if (iu < 0 || iv < 0 || iu >= L.n[u] || iv >= L.n[v]) return false;  // outside the lattice: no material
-    const double sd = along_ray_distance(stock.ray(d, int(iu), int(iv)), static_cast<float>(p[d] - L.origin[d]));
+    // The nearest ray; the range test comes first so that the conversion to int cannot overflow.
+    const double fu = (p[u] - L.origin[u]) * inv_h + 0.5, fv = (p[v] - L.origin[v]) * inv_h + 0.5;
+    if (!(fu >= 0.0 && fv >= 0.0 && fu < L.n[u] && fv < L.n[v])) return false;  // outside the lattice: no material
+    const int iu = static_cast<int>(fu), iv = static_cast<int>(fv);
+    const double sd = along_ray_distance(stock.ray(d, iu, iv), static_cast<float>(p[d] - L.origin[d]));
     if (std::abs(sd) < best) {
       best = std::abs(sd);
       inside = sd <= 0.0;

@@ -106,6 +106,8 @@ struct VerifyReport {
   double engagement_seconds = 0.0;     // of `seconds`, spent measuring engagement
   double sweep_error_mm = 0.0;         // largest sub-step error bound of the cutting parts
   double holder_sweep_error_mm = 0.0;  // the same for shank and holder
+  double sweep_tolerance_mm = 0.0;     // the bounds asked for (--tolerance, --holder-tolerance)
+  double holder_tolerance_mm = 0.0;
   size_t memory_bytes = 0;             // tri-dexel stock at the end
   bool stopped_early = false;
   ExcessStats excess;

@@ -76,8 +76,13 @@ struct Scene {
 Eigen::AlignedBox3d scene_bounds(const Scene& scene);
 
 // Loads and validates a scene. Throws InputError naming the scene file (or the referenced file) and the
-// JSON field, or the line of a path file. Every referenced mesh and path file is read.
+// JSON field, or the line of a path file. Every referenced mesh and path file is read. `design` and
+// `path` are optional here (verifying a program needs neither); Scene::design is then empty and
+// Scene::path has no rows.
 Scene load_scene(const std::filesystem::path& file);
+
+// Throws InputError naming the field when the scene lacks what planning needs (design, path).
+void require_for_planning(const Scene& scene);
 
 // Parses the "tool" object; `file` and `prefix` only name the place in errors.
 Tool parse_tool_json(const nlohmann::json& j, const std::string& file, const std::string& prefix);

@@ -9,19 +9,27 @@
 // tool is exact. A bull end's torus is the union of spheres spaced so that the lens between neighbours is
 // at most `torus_tolerance` deep (stated error, default 0.001 mm).
 //
-// Rotary motion (simultaneous 5-axis) is split into sub-steps; in sub-step k the tool translates from the
-// tip position at its start to the one at its end with the tool axis of its mid-time. The distance from
-// any point of that approximation to the true swept volume (and back) is at most
-//   (dtheta / 2) * L + sagitta,
-// with dtheta the sub-step's axis rotation, L the reach of the part (distance from the tip to its farthest
-// point) and sagitta the tip path's deviation from the chord; the sub-step count is chosen so that this is
-// at most `tolerance` for the cutting parts (ball, flutes). Shank and holder use the same sub-steps; their
-// larger bound is reported (BlockSweep::holder_error).
+// Rotary motion (simultaneous 5-axis, and arcs or joint-interpolated moves whose tip path is curved) is
+// split into sub-steps, each part on its own count. In a sub-step a part is held at the tool axis of the
+// sub-step's mid-time and translated along the chord of its own centre (the pivot: a sphere's centre, a
+// cylinder piece's mid-point). A point of the part at distance r from the pivot is then within
+//   phi * r + dev
+// of its true position at every time of the sub-step, and so each set within that distance of the other
+// (a Hausdorff bound), with phi the largest angle between the true axis and the held one and dev the
+// pivot path's largest distance from its chord at the same time. A sphere is unchanged by a rotation
+// about its centre (r = 0), so a ball needs sub-steps only for the curvature of its centre's path,
+// which falls with the square of the step. A long cylinder (flutes, shank, holder) is cut into pieces
+// along its axis, as many as make the block cheapest (a shorter piece has a smaller r and needs fewer
+// sub-steps, but every piece costs its own end overlap); the pieces tile the cylinder exactly.
+// Sub-step counts grow until each part's measured bound is at most its tolerance: `tolerance` for the
+// cutting parts (ball, flutes), `holder_tolerance` for shank and holder, which only collide. phi and dev
+// are measured at the sub-step's ends and at its quarter, half and three-quarter times.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "tiltfield/core/kinematics.hpp"
@@ -44,8 +52,10 @@ struct ToolPart {
 
 struct SweepOptions {
   double tolerance = 0.01;         // mm, bound on the cutting parts' sub-step error (see above)
+  double holder_tolerance = 0.05;  // mm, the same for shank and holder (collision only)
   double torus_tolerance = 0.001;  // mm, depth of the gaps between a bull end's ring spheres
-  int max_substeps = 4096;         // per block
+  int max_substeps = 4096;         // per part and block
+  int max_pieces = 16;             // most pieces a cylinder is cut into along its axis
 };
 
 // The convex parts of `tool`, in the tool frame.
@@ -82,19 +92,21 @@ bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, doub
 using PoseAt = std::function<ToolPose(double tau)>;
 
 struct BlockSweep {
-  std::vector<SweptPart> parts;   // all sub-steps, all parts
+  std::vector<SweptPart> parts;   // all sub-steps of all parts
   Eigen::AlignedBox3d box;        // bounds of all parts
-  int substeps = 1;
+  int substeps = 1;               // the most sub-steps of a cutting part
+  int swept_parts_cutting = 0;    // swept parts of the cutting parts (all sub-steps and pieces)
   double cutting_error = 0.0;     // bound for ball and flutes, mm
   double holder_error = 0.0;      // bound for shank and holder, mm
   double tip_length = 0.0;        // length of the tip path, mm
-  std::vector<ToolPose> poses, mids;  // scratch: sub-step poses (reused between blocks)
+  // Scratch reused between blocks: poses at the sub-step ends and quarter times, one set per count.
+  std::vector<std::pair<int, std::vector<ToolPose>>> pose_sets;
+  size_t pose_sets_used = 0;
 };
 
-// Sub-steps and swept parts of one block. `parts` from tool_parts(); `reach_cut`/`reach_all` the largest
-// distance from the tip of a cutting part / any part (mm). `out` is reused (no allocation when warm).
-void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, double reach_cut, double reach_all,
-                 const SweepOptions& options, BlockSweep& out);
+// Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks.
+void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
+                 BlockSweep& out);
 
 // Joint values at time tau of a block starting at `from` (linear in every axis; XYZ on the arc for G2/G3).
 Joints interpolate_block(const Joints& from, const Block& block, double tau);
