@@ -114,7 +114,7 @@ struct Builder {
     faces.emplace_back(a, c, d);
   }
 
-  void run() {
+  void run(const Progress& progress) {
     const size_t layer = size_t(nx) * ny;
     cells_prev.assign(layer, -1);
     std::vector<uint8_t> occ_next;
@@ -180,6 +180,8 @@ struct Builder {
       }
       std::swap(cells_prev, cells_cur);
       std::swap(occ0, occ1);
+      // The layers are most of the time; the fits and colours after them the rest.
+      if (k % 32 == 0) report(progress, "mesh", 0.7 * k / nz);
     }
   }
 };
@@ -333,13 +335,14 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
 
 Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options) {
   Builder b(stock);
-  b.run();
+  b.run(options.progress);
   if (options.smooth || options.refine > 0) {
     std::vector<LocalFit> fits = smooth_vertices(b);
     if (!options.smooth)
       for (auto& f : fits) f.valid = false;
     for (int level = 0; level < options.refine; ++level) refine(b.vertices, b.faces, fits);
   }
+  report(options.progress, "mesh", 0.8);
   Mesh mesh = to_mesh(b.vertices, b.faces);
   if (design && design->n_faces() > 0 && options.colour_by_deviation && mesh.n_vertices() > 0) {
     const RayMesh rm(*design);
@@ -365,6 +368,7 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
       mesh.set_color(v, Mesh::Color(c(t), c(1.0 - std::abs(t)), c(-t)));
     }
   }
+  report(options.progress, "mesh", 1.0);
   return mesh;
 }
 

@@ -41,6 +41,8 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
   for (int d = 0; d < 3; ++d) stamp_[d].assign(size_t(ext_.tiles_u(d)) * ext_.tiles_v(d), 0);
+  if (options.record_last_block)
+    for (int d = 0; d < 3; ++d) last_block_[d].assign(stock_.grid(d).size(), 0);
 }
 
 VerifyResult Simulator::run() {
@@ -90,7 +92,7 @@ VerifyResult Simulator::run() {
   if (design_) rep.excess = excess_left(*design_, stock_);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   report(opt_.progress, "verify", 1.0);
-  return {std::move(rep), std::move(stock_)};
+  return {std::move(rep), std::move(stock_), std::move(last_block_)};
 }
 
 Lattice Simulator::make_lattice(const Scene& scene, double h) {
@@ -136,6 +138,7 @@ Simulator::PartSpan Simulator::part_span(const SweptPart& p, int d) const {
 BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep) {
   BlockResult br;
   br.block = index;
+  block_ = static_cast<uint32_t>(index);
   br.line = b.line;
   const PoseAt pose_at = block_pose(b, from);
   sweep_block(pose_at, parts_, opt_.sweep, sweep_);

@@ -197,7 +197,11 @@ bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const st
       acc.hits.push_back(
           {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
     }
-    if (!acc.hits.empty() && process_ray(t.d, iu, iv, rapid, acc)) row_changed = true;
+    if (!acc.hits.empty() && process_ray(t.d, iu, iv, rapid, acc)) {
+      row_changed = true;
+      // One task owns each ray in a block, so no other thread writes this entry.
+      if (!last_block_[t.d].empty()) last_block_[t.d][size_t(iu) + size_t(lattice_.n[t.u]) * size_t(iv)] = block_;
+    }
   }
   return row_changed;
 }

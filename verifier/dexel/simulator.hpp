@@ -164,6 +164,8 @@ class Simulator {
   uint32_t stamp_value_ = 0;
   std::vector<Task> tasks_;
   BlockSweep sweep_;
+  LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
+  uint32_t block_ = 0;     // 1-based index of the block being simulated
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 

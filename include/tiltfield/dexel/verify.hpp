@@ -9,6 +9,8 @@
 // tiles of rays. Units: mm, mm^3, minutes. Defaults: 0.1 mm lattice, 0.01 mm sweep tolerance.
 #pragma once
 #include <Eigen/Core>
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -54,11 +56,18 @@ struct VerifyOptions {
   // BlockResult::engagement stay empty). The command line sets it unless --no-engagement.
   EngagementProbe engagement;
   Progress progress;                     // stage "verify"
+  // Fill VerifyResult::last_block (4 bytes a ray), for colouring the stock by the block or tool that cut it.
+  bool record_last_block = false;
 };
+
+// Per grid d, per ray in TriDexel::grid(d) order: the 1-based motion block that last changed the ray's
+// material, 0 where no block did.
+using LastBlocks = std::array<std::vector<uint32_t>, 3>;
 
 struct VerifyResult {
   VerifyReport report;
-  TriDexel stock;  // the stock after the simulated blocks
+  TriDexel stock;         // the stock after the simulated blocks
+  LastBlocks last_block;  // empty unless VerifyOptions::record_last_block
 };
 
 // Simulates `program` on the scene's stock with the scene's tool. `forward` maps the program's joint
@@ -76,6 +85,7 @@ struct StockMeshOptions {
   int refine = 0;
   bool colour_by_deviation = true;  // per-vertex colour from the signed distance to the design
   double colour_range_mm = 0.0;     // deviation mapped to full red/blue; 0: the largest |deviation|, >= 0.05
+  Progress progress;                // stage "mesh"
 };
 
 // A closed triangle mesh of the tri-dexel stock (dual contouring on the lattice: one vertex a cell with
