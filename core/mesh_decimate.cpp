@@ -31,10 +31,11 @@ double surface_area(const IndexedTriangles& m) {
   return a;
 }
 
-void check_values(size_t values, size_t vertices) {
-  if (values != 0 && values != vertices)
-    throw std::invalid_argument("mesh decimation: " + std::to_string(values) + " per-vertex values for " +
-                                std::to_string(vertices) + " vertices");
+void check_values(const IndexedTriangles& m) {
+  for (const size_t n : {m.values.size(), m.labels.size()})
+    if (n != 0 && n != m.V.size())
+      throw std::invalid_argument("mesh decimation: " + std::to_string(n) + " per-vertex values for " +
+                                  std::to_string(m.V.size()) + " vertices");
 }
 
 // What clustering needs that does not depend on the cell, so a budget search computes it once.
@@ -120,6 +121,7 @@ struct Quadric {
 struct Cluster {
   Eigen::Vector3d position_sum = Eigen::Vector3d::Zero();
   double value_sum = 0.0;
+  uint32_t label = 0;  // of the first vertex
   uint32_t count = 0;
   Quadric quadric;  // of the triangles at the cluster's vertices
 };
@@ -131,6 +133,7 @@ std::vector<Cluster> vertex_sums(const IndexedTriangles& mesh, const Clustering&
     Cluster& k = clusters[c.of_vertex[i]];
     k.position_sum += mesh.V[i];
     if (has_values) k.value_sum += mesh.values[i];
+    if (k.count == 0 && !mesh.labels.empty()) k.label = mesh.labels[i];
     ++k.count;
   }
   return clusters;
@@ -183,6 +186,8 @@ IndexedTriangles collapse(const IndexedTriangles& mesh, const Clustering& c, dou
   for (uint32_t i : used) out.V.push_back(cluster_point(clusters[i], cell));
   if (!mesh.values.empty())
     for (uint32_t i : used) out.values.push_back(clusters[i].value_sum / double(clusters[i].count));
+  if (!mesh.labels.empty())
+    for (uint32_t i : used) out.labels.push_back(clusters[i].label);
   return out;
 }
 
@@ -192,7 +197,8 @@ bool too_fine(const ClusterGrid& grid, double cell) {
 
 }  // namespace
 
-IndexedTriangles indexed_triangles(const Mesh& mesh, const std::vector<double>* values) {
+IndexedTriangles indexed_triangles(const Mesh& mesh, const std::vector<double>* values,
+                                   const std::vector<uint32_t>* labels) {
   IndexedTriangles out;
   out.V.resize(mesh.n_vertices(), Eigen::Vector3d::Zero());
   for (auto vh : mesh.vertices()) out.V[size_t(vh.idx())] = to_eigen(mesh.point(vh));
@@ -212,11 +218,17 @@ IndexedTriangles indexed_triangles(const Mesh& mesh, const std::vector<double>* 
                                   std::to_string(out.V.size()) + " vertices");
     out.values = *values;
   }
+  if (labels) {
+    if (labels->size() != out.V.size())
+      throw std::invalid_argument("indexed_triangles: " + std::to_string(labels->size()) + " per-vertex labels for " +
+                                  std::to_string(out.V.size()) + " vertices");
+    out.labels = *labels;
+  }
   return out;
 }
 
 IndexedTriangles cluster_decimate(const IndexedTriangles& mesh, double cell) {
-  check_values(mesh.values.size(), mesh.V.size());
+  check_values(mesh);
   if (!(cell > 0.0) || mesh.V.empty()) return mesh;
   const ClusterGrid grid = cluster_grid(mesh);
   if (too_fine(grid, cell)) return mesh;
@@ -224,7 +236,7 @@ IndexedTriangles cluster_decimate(const IndexedTriangles& mesh, double cell) {
 }
 
 IndexedTriangles decimate_to_budget(const IndexedTriangles& mesh, size_t max_triangles) {
-  check_values(mesh.values.size(), mesh.V.size());
+  check_values(mesh);
   if (mesh.F.size() <= max_triangles) return mesh;
   if (max_triangles == 0) return {};
   double cell = std::sqrt(2.0 * surface_area(mesh) / double(max_triangles));

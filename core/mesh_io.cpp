@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <ostream>
+#include <streambuf>
 
 #include "mesh_readers.hpp"
 #include "tiltfield/core/error.hpp"
@@ -50,14 +52,46 @@ Mesh load_mesh(const fs::path& file) {
   return mesh;
 }
 
-void write_mesh(const Mesh& mesh, const fs::path& file) {
-  const std::string ext = lower_extension(file);
-  if (!known_extension(ext))
-    throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
+namespace {
+OpenMesh::IO::Options writer_options(const Mesh& mesh, const std::string& ext) {
   OpenMesh::IO::Options opt;
   if (ext == ".stl" || ext == ".ply") opt += OpenMesh::IO::Options::Binary;
   if (mesh.has_vertex_colors() && (ext == ".ply" || ext == ".off" || ext == ".obj"))
     opt += OpenMesh::IO::Options::VertexColor;
+  return opt;
+}
+
+// Counts the bytes written to it and keeps none.
+class CountingBuffer : public std::streambuf {
+ public:
+  size_t count = 0;
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!traits_type::eq_int_type(c, traits_type::eof())) ++count;
+    return traits_type::not_eof(c);
+  }
+  std::streamsize xsputn(const char*, std::streamsize n) override {
+    count += size_t(n);
+    return n;
+  }
+};
+}  // namespace
+
+size_t ply_size(const Mesh& mesh) {
+  CountingBuffer buffer;
+  std::ostream out(&buffer);
+  omerr().disable();
+  OpenMesh::IO::write_mesh(mesh, out, ".ply", writer_options(mesh, ".ply"));
+  omerr().enable();
+  return buffer.count;
+}
+
+void write_mesh(const Mesh& mesh, const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (!known_extension(ext))
+    throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
+  const OpenMesh::IO::Options opt = writer_options(mesh, ext);
   write_path_atomic(file, [&](const fs::path& tmp) {
     // OpenMesh picks the writer by extension; keep it on the temporary name.
     fs::path named = tmp;

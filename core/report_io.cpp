@@ -94,6 +94,13 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
   j["stopped_at_first_collision"] = r.stopped_early;
   j["memory_mb"] = num(r.memory_bytes / 1048576.0, 1);
   j["engagement"] = engagement_summary_json(r);
+  if (r.stock_mesh) {
+    const StockMeshStats& m = *r.stock_mesh;
+    j["stock_mesh"] = {{"max_error_mm", num(m.max_error_mm, 6)}, {"vertices", m.vertices},
+                       {"faces", m.faces},                        {"bytes", m.bytes},
+                       {"full_vertices", m.full_vertices},        {"full_faces", m.full_faces},
+                       {"mesh_seconds", num(m.mesh_seconds, 3)},  {"decimate_seconds", num(m.decimate_seconds, 3)}};
+  }
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2);
   write_file_atomic(file, [&](std::ostream& out) { out << text << "\n"; });

@@ -121,6 +121,20 @@ void read_figures(const json& j, const std::string& file, VerifyReport& r) {
     r.excess.p95_mm = jf::number_or(e, "p95_mm", 0.0, file, "excess");
     r.excess.max_mm = jf::number_or(e, "max_mm", 0.0, file, "excess");
   }
+  if (j.contains("stock_mesh")) {
+    const json& m = j["stock_mesh"];
+    jf::require_object(m, file, "stock_mesh");
+    StockMeshStats s;
+    s.max_error_mm = jf::number_or(m, "max_error_mm", 0.0, file, "stock_mesh");
+    s.vertices = count_or_zero(m, "vertices", file);
+    s.faces = count_or_zero(m, "faces", file);
+    s.bytes = count_or_zero(m, "bytes", file);
+    s.full_vertices = count_or_zero(m, "full_vertices", file);
+    s.full_faces = count_or_zero(m, "full_faces", file);
+    s.mesh_seconds = jf::number_or(m, "mesh_seconds", 0.0, file, "stock_mesh");
+    s.decimate_seconds = jf::number_or(m, "decimate_seconds", 0.0, file, "stock_mesh");
+    r.stock_mesh = s;
+  }
   r.engagement_seconds = j.contains("engagement") && j["engagement"].is_object()
                              ? jf::number_or(j["engagement"], "seconds", 0.0, file, "engagement")
                              : 0.0;

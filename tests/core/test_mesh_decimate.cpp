@@ -159,6 +159,27 @@ TEST(MeshDecimate, DegenerateInputs) {
   tf::Stock s;
   s.box = {{0, 0, 0}, {1, 1, 1}};
   EXPECT_THROW(tf::indexed_triangles(tf::stock_to_mesh(s), &short_values), std::invalid_argument);
+  const std::vector<uint32_t> short_labels(3, 0);
+  EXPECT_THROW(tf::indexed_triangles(tf::stock_to_mesh(s), nullptr, &short_labels), std::invalid_argument);
+  bad = m;
+  bad.labels.assign(m.V.size() + 1, 0);
+  EXPECT_THROW(tf::cluster_decimate(bad, 1.0), std::invalid_argument);
+}
+
+TEST(MeshDecimate, LabelsAreTakenNotMixed) {
+  // Labels 7 left of x = 30 and 9 right of it: a cluster takes one of its own vertices' labels, so the
+  // output has no third value, and clusters away from the line keep their side's.
+  IndexedTriangles m = wavy_surface(120, 80);
+  for (const auto& p : m.V) m.labels.push_back(p.x() < 30.0 ? 7u : 9u);
+  const IndexedTriangles d = tf::cluster_decimate(m, 2.0);
+  ASSERT_EQ(d.labels.size(), d.V.size());
+  for (size_t i = 0; i < d.V.size(); ++i) {
+    ASSERT_TRUE(d.labels[i] == 7u || d.labels[i] == 9u) << d.labels[i];
+    const uint32_t side = d.V[i].x() < 30.0 ? 7u : 9u;
+    if (std::abs(d.V[i].x() - 30.0) > 3.0) {
+      EXPECT_EQ(d.labels[i], side);
+    }
+  }
 }
 
 }  // namespace

@@ -100,7 +100,7 @@ TEST(MeshSimplify, TorusWithinTheBoundBothWays) {
 TEST(MeshSimplify, SlabsJoinOnTheirLockedCutsAndKeepTheBound) {
   const tf::Mesh input = torus(200, 60);
   tf::BoundedDecimateOptions o;
-  o.max_error_mm = 0.02;
+  o.max_error_mm = 0.05;
   o.slabs = 3;
   double last = -1.0;
   int calls = 0;
@@ -116,8 +116,8 @@ TEST(MeshSimplify, SlabsJoinOnTheirLockedCutsAndKeepTheBound) {
   EXPECT_LT(d.mesh.n_faces(), input.n_faces() / 2);
   EXPECT_TRUE(tf::is_closed(d.mesh)) << "the slabs meet on the same vertices";
   const Measured m = measure(input, d.mesh);
-  EXPECT_LE(m.input_to_output, 0.02 + 1e-9);
-  EXPECT_LE(m.output_to_input, 0.02 + 1e-9);
+  EXPECT_LE(m.input_to_output, 0.05 + 1e-9);
+  EXPECT_LE(m.output_to_input, 0.05 + 1e-9);
 }
 
 TEST(MeshSimplify, ZeroBoundCopiesAndColoursFollowTheirVertices) {

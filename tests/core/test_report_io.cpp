@@ -53,6 +53,9 @@ VerifyReport sample_report() {
   air.rapid = true;
   air.collision = true;
   r.per_block = {cut, air};
+  r.stock_mesh = StockMeshStats{.max_error_mm = 0.01, .vertices = 1500, .faces = 2996, .bytes = 57000,
+                                .full_vertices = 90000, .full_faces = 179996, .mesh_seconds = 0.75,
+                                .decimate_seconds = 2.5};
   return r;
 }
 
@@ -85,6 +88,14 @@ TEST(ReportIo, VerifyJsonRoundTrip) {
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0], w.warnings[0]);
   EXPECT_TRUE(r.per_block.empty()) << "blocks.csv carries the blocks";
+  ASSERT_TRUE(r.stock_mesh.has_value());
+  EXPECT_DOUBLE_EQ(r.stock_mesh->max_error_mm, 0.01);
+  EXPECT_EQ(r.stock_mesh->vertices, 1500u);
+  EXPECT_EQ(r.stock_mesh->faces, 2996u);
+  EXPECT_EQ(r.stock_mesh->bytes, 57000u);
+  EXPECT_EQ(r.stock_mesh->full_vertices, 90000u);
+  EXPECT_EQ(r.stock_mesh->full_faces, 179996u);
+  EXPECT_DOUBLE_EQ(r.stock_mesh->decimate_seconds, 2.5);
 }
 
 TEST(ReportIo, VerifyJsonWithTheDocumentedFieldsOnly) {
@@ -101,6 +112,7 @@ TEST(ReportIo, VerifyJsonWithTheDocumentedFieldsOnly) {
   EXPECT_EQ(v.gouges[0].line, 29);
   EXPECT_DOUBLE_EQ(v.removed_volume_mm3, 12.5);
   EXPECT_TRUE(std::isnan(v.stock_volume_start_mm3)) << "not in the file: unknown";
+  EXPECT_FALSE(v.stock_mesh.has_value());
 }
 
 // Each malformed report names the field that is wrong.

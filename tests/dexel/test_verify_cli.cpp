@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "helpers.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -92,6 +93,58 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
   EXPECT_EQ(rows, 4);
   EXPECT_GT(fs::file_size(dir / "s.ply"), 1000u);
   EXPECT_EQ(j["engagement"]["blocks_engaged"], 2);  // the plunge and the slot
+}
+
+TEST_F(VerifyCli, HtmlReportAndCompactStockMesh) {
+  write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --resolution 0.25 --stock-mesh " + (dir / "s.ply").string();
+  CliRun r = tiltfield(base + " --html " + (dir / "r.html").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(std::ifstream(dir / "v.json"));
+  ASSERT_TRUE(j.contains("stock_mesh"));
+  const auto compact = j["stock_mesh"];
+  EXPECT_DOUBLE_EQ(compact["max_error_mm"].get<double>(), 0.01);
+  EXPECT_LT(compact["vertices"].get<size_t>(), compact["full_vertices"].get<size_t>() / 4) << "flat faces and a slot";
+  EXPECT_EQ(compact["bytes"].get<size_t>(), fs::file_size(dir / "s.ply"));
+  EXPECT_EQ(load_mesh(dir / "s.ply").n_vertices(), compact["vertices"].get<size_t>());
+  std::stringstream html;
+  html << std::ifstream(dir / "r.html").rdbuf();
+  EXPECT_NE(html.str().find("Stock mesh"), std::string::npos);
+  EXPECT_NE(html.str().find("p.ngc"), std::string::npos);
+  EXPECT_EQ(html.str().find("the scene has no tool path"), std::string::npos) << "the scene has a path";
+  // 0: the full mesh.
+  r = tiltfield(base + " --mesh-tolerance 0", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(std::ifstream(dir / "v.json"));
+  EXPECT_EQ(j["stock_mesh"]["vertices"], j["stock_mesh"]["full_vertices"]);
+  EXPECT_EQ(j["stock_mesh"]["full_vertices"], compact["full_vertices"]);
+  fs::remove(dir / "v.json");
+  r = tiltfield(base + " --mesh-tolerance -0.1", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--mesh-tolerance"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+}
+
+TEST_F(VerifyCli, ProgressOnStderrOnlyOnATerminal) {
+  if (test::run_command("command -v script").exit_code != 0) GTEST_SKIP() << "script (util-linux) is not installed";
+  write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const std::string args = " verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --resolution 0.5 --html " + (dir / "r.html").string();
+  // `script` runs the command on a pseudo-terminal: stderr is a terminal there.
+  const test::CliResult tty = test::run_command("script -qec '" + std::string(TILTFIELD_EXE) + args + "' /dev/null");
+  ASSERT_EQ(tty.exit_code, 0) << tty.out;
+  for (const char* stage : {"verify", "mesh", "decimate"})
+    EXPECT_NE(tty.out.find(std::string(stage) + std::string(8 - std::string(stage).size(), ' ') + " [") ,
+              std::string::npos) << stage << "\n" << tty.out;
+  EXPECT_NE(tty.out.find("100%"), std::string::npos) << tty.out;
+  const test::CliResult quiet =
+      test::run_command("script -qec '" + std::string(TILTFIELD_EXE) + " --quiet" + args + "' /dev/null");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find('%'), std::string::npos) << quiet.out;
+  const test::CliResult pipe = test::run_command(std::string(TILTFIELD_EXE) + args);
+  ASSERT_EQ(pipe.exit_code, 0) << pipe.out;
+  EXPECT_EQ(pipe.out.find('%'), std::string::npos) << "no terminal, no bars\n" << pipe.out;
 }
 
 TEST_F(VerifyCli, CollisionsAndFailOnCollision) {

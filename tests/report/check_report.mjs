@@ -2,8 +2,10 @@
 // playwright-core) and checks that it rendered: every plot has drawn lines or says it has no data, at
 // least MIN_PLOTS plots have lines, the hover read-out works, the 3-D view's WebGL canvas has drawn
 // pixels, nothing was fetched from outside the file, and the console has no errors. Saves a screenshot.
+// With --expect-stock: a machined stock layer is there, renders under each of its colourings, and hovering
+// it reads out its deviation or the block that cut it.
 //
-//   node tests/report/check_report.mjs REPORT.html SCREENSHOT.png [--min-plots=N] [--full-page]
+//   node tests/report/check_report.mjs REPORT.html SCREENSHOT.png [--min-plots=N] [--full-page] [--expect-stock]
 //
 // Exit 0 when every check passes, 1 when one fails (each failure printed), 2 on bad usage or when the
 // browser cannot start. Environment: TILTFIELD_NODE_MODULES (the build's report_npm/node_modules, where
@@ -21,7 +23,7 @@ const option = (name, fallback) => {
   return a ? a.slice(name.length + 3) : fallback;
 };
 if (positional.length !== 2) {
-  console.error('usage: node check_report.mjs REPORT.html SCREENSHOT.png [--min-plots=N] [--full-page]');
+  console.error('usage: node check_report.mjs REPORT.html SCREENSHOT.png [--min-plots=N] [--full-page] [--expect-stock]');
   process.exit(2);
 }
 const [htmlFile, pngFile] = positional.map((p) => path.resolve(p));
@@ -106,9 +108,8 @@ try {
     await page.evaluate(() => window.scrollTo(0, 0));
   }
 
-  let pixels = { drawn: 0, total: 0, colours: 0 };
-  if (viewer === 'ready') {
-    pixels = await page.evaluate(() => {
+  // Drawn pixels and distinct colours of the 3-D view's canvas after a fresh render.
+  const canvasStats = () => page.evaluate(() => {
       window.tfViewer.render();
       const src = document.querySelector('#tf-viewer canvas');
       const c = document.createElement('canvas');
@@ -126,11 +127,41 @@ try {
         }
       return { drawn: n, total: d.length / 4, colours: colours.size };
     });
-    if (pixels.drawn < 0.02 * pixels.total) fail(`3-D canvas: only ${pixels.drawn} of ${pixels.total} pixels drawn`);
-    if (pixels.colours < 16) fail(`3-D canvas: only ${pixels.colours} distinct colours (no shading?)`);
+  const checkCanvas = (pixels, what) => {
+    if (pixels.drawn < 0.02 * pixels.total) fail(`3-D canvas${what}: only ${pixels.drawn} of ${pixels.total} pixels drawn`);
+    if (pixels.colours < 16) fail(`3-D canvas${what}: only ${pixels.colours} distinct colours (no shading?)`);
+  };
+  let pixels = { drawn: 0, total: 0, colours: 0 };
+  let stock = null;
+  if (viewer === 'ready') {
+    pixels = await canvasStats();
+    checkCanvas(pixels, '');
+    if (args.includes('--expect-stock')) {
+      // The machined stock is there: every colouring renders, and hovering the stock reads it out.
+      stock = { colorings: await page.evaluate(() => window.tfViewer.colorings.stock || []), readout: '' };
+      if (!stock.colorings.length) fail('no machined stock layer with colourings');
+      for (const id of stock.colorings) {
+        if (!(await page.evaluate((c) => window.tfViewer.setColoring('stock', c), id))) fail(`colouring '${id}' not applied`);
+        checkCanvas(await canvasStats(), ` coloured by ${id}`);
+      }
+      if (stock.colorings.length) await page.evaluate((c) => window.tfViewer.setColoring('stock', c), stock.colorings[0]);
+      stock.readout = await page.evaluate(() => {
+        const r = document.querySelector('#tf-viewer canvas').getBoundingClientRect();
+        for (let gy = 1; gy < 12; ++gy)
+          for (let gx = 1; gx < 12; ++gx) {
+            const t = window.tfViewer.readoutAt(r.left + (r.width * gx) / 12, r.top + (r.height * gy) / 12);
+            if (t && /block|raw stock|deviation/.test(t)) return t;
+          }
+        return '';
+      });
+      if (!stock.readout) fail('hovering the stock reads out nothing');
+      await page.evaluate(() => { document.querySelector('.viewer-tip').style.display = 'none'; });
+    }
   }
   await page.screenshot({ path: pngFile, fullPage: args.includes('--full-page') });
-  console.log(JSON.stringify({ viewer, plots: plots.length, plots_drawn: drawn, canvas: pixels, failures: failures.length }));
+  console.log(JSON.stringify({ viewer, plots: plots.length, plots_drawn: drawn, canvas: pixels,
+                               ...(stock ? { colorings: stock.colorings, readout: stock.readout } : {}),
+                               failures: failures.length }));
 } finally {
   await context.close();
   rmSync(userDataDir, { recursive: true, force: true });

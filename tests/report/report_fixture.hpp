@@ -52,6 +52,25 @@ inline Collision collision(int block, int line, ToolComponent component, HitWith
   return c;
 }
 
+// Standard base64 decoded (the packed arrays of the viewer's JSON).
+inline std::vector<unsigned char> unbase64(const std::string& s) {
+  std::vector<unsigned char> out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : s) {
+    int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
+            : c == '+' ? 62 : c == '/' ? 63 : -1;
+    if (v < 0) continue;
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+
 struct SyntheticJob {
   Scene scene;
   OrientedPath oriented, first_plan;
@@ -100,7 +119,7 @@ inline std::unique_ptr<SyntheticJob> synthetic_job() {
     job->oriented.rows.push_back(o);
     const auto j = kin.inverse_nearest({row_tip(o, sc.tool), o.axis}, prev);
     if (j) prev = *j;
-    job->inputs.axes.push_back({int(r), int(r) + 20, prev, false, false});
+    job->inputs.axes.push_back({int(r), int(r) + 20, prev, false, false, r < 90 ? 1 : 2});  // a tool change at row 90
     job->inputs.blocks.push_back({int(r), int(r) + 20, 4.0 + std::sin(0.1 * double(r)), 600.0 + 400.0 * std::sin(0.1 * double(r)),
                                   10.0, 80.0 + 30.0 * std::cos(0.2 * double(r)), 2.0 + std::cos(0.1 * double(r)), false});
   }
@@ -133,6 +152,15 @@ inline std::unique_ptr<SyntheticJob> synthetic_job() {
   in.summary.resolution_mm = 0.1;
   in.summary.stages = {{"plan", 1.2}, {"post", 0.1}, {"verify", 3.4}, {"replan", 0.6}, {"verify again", 3.1}};
   return job;
+}
+
+// Blocks 10 (tool 1) cut x < 30 and 100 (tool 2) 30 <= x < 45; the rest is raw stock.
+inline void label_stock(SyntheticJob& job) {
+  job.inputs.stock_block.clear();
+  for (auto v : job.stock.vertices()) {
+    const double x = job.stock.point(v)[0];
+    job.inputs.stock_block.push_back(x < 30.0 ? 10u : x < 45.0 ? 100u : 0u);
+  }
 }
 
 }  // namespace tf::test

@@ -30,24 +30,6 @@ nlohmann::json scene_data(const std::string& html) {
   return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
 }
 
-std::vector<unsigned char> unbase64(const std::string& s) {
-  std::vector<unsigned char> out;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char c : s) {
-    int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
-            : c == '+' ? 62 : c == '/' ? 63 : -1;
-    if (v < 0) continue;
-    acc = (acc << 6) | uint32_t(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back((acc >> bits) & 0xff);
-    }
-  }
-  return out;
-}
-
 const nlohmann::json* layer(const nlohmann::json& data, const std::string& id) {
   for (const auto& l : data["layers"])
     if (l["id"] == id) return &l;
@@ -89,8 +71,10 @@ TEST(Report, PageHasSummaryPlotsTablesAndViewerData) {
   const float* v = reinterpret_cast<const float*>(values.data());
   EXPECT_NEAR(v[5], job->inputs.stock_deviation_mm[5], 1e-6);
   // The deviation ramp spans the field (-0.35 .. 0.25 mm) give or take the 1 % tails.
-  EXPECT_NEAR(stock["value_range"][0].get<double>(), -0.35, 0.02);
-  EXPECT_NEAR(stock["value_range"][1].get<double>(), 0.25, 0.02);
+  ASSERT_EQ(stock["colorings"].size(), 1u) << "no blocks given: the deviation only";
+  EXPECT_EQ(stock["colorings"][0]["kind"], "deviation");
+  EXPECT_NEAR(stock["colorings"][0]["range"][0].get<double>(), -0.35, 0.02);
+  EXPECT_NEAR(stock["colorings"][0]["range"][1].get<double>(), 0.25, 0.02);
   EXPECT_EQ(layer(data, "collisions")->at("titles").size(), 3u);
   EXPECT_EQ(unbase64(layer(data, "axes")->at("positions")).size(), 150u * 6 * sizeof(float));
   EXPECT_NE(html.find("<script>"), std::string::npos);

@@ -1,9 +1,14 @@
 // `tiltfield verify SCENE PROGRAM.ngc -o VERIFY.json [--blocks BLOCKS.csv] [--stock-mesh STOCK.ply]
-//  [--resolution MM] [--engagement PAIRS.csv]`: tri-dexel material-removal simulation of a G-code program
-// (docs/verifier.md). With `--schedule-feed V`, -o names the rewritten program instead (docs/engagement.md).
+//  [--html REPORT.html] [--mesh-tolerance MM] [--resolution MM] [--engagement PAIRS.csv]`: tri-dexel
+// material-removal simulation of a G-code program (docs/verifier.md), its compact stock mesh and its HTML
+// report (docs/report.md). With `--schedule-feed V`, -o names the rewritten program instead
+// (docs/engagement.md).
+#include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "cli.hpp"
+#include "verify_outputs.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/engagement/feed_schedule.hpp"
 #include "tiltfield/gcode/gcode.hpp"
@@ -16,7 +21,8 @@ namespace tf::cli {
 namespace {
 
 struct VerifyArgs {
-  std::string scene, program, out, blocks, stock_mesh, pairs, report;
+  std::string scene, program, out, blocks, stock_mesh, pairs, report, html;
+  double mesh_tolerance = 0.01;
   double schedule_mrr = 0.0;
   FeedScheduleOptions schedule;
   bool no_engagement = false;
@@ -32,6 +38,8 @@ void run_verify(const VerifyArgs& a) {
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
+  if (!(a.mesh_tolerance >= 0.0) || !std::isfinite(a.mesh_tolerance))
+    throw InputError("", 0, "--mesh-tolerance", "must be a number of mm >= 0 (0: the full mesh)");
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
   const Program program = read_gcode(a.program, machine);
@@ -46,6 +54,7 @@ void run_verify(const VerifyArgs& a) {
     opt.engagement = engagement_probe(scene.tool, eo);
   }
   opt.progress = terminal_progress();
+  opt.record_last_block = !a.html.empty();  // the report colours the stock by the block that cut it
   const bool scheduling = a.schedule_mrr != 0.0;
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
@@ -54,12 +63,13 @@ void run_verify(const VerifyArgs& a) {
     check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
   }
-  const VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
+  VerifyResult result = verify_program(scene, program, scene_forward(scene), opt);
   // Every output is written to a temporary name and renamed; the mesh first (slowest), the report last.
-  if (!a.stock_mesh.empty()) {
-    StockMeshOptions mo;
-    mo.refine = a.mesh_refine;
-    write_mesh(reconstruct_stock(result.stock, scene.design.n_faces() ? &scene.design : nullptr, mo), a.stock_mesh);
+  std::optional<StockOutput> stock;
+  if (!a.stock_mesh.empty() || !a.html.empty()) {
+    stock = stock_output(scene, result, {a.mesh_tolerance, a.mesh_refine, !a.html.empty()}, opt.progress);
+    result.report.stock_mesh = stock->stats;
+    if (!a.stock_mesh.empty()) write_mesh(stock->mesh, a.stock_mesh);
   }
   if (!a.blocks.empty()) write_blocks_csv(result.report, a.blocks);
   if (!a.pairs.empty()) write_engagement_csv(result.report, a.pairs);
@@ -73,11 +83,18 @@ void run_verify(const VerifyArgs& a) {
   } else {
     write_verify_json(result.report, a.out);
   }
+  if (!a.html.empty()) write_verify_report(scene, program, a.program, result.report, stock ? &*stock : nullptr, a.html);
   const VerifyReport& r = result.report;
   if (!global_options().quiet) {
     std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "
               << r.collisions.size() << " collisions, " << r.gouges.size() << " gouges (max " << fixed(r.max_gouge_mm, 3)
               << " mm), " << fixed(r.seconds, 2) << " s\n";
+    if (r.stock_mesh)
+      std::cerr << "stock mesh: " << r.stock_mesh->vertices << " vertices, " << r.stock_mesh->faces << " faces, "
+                << fixed(double(r.stock_mesh->bytes) / 1e6, 1) << " MB as PLY, within "
+                << fixed(r.stock_mesh->max_error_mm, 4) << " mm of the dexel surface (full: " << r.stock_mesh->full_vertices
+                << " vertices); " << fixed(r.stock_mesh->mesh_seconds, 1) << " s mesh, "
+                << fixed(r.stock_mesh->decimate_seconds, 1) << " s decimation\n";
     for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
   }
   if (a.fail_on_collision && !r.collisions.empty())
@@ -95,6 +112,10 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("-o,--output", args.out, "verification report JSON (with --schedule-feed: the rewritten program)")->required();
   cmd->add_option("--blocks", args.blocks, "per-block CSV");
   cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
+  cmd->add_option("--html", args.html, "HTML report: the stock in 3-D (by deviation, or by block/tool), collisions, plots");
+  cmd->add_option("--mesh-tolerance", args.mesh_tolerance,
+                  "stock mesh (--stock-mesh, --html) decimated within this distance of the dexel surface, mm; 0: the "
+                  "full mesh (default 0.01)");
   cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
   cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
   cmd->add_option("--holder-tolerance", args.holder_tolerance,

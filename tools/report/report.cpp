@@ -61,12 +61,41 @@ std::string tool_text(const Tool& t) {
          (t.holder.size() == 1 ? "" : "s");
 }
 
+std::string megabytes(size_t bytes) { return fixed(double(bytes) / 1e6, bytes < 10000000 ? 2 : 1) + " MB"; }
+
+// The stock mesh's size and the bound it was decimated within.
+Card stock_mesh_card(const StockMeshStats& m) {
+  std::string detail = m.max_error_mm > 0.0 ? "within " + fixed(m.max_error_mm, 4) + " mm of the dexel surface, " +
+                                                  thousands(double(m.faces), 0) + " faces, " + megabytes(m.bytes) +
+                                                  " PLY (full mesh: " + thousands(double(m.full_vertices), 0) +
+                                                  " vertices, " + thousands(double(m.full_faces), 0) + " faces)"
+                                            : "the full dexel surface, " + thousands(double(m.faces), 0) + " faces, " +
+                                                  megabytes(m.bytes) + " PLY";
+  return {"Stock mesh", thousands(double(m.vertices), 0), "vertices", detail, ""};
+}
+
+// What the 3-D view's stock shows, and what it cannot (no design: no deviation colours).
+std::string stock_caption(const ReportInputs& in) {
+  if (!in.stock || in.stock->n_faces() == 0) return "No simulated stock: the raw stock is shown (hidden at first).";
+  std::string c;
+  if (in.stock_deviation_mm.empty())
+    c = in.scene->design.n_faces() == 0
+            ? "The scene has no design surface, so the stock cannot be coloured by its deviation from one. "
+            : "The stock's deviation from the design was not computed. ";
+  if (!in.stock_block.empty())
+    c += "Colours by block or tool show the last block to cut each place; choose the colouring under the stock's "
+         "layer switch, and hover the stock to read the block, its G-code line and tool.";
+  else if (in.stock_deviation_mm.empty())
+    c += "The stock is shown in one colour.";
+  return c;
+}
+
 std::vector<Card> cards(const ReportInputs& in) {
   const Scene& scene = *in.scene;
   const Summary& s = in.summary;
   std::vector<Card> out;
   const size_t rows = in.oriented ? in.oriented->rows.size() : scene.path.rows.size();
-  out.push_back({"Path rows", std::to_string(rows), "", "", ""});
+  out.push_back({"Path rows", rows ? std::to_string(rows) : "\u2013", "", rows ? "" : "no path in the scene", ""});
   const size_t blocks = std::max(in.axes.size(), in.blocks.size());
   out.push_back({"Program blocks", blocks ? std::to_string(blocks) : "\u2013", "", "", ""});
   const int left = int(in.collisions.size());
@@ -74,8 +103,11 @@ std::vector<Card> cards(const ReportInputs& in) {
   out.push_back({"Collisions left", std::to_string(left), "", detail, left ? "bad" : "good"});
   double max_gouge = s.max_gouge_mm;
   for (const auto& g : in.gouges) max_gouge = std::max(max_gouge, g.depth_mm);
-  out.push_back({"Gouges", std::to_string(in.gouges.size()), "",
-                 in.gouges.empty() ? "" : "deepest " + known(max_gouge, 3) + " mm", in.gouges.empty() ? "good" : "bad"});
+  if (scene.design.n_faces() == 0 && in.gouges.empty())
+    out.push_back({"Gouges", "\u2013", "", "no design surface to check", ""});
+  else
+    out.push_back({"Gouges", std::to_string(in.gouges.size()), "",
+                   in.gouges.empty() ? "" : "deepest " + known(max_gouge, 3) + " mm", in.gouges.empty() ? "good" : "bad"});
   double clearance = s.min_clearance_mm;
   if (clearance < 0.0 && in.oriented) {
     clearance = std::numeric_limits<double>::infinity();
@@ -93,6 +125,7 @@ std::vector<Card> cards(const ReportInputs& in) {
   for (const auto& st : s.stages) total += st.seconds;
   out.push_back({"Run time", s.stages.empty() ? "\u2013" : fixed(total, total < 10 ? 2 : 1), s.stages.empty() ? "" : "s",
                  std::to_string(s.stages.size()) + " stages", ""});
+  if (in.stock_mesh) out.push_back(stock_mesh_card(*in.stock_mesh));
   return out;
 }
 
@@ -124,7 +157,10 @@ std::string collision_table(const ReportInputs& in, size_t max_rows) {
 std::string gouge_table(const ReportInputs& in, size_t max_rows) {
   std::ostringstream o;
   o << "<h2 id=\"gouges\">Gouges <span class=\"count\">" << in.gouges.size() << "</span></h2>";
-  if (in.gouges.empty()) return o.str() + "<p class=\"none\">No gouges: the tool stays off the design surface.</p>";
+  if (in.gouges.empty())
+    return o.str() + (in.scene->design.n_faces() == 0
+                          ? "<p class=\"more\">The scene has no design surface: gouges were not checked.</p>"
+                          : "<p class=\"none\">No gouges: the tool stays off the design surface.</p>");
   std::vector<const Gouge*> sorted;
   for (const auto& g : in.gouges) sorted.push_back(&g);
   std::stable_sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->block < b->block; });
@@ -166,7 +202,7 @@ std::string render_html_report(const ReportInputs& in, const ReportOptions& opti
   if (!in.summary.note.empty()) o << "<div class=\"note\">" << escape_html(in.summary.note) << "</div>";
   o << "</div><div class=\"status " << (left || !in.gouges.empty() ? "bad" : "good") << "\">"
     << (left ? std::to_string(left) + (left == 1 ? " collision left" : " collisions left")
-             : in.gouges.empty() ? "no collisions, no gouges" : "no collisions")
+             : in.gouges.empty() && scene.design.n_faces() > 0 ? "no collisions, no gouges" : "no collisions")
     << (!in.gouges.empty() ? " \u00b7 " + std::to_string(in.gouges.size()) + (in.gouges.size() == 1 ? " gouge" : " gouges") : "")
     << "</div></header>\n";
 
@@ -188,7 +224,10 @@ std::string render_html_report(const ReportInputs& in, const ReportOptions& opti
                             "see docs/report.md).")
     << "</div></div><aside class=\"viewer-side\"><div id=\"tf-layers\" class=\"layers\"></div>"
     << "<div id=\"tf-legends\"></div><div class=\"hint\">Drag to orbit, right-drag to pan, wheel to zoom; "
-       "double-click resets the view.</div></aside></div></section>\n";
+       "double-click resets the view.</div></aside></div>";
+  if (const std::string caption = stock_caption(in); !caption.empty())
+    o << "<p class=\"caption\" id=\"stock-caption\">" << escape_html(caption) << "</p>";
+  o << "</section>\n";
 
   o << "<section class=\"panel\"><h2>Along the path and per block</h2><div class=\"plots\">";
   for (const auto& svg : build_plots(in)) o << "<figure>" << svg << "</figure>";

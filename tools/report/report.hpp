@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct BlockAxes {
   Joints joints;  // X Y Z mm, A B C deg
   bool rapid = false;
   bool tcp = false;  // X Y Z are the tool tip in the part frame (tf::Block::tcp), not machine axes
+  int tool = 0;      // the tool number in the spindle (tf::Block::tool; 0 when the program selects none)
 };
 
 struct StageTime {
@@ -70,6 +72,11 @@ struct ReportInputs {
   const Mesh* stock = nullptr;                // simulated stock (optional)
   std::vector<double> stock_deviation_mm;     // per stock vertex: + material left, - cut into the design
                                               // (stock_deviation() computes it)
+  // Per stock vertex: the 1-based motion block that last cut there, 0 where the raw stock is left
+  // (stock_vertex_blocks in tiltfield_dexel computes it). Colours the stock by block, and by tool
+  // (BlockAxes::tool) when the blocks that cut use more than one tool.
+  std::vector<uint32_t> stock_block;
+  std::optional<StockMeshStats> stock_mesh;   // the bound and sizes of the stock mesh (shown as a card)
   Summary summary;
 };
 
@@ -83,7 +90,7 @@ struct ReportOptions {
 };
 
 // Writes report.html (atomically). Throws std::invalid_argument when inputs.scene is null or the stock
-// deviation has the wrong size, std::runtime_error when the file cannot be written.
+// deviation or blocks have the wrong size, std::runtime_error when the file cannot be written.
 void write_html_report(const ReportInputs& inputs, const std::filesystem::path& out_html,
                        const ReportOptions& options = {});
 

@@ -12,6 +12,7 @@ IndexedMesh to_indexed(const IndexedTriangles& mesh) {
   for (const auto& p : mesh.V) out.V.push_back(p.cast<float>());
   out.F = mesh.F;
   out.values.assign(mesh.values.begin(), mesh.values.end());
+  out.labels = mesh.labels;
   return out;
 }
 
@@ -82,6 +83,7 @@ nlohmann::json encode_mesh(const IndexedMesh& mesh) {
     j["index_bits"] = 32;
   }
   if (!mesh.values.empty()) j["values"] = base64_floats(mesh.values);
+  if (!mesh.labels.empty()) j["labels"] = base64(mesh.labels.data(), mesh.labels.size() * sizeof(uint32_t));
   return j;
 }
 

@@ -20,6 +20,7 @@ struct IndexedMesh {
   std::vector<Eigen::Vector3f> V;             // mm
   std::vector<std::array<uint32_t, 3>> F;     // counter-clockwise from outside
   std::vector<float> values;                  // empty, or one per vertex (e.g. deviation, mm)
+  std::vector<uint32_t> labels;               // empty, or one per vertex (e.g. the block that cut there)
 };
 
 // Single-precision copies for packing. `values` (may be null) must hold one entry per vertex.
@@ -30,7 +31,8 @@ IndexedMesh to_indexed(const Mesh& mesh, const std::vector<double>* values);
 std::string base64(const void* data, size_t bytes);
 
 // The viewer's mesh record: {"positions": b64 Uint16 x3, "origin": [..], "scale": [..] (mm per unit),
-// "indices": b64, "index_bits": 16|32, "values": b64 Float32 (only when present), "triangles": n}.
+// "indices": b64, "index_bits": 16|32, "values": b64 Float32 and "labels": b64 Uint32 (only when present),
+// "triangles": n}.
 // Quantisation error is at most half a unit: bounding-box size / 131070 per axis.
 nlohmann::json encode_mesh(const IndexedMesh& mesh);
 

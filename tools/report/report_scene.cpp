@@ -95,15 +95,16 @@ nlohmann::json pose_json(const ToolPose& pose, const std::string& label) {
           {"label", label}};
 }
 
-// The stock (machined and coloured by deviation, else the raw stock faint and hidden), the check
-// surfaces and the design, each with its share of the triangle budget.
+// The stock (machined, with its deviation and the blocks that cut it when known, else the raw stock faint
+// and hidden), the check surfaces and the design, each with its share of the triangle budget.
 std::vector<MeshLayer> mesh_layers(const ReportInputs& in, const ReportOptions& options) {
   const Scene& scene = *in.scene;
   std::vector<MeshLayer> meshes;
   if (in.stock && in.stock->n_faces() > 0) {
-    const bool colored = !in.stock_deviation_mm.empty();
-    meshes.push_back({"stock", colored ? "Machined stock, coloured by deviation" : "Machined stock", "#c9b37e", 1.0,
-                      true, 1.0, indexed_triangles(*in.stock, colored ? &in.stock_deviation_mm : nullptr)});
+    const bool deviation = !in.stock_deviation_mm.empty(), blocks = !in.stock_block.empty();
+    meshes.push_back({"stock", "Machined stock", "#c9b37e", 1.0, true, 1.0,
+                      indexed_triangles(*in.stock, deviation ? &in.stock_deviation_mm : nullptr,
+                                        blocks ? &in.stock_block : nullptr)});
   } else {
     meshes.push_back({"raw-stock", "Raw stock", "#c9b37e", 0.18, false, 0.3,
                       indexed_triangles(stock_to_mesh(scene.stock, 64))});
@@ -142,19 +143,67 @@ std::vector<size_t> layer_budgets(const std::vector<MeshLayer>& meshes, size_t m
   return budget;
 }
 
-// One mesh layer decimated to its budget and packed; per-vertex values (the deviation) come with a colour
-// range that leaves out the extreme percent at either end.
-nlohmann::json mesh_layer_json(const MeshLayer& m, size_t budget) {
+// The ways to colour a mesh with per-vertex values (the deviation: a range that leaves out the extreme
+// percent at either end) and labels (the block that last cut: the blocks with their G-code line and tool;
+// by tool too when those blocks use more than one), the default first: the deviation when there is a
+// design, else the tool when there are several, else the block.
+nlohmann::json colorings(const IndexedMesh& mesh, const ReportInputs& in) {
+  nlohmann::json out = nlohmann::json::array();
+  if (!mesh.values.empty()) {
+    const double lo = std::min(quantile(mesh.values, 0.01), -0.01);
+    const double hi = std::max(quantile(mesh.values, 0.99), 0.01);
+    out.push_back({{"id", "deviation"}, {"kind", "deviation"}, {"label", "deviation from the design"},
+                   {"legend", "deviation from the design (mm): \u2212 over-cut, + material left"}, {"range", {lo, hi}}});
+  }
+  if (mesh.labels.empty()) return out;
+  std::vector<uint32_t> ids;
+  for (uint32_t b : mesh.labels)
+    if (b > 0) ids.push_back(b);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::map<int, const BlockAxes*> by_block;
+  for (const BlockAxes& a : in.axes) by_block[a.block] = &a;
+  nlohmann::json lines = nlohmann::json::array(), tools = nlohmann::json::array();
+  std::vector<int> distinct;
+  for (uint32_t b : ids) {
+    const auto it = by_block.find(int(b));
+    lines.push_back(it == by_block.end() ? 0 : it->second->line);
+    tools.push_back(it == by_block.end() ? 0 : it->second->tool);
+    distinct.push_back(tools.back().get<int>());
+  }
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  const nlohmann::json blocks{{"ids", ids}, {"lines", lines}, {"tools", tools}};
+  nlohmann::json by_tool{{"id", "tool"}, {"kind", "tool"}, {"label", "tool that last cut"},
+                         {"legend", "tool of the last block to cut each place"},
+                         {"note", !distinct.empty() && distinct.front() == 0 ? "Grey: raw stock. T0: blocks before the first tool change (M6)."
+                                                        : "Grey: raw stock."},
+                         {"blocks", blocks}, {"tools", distinct}};
+  nlohmann::json by_block_json{
+      {"id", "block"}, {"kind", "block"}, {"label", "block that last cut"},
+      {"legend", "last block to cut each place"},
+      {"note", "Coloured by order among the blocks that cut; grey: raw stock. Read per dexel ray, so an upper "
+               "bound: where every ray through a place was cut again later elsewhere, a later block shows "
+               "(docs/verifier.md)."},
+      {"blocks", blocks}};
+  const bool several_tools = distinct.size() > 1;
+  if (several_tools && mesh.values.empty()) out.push_back(std::move(by_tool));
+  out.push_back(std::move(by_block_json));
+  if (several_tools && !mesh.values.empty()) out.push_back(std::move(by_tool));
+  return out;
+}
+
+// One mesh layer decimated to its budget and packed, with its colourings.
+nlohmann::json mesh_layer_json(const MeshLayer& m, size_t budget, const ReportInputs& in) {
   const size_t original = m.mesh.F.size();
   const IndexedMesh mesh = original > budget ? to_indexed(decimate_to_budget(m.mesh, budget)) : to_indexed(m.mesh);
   nlohmann::json layer{{"id", m.id},           {"label", m.label},     {"kind", "mesh"},
                        {"color", m.color},     {"opacity", m.opacity}, {"visible", m.visible},
                        {"original_triangles", original}, {"mesh", encode_mesh(mesh)}};
-  if (!mesh.values.empty()) {
-    const double lo = std::min(quantile(mesh.values, 0.01), -0.01);
-    const double hi = std::max(quantile(mesh.values, 0.99), 0.01);
-    layer["value_label"] = "deviation from the design (mm): \u2212 over-cut, + material left";
-    layer["value_range"] = {lo, hi};
+  nlohmann::json c = colorings(mesh, in);
+  if (!c.empty()) {
+    layer["label"] = m.label + ", coloured by " + c[0]["label"].get<std::string>();
+    layer["colorings"] = std::move(c);
   }
   return layer;
 }
@@ -267,7 +316,7 @@ nlohmann::json build_scene_json(const ReportInputs& in, const ReportOptions& opt
   nlohmann::json layers = nlohmann::json::array();
   const std::vector<MeshLayer> meshes = mesh_layers(in, options);
   const std::vector<size_t> budget = layer_budgets(meshes, options.max_triangles);
-  for (size_t i = 0; i < meshes.size(); ++i) layers.push_back(mesh_layer_json(meshes[i], budget[i]));
+  for (size_t i = 0; i < meshes.size(); ++i) layers.push_back(mesh_layer_json(meshes[i], budget[i], in));
 
   if (auto path = path_layer(in)) layers.push_back(std::move(*path));
   nlohmann::json tool_poses = nlohmann::json::array();

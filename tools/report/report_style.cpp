@@ -65,6 +65,11 @@ tbody tr:hover { background: #f2f7ff; }
 .rapid { color: var(--bad); font-weight: 600; }
 .chips { display: flex; flex-wrap: wrap; gap: 6px; margin-bottom: 8px; }
 .chip { background: #fdecea; color: #a50e0e; border-radius: 12px; padding: 2px 10px; font-size: 12px; }
+.legend .chip, .legend-raw .chip { background: none; color: inherit; padding: 0 8px 0 0; font-size: 11px; }
+.legend .chip i { display: inline-block; width: 10px; height: 10px; border-radius: 2px; margin-right: 4px;
+  vertical-align: -1px; border: 1px solid rgba(0,0,0,.2); }
+.legend-raw { margin-top: 4px; }
+select.coloring { margin: 0 0 6px 22px; font: inherit; font-size: 12px; }
 .none { color: var(--good); } .more { color: var(--muted); font-size: 12px; }
 footer { color: var(--muted); font-size: 12px; padding: 4px 28px 24px; }
 @media (max-width: 900px) { .viewer-wrap { flex-direction: column; } .viewer-side { flex-basis: auto; }

@@ -13,7 +13,7 @@ std::vector<BlockAxes> block_axes(const Program& program) {
   axes.reserve(program.blocks.size());
   for (size_t i = 0; i < program.blocks.size(); ++i) {
     const Block& b = program.blocks[i];
-    axes.push_back({int(i) + 1, b.line, b.target, b.motion == Motion::Rapid, b.tcp});
+    axes.push_back({int(i) + 1, b.line, b.target, b.motion == Motion::Rapid, b.tcp, b.tool});
   }
   return axes;
 }
@@ -38,12 +38,13 @@ std::unique_ptr<RunFolder> load_run_folder(const Scene& scene, const std::filesy
     in.summary.removed_volume_mm3 = known(v.removed_volume_mm3);
     in.summary.max_gouge_mm = known(v.max_gouge_mm);
     in.summary.resolution_mm = known(v.resolution_mm);
+    in.stock_mesh = v.stock_mesh;
   }
   if (fs::exists(dir / "blocks.csv")) in.blocks = read_blocks_csv(dir / "blocks.csv");
   if (fs::exists(dir / "stock.ply")) {
     run->stock = load_mesh(dir / "stock.ply");
     in.stock = &run->stock;
-    in.stock_deviation_mm = stock_deviation(run->stock, scene.design);
+    if (scene.design.n_faces() > 0) in.stock_deviation_mm = stock_deviation(run->stock, scene.design);
   }
   return run;
 }

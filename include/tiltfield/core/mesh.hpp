@@ -34,6 +34,9 @@ Mesh load_mesh(const std::filesystem::path& file);
 // has them and the format carries them. Written to a temporary name and renamed.
 void write_mesh(const Mesh& mesh, const std::filesystem::path& file);
 
+// The bytes write_mesh writes for `mesh` as a .ply (binary, with its vertex colours), without writing.
+size_t ply_size(const Mesh& mesh);
+
 // Builds a mesh from arrays (V in mm, F counter-clockwise from outside).
 Mesh mesh_from_arrays(const Eigen::Ref<const Eigen::MatrixX3d>& V, const Eigen::Ref<const Eigen::MatrixX3i>& F);
 TriangleArrays to_arrays(const Mesh& mesh);

@@ -6,7 +6,9 @@
 //      a grid cell in mm (cluster_decimate) or a triangle budget (decimate_to_budget).
 // Out: a new IndexedTriangles: one vertex per cluster that a kept triangle uses, numbered in the order
 //      the kept triangles first use them; the triangles whose corners fell in three different clusters,
-//      in input order and orientation; values (when given) the mean over each cluster's vertices.
+//      in input order and orientation; values (when given) the mean over each cluster's vertices;
+//      labels (when given: categories such as a block number, which a mean would mix up) the label of
+//      each cluster's first vertex in input order.
 //      The result may be non-manifold (a fan pinched at a cluster point): draw it, do not build a
 //      half-edge mesh from it.
 // Clustering: the grid starts at the mesh's bounding-box minimum. Vertices of one cell merge only when
@@ -32,14 +34,17 @@ struct IndexedTriangles {
   std::vector<Eigen::Vector3d> V;           // mm
   std::vector<std::array<uint32_t, 3>> F;   // indices into V, counter-clockwise seen from outside
   std::vector<double> values;               // empty, or one per vertex
+  std::vector<uint32_t> labels;             // empty, or one per vertex
 };
 
-// A copy of `mesh` (vertex indices kept, faces of other than three vertices skipped) with `values` (may
-// be null). Throws std::invalid_argument when values does not hold one entry per vertex.
-IndexedTriangles indexed_triangles(const Mesh& mesh, const std::vector<double>* values = nullptr);
+// A copy of `mesh` (vertex indices kept, faces of other than three vertices skipped) with `values` and
+// `labels` (either may be null). Throws std::invalid_argument when either does not hold one entry per
+// vertex.
+IndexedTriangles indexed_triangles(const Mesh& mesh, const std::vector<double>* values = nullptr,
+                                   const std::vector<uint32_t>* labels = nullptr);
 
-// Clusters on a grid of `cell` mm (see the header comment). Throws std::invalid_argument when values is
-// neither empty nor one per vertex.
+// Clusters on a grid of `cell` mm (see the header comment). Throws std::invalid_argument when values or
+// labels are neither empty nor one per vertex.
 IndexedTriangles cluster_decimate(const IndexedTriangles& mesh, double cell);
 
 // Clusters with a growing cell until at most `max_triangles` remain; a mesh that already fits is returned

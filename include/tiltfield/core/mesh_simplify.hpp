@@ -7,7 +7,7 @@
 //        keeps the removed vertices on the faces nearest to them and allows a collapse only when each of
 //        them stays within the bound (exact, for the vertices);
 //      - the output's faces lie near the input: a collapse is allowed only when a grid of points over each
-//        face it moves (quarters of the face) lies within 0.6 times the bound of the input's triangles
+//        face it moves (quarters of the face) lies within half the bound of the input's triangles
 //        (a sampled test, with a margin for the points between the samples; the tests measure 28 points a
 //        face against the input: within the bound).
 // Guards: ModNormalFlippingT (no face turns by more than `max_normal_deviation_deg`) and ModAspectRatioT

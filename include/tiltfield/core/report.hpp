@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -92,6 +93,18 @@ struct ExcessStats {
   double mean_mm = 0.0, p95_mm = 0.0, max_mm = 0.0;
 };
 
+// The stock mesh that came with the report (`verify --stock-mesh`, `--html`): an addition to the spec's
+// report. The mesh is the dual-contoured dexel surface decimated within `max_error_mm` both ways
+// (tiltfield/core/mesh_simplify.hpp); 0 means the full mesh.
+struct StockMeshStats {
+  double max_error_mm = 0.0;
+  size_t vertices = 0, faces = 0;
+  size_t bytes = 0;                          // as a binary PLY (the file's size when one was written)
+  size_t full_vertices = 0, full_faces = 0;  // the dual-contoured mesh before decimation
+  double mesh_seconds = 0.0;                 // dual contouring
+  double decimate_seconds = 0.0;
+};
+
 struct VerifyReport {
   int blocks = 0;
   double removed_volume_mm3 = 0.0;
@@ -113,6 +126,7 @@ struct VerifyReport {
   ExcessStats excess;
   std::vector<BlockResult> per_block;  // not in VERIFY.json: blocks.csv carries it
   std::vector<std::string> warnings;
+  std::optional<StockMeshStats> stock_mesh;  // VERIFY.json's "stock_mesh", when a mesh was made
 };
 
 // One row of blocks.csv. NaN: not computed (an empty cell): the MRR of a block that takes no time, the
@@ -136,7 +150,8 @@ struct BlockRow {
 BlockRow block_row(const BlockResult& block);
 
 // VERIFY.json: the documented fields, then the tool poses of each collision, the stock volumes, sweep error
-// bounds, excess material statistics, memory and an engagement/MRR summary over the feed blocks.
+// bounds, excess material statistics, memory, an engagement/MRR summary over the feed blocks and the stock
+// mesh's bound and sizes (when there is one).
 void write_verify_json(const VerifyReport& report, const std::filesystem::path& file);
 // blocks.csv: the documented columns, then axial_depth_mm, radial_width_mm and pairs (the most entry/exit
 // pairs at one height).

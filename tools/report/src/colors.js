@@ -8,6 +8,17 @@ export const DEVIATION_STOPS = [
   [-1, '#1a237e'], [-0.35, '#29b6f6'], [0, '#43a047'], [0.35, '#ffb74d'], [1, '#c62828'],
 ];
 
+// The last block to cut, by rank among the blocks that cut (0 the first, 1 the last): a wide ramp so that
+// neighbouring passes stay apart ("turbo"-like).
+export const BLOCK_STOPS = [
+  [0, '#30123b'], [0.2, '#4686fb'], [0.4, '#1ae4b6'], [0.6, '#a2fc3c'], [0.8, '#faba39'], [1, '#7a0403'],
+];
+
+// Tools: one colour each (Tableau 10), in the order of their numbers; raw stock grey.
+export const TOOL_COLORS = ['#4e79a7', '#f28e2b', '#e15759', '#76b7b2', '#59a14f', '#edc948', '#b07aa1', '#ff9da7',
+  '#9c755f', '#bab0ac'];
+export const RAW_STOCK_COLOR = '#b8b2a6';
+
 // Clearance to the check surfaces, mm: red at contact, amber at the safety distance, green beyond.
 export function clearanceStops(safety, top) {
   const s = Math.max(safety, 1e-6);

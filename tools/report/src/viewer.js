@@ -10,7 +10,9 @@ import {
   Vector2, Vector3, WebGLRenderer,
 } from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { DEVIATION_STOPS, clearanceStops, colorAt, cssGradient } from './colors.js';
+import {
+  BLOCK_STOPS, DEVIATION_STOPS, RAW_STOCK_COLOR, TOOL_COLORS, clearanceStops, colorAt, cssGradient,
+} from './colors.js';
 
 function bytes(b64) {
   const bin = atob(b64);
@@ -35,20 +37,66 @@ function meshObject(layer) {
     transparent: layer.opacity < 1, opacity: layer.opacity, depthWrite: layer.opacity >= 0.5,
     polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
   });
-  if (m.values) {
-    const values = floats(m.values);
-    const [lo, hi] = layer.value_range;
-    const col = new Float32Array(values.length * 3);
-    const c = new Color();
-    for (let i = 0; i < values.length; ++i) {
-      colorAt(DEVIATION_STOPS, values[i] < 0 ? -values[i] / lo : values[i] / hi, c);
-      col.set([c.r, c.g, c.b], 3 * i);
-    }
-    geom.setAttribute('color', new BufferAttribute(col, 3));
-    material.vertexColors = true;
-    material.color.set(0xffffff);
+  const obj = new Mesh(geom, material);
+  obj.userData.values = m.values ? floats(m.values) : null;
+  obj.userData.labels = m.labels ? new Uint32Array(bytes(m.labels)) : null;
+  if (layer.colorings && layer.colorings.length) applyColoring(obj, layer.colorings[0]);
+  return obj;
+}
+
+// A block colouring's lookups: label -> rank among the blocks that cut, line, tool.
+function blockIndex(coloring) {
+  if (!coloring.index) {
+    const b = coloring.blocks;
+    coloring.index = new Map(b.ids.map((id, k) => [id, k]));
   }
-  return new Mesh(geom, material);
+  return coloring.index;
+}
+
+// Sets c to the colour of vertex i under `coloring`.
+function vertexColor(coloring, values, labels, i, c) {
+  if (coloring.kind === 'deviation') {
+    const [lo, hi] = coloring.range;
+    const v = values[i];
+    return colorAt(DEVIATION_STOPS, v < 0 ? -v / lo : v / hi, c);
+  }
+  const k = blockIndex(coloring).get(labels[i]);
+  if (k === undefined) return c.set(RAW_STOCK_COLOR);
+  if (coloring.kind === 'tool') return c.set(TOOL_COLORS[coloring.tools.indexOf(coloring.blocks.tools[k]) % TOOL_COLORS.length]);
+  const n = coloring.blocks.ids.length;
+  return colorAt(BLOCK_STOPS, n > 1 ? k / (n - 1) : 0.5, c);
+}
+
+function applyColoring(obj, coloring) {
+  const { values, labels } = obj.userData;
+  const n = obj.geometry.getAttribute('position').count;
+  const col = new Float32Array(n * 3);
+  const c = new Color();
+  for (let i = 0; i < n; ++i) {
+    vertexColor(coloring, values, labels, i, c);
+    col[3 * i] = c.r;
+    col[3 * i + 1] = c.g;
+    col[3 * i + 2] = c.b;
+  }
+  obj.geometry.setAttribute('color', new BufferAttribute(col, 3));
+  obj.material.vertexColors = true;
+  obj.material.color.set(0xffffff);
+  obj.material.needsUpdate = true;
+  obj.userData.coloring = coloring;
+}
+
+// What the pointer is over on a coloured mesh: its deviation and the block that last cut there.
+function meshReadout(obj, layer, vertex) {
+  const { values, labels } = obj.userData;
+  const parts = [];
+  if (values) parts.push(`deviation ${values[vertex] >= 0 ? '+' : '\u2212'}${fmt(Math.abs(values[vertex]))} mm`);
+  const blocks = (layer.colorings || []).find((c) => c.blocks);
+  if (labels && blocks) {
+    const k = blockIndex(blocks).get(labels[vertex]);
+    parts.push(k === undefined ? 'raw stock (not cut)'
+      : `block ${blocks.blocks.ids[k]}, line ${blocks.blocks.lines[k]}, tool T${blocks.blocks.tools[k]}`);
+  }
+  return parts.join(' \u00b7 ');
 }
 
 function lineObject(layer) {
@@ -111,6 +159,67 @@ function legend(container, title, stops, ticks, format) {
     div.querySelector('.ticks').appendChild(s);
   }
   container.appendChild(div);
+  return div;
+}
+
+// A legend of named colour chips.
+function chipLegend(container, title, chips) {
+  const div = document.createElement('div');
+  div.className = 'legend';
+  div.innerHTML = `<div class="title"></div><div class="chips"></div>`;
+  div.querySelector('.title').textContent = title;
+  for (const [text, color] of chips) {
+    const s = document.createElement('span');
+    s.className = 'chip';
+    s.innerHTML = '<i></i>';
+    s.querySelector('i').style.background = color;
+    s.append(text);
+    div.querySelector('.chips').appendChild(s);
+  }
+  container.appendChild(div);
+  return div;
+}
+
+// The legend of a mesh colouring, with its note; returns its element.
+function coloringLegend(container, coloring) {
+  const div = coloringRamp(container, coloring);
+  if (coloring.note) {
+    const note = document.createElement('div');
+    note.className = 'hint';
+    note.textContent = coloring.note;
+    div.appendChild(note);
+  }
+  return div;
+}
+
+function coloringRamp(container, coloring) {
+  const ticks = (a, b) => [0, 1, 2, 3, 4].map((k) => a + ((b - a) * k) / 4);
+  if (coloring.kind === 'deviation') {
+    const [lo, hi] = coloring.range;
+    return legend(container, coloring.legend, DEVIATION_STOPS.map(([t, c]) => [t < 0 ? -t * lo : t * hi, c]), ticks(lo, hi), fmt);
+  }
+  const b = coloring.blocks;
+  if (coloring.kind === 'tool')
+    return chipLegend(container, coloring.legend, [
+      ...coloring.tools.map((t, k) => [`T${t}`, TOOL_COLORS[k % TOOL_COLORS.length]]), ['raw stock', RAW_STOCK_COLOR]]);
+  const n = b.ids.length;
+  const div = legend(container, coloring.legend, BLOCK_STOPS, ticks(0, 1), (t) => {
+    if (!n) return '';
+    const k = Math.round(t * (n - 1));
+    return `${b.ids[k]}`;
+  });
+  const raw = chipLegend(div, '', [['raw stock', RAW_STOCK_COLOR]]);
+  raw.className = 'legend-raw';
+  div.title = n ? `blocks ${b.ids[0]} (line ${b.lines[0]}) to ${b.ids[n - 1]} (line ${b.lines[n - 1]}), coloured by their order among the ${n} blocks that shaped the stock` : '';
+  return div;
+}
+
+function coloringSwatch(coloring) {
+  if (coloring.kind === 'deviation') return cssGradient(DEVIATION_STOPS);
+  if (coloring.kind === 'block') return cssGradient(BLOCK_STOPS);
+  const n = coloring.tools.length;
+  const bands = coloring.tools.map((t, k) => `${TOOL_COLORS[k % TOOL_COLORS.length]} ${(100 * k) / n}% ${(100 * (k + 1)) / n}%`);
+  return `linear-gradient(to right, ${bands.join(', ')})`;
 }
 
 const fmt = (v) => (Math.abs(v) >= 10 ? v.toFixed(1) : Math.abs(v) >= 1 ? v.toFixed(2) : v.toFixed(3));
@@ -201,9 +310,10 @@ export function startViewer() {
   renderer.domElement.addEventListener('dblclick', () => { home(); render(); });
   new ResizeObserver(resize).observe(host);
 
-  // Layer switches and colour legends.
+  // Layer switches and colour legends; a mesh with several colourings gets a choice under its switch.
   const layersEl = document.getElementById('tf-layers');
   const legendsEl = document.getElementById('tf-legends');
+  const colorings = new Map();  // layer id -> function(coloring id): switches the colouring
   for (const layer of data.layers) {
     const obj = objects.get(layer.id);
     if (!obj || !layersEl) continue;
@@ -214,9 +324,9 @@ export function startViewer() {
     box.addEventListener('change', () => { obj.visible = box.checked; render(); });
     const swatch = document.createElement('span');
     swatch.className = 'swatch';
-    swatch.style.background = layer.value_range
-      ? cssGradient(layer.kind === 'mesh' ? DEVIATION_STOPS : clearanceStops(layer.safety_distance, layer.value_range[1]))
-      : layer.color;
+    const coloring = layer.colorings && layer.colorings[0];
+    swatch.style.background = coloring ? coloringSwatch(coloring)
+      : layer.value_range ? cssGradient(clearanceStops(layer.safety_distance, layer.value_range[1])) : layer.color;
     const text = document.createElement('span');
     text.textContent = layer.label;
     label.append(box, swatch, text);
@@ -228,21 +338,42 @@ export function startViewer() {
       label.append(tri);
     }
     layersEl.appendChild(label);
-    if (legendsEl && layer.value_range) {
-      const [lo, hi] = layer.value_range;
+    if (coloring && legendsEl) {
+      let shown = coloringLegend(legendsEl, coloring);
+      const choose = (id) => {
+        const c = layer.colorings.find((x) => x.id === id);
+        if (!c) return false;
+        applyColoring(obj, c);
+        swatch.style.background = coloringSwatch(c);
+        text.textContent = text.textContent.replace(/, coloured by .*$/, `, coloured by ${c.label}`);
+        const next = coloringLegend(legendsEl, c);
+        legendsEl.replaceChild(next, shown);
+        shown = next;
+        render();
+        return true;
+      };
+      colorings.set(layer.id, choose);
+      if (layer.colorings.length > 1) {
+        const select = document.createElement('select');
+        select.className = 'coloring';
+        select.id = `coloring-${layer.id}`;
+        for (const c of layer.colorings) select.add(new Option(`colour by ${c.label}`, c.id));
+        select.addEventListener('change', () => choose(select.value));
+        layersEl.appendChild(select);
+      }
+    } else if (legendsEl && layer.value_range) {
       // Evenly spaced ticks: the labels sit where their values are on the (linear) ramp.
-      const ticks = (a, b) => [0, 1, 2, 3, 4].map((k) => a + ((b - a) * k) / 4);
-      if (layer.kind === 'mesh') legend(legendsEl, layer.value_label, DEVIATION_STOPS.map(([t, c]) => [t < 0 ? -t * lo : t * hi, c]), ticks(lo, hi), fmt);
-      else legend(legendsEl, layer.value_label, clearanceStops(layer.safety_distance, hi), ticks(0, hi), fmt);
+      const hi = layer.value_range[1];
+      legend(legendsEl, layer.value_label, clearanceStops(layer.safety_distance, hi), [0, 1, 2, 3, 4].map((k) => (hi * k) / 4), fmt);
     }
   }
 
-  // Tooltips for collision sites and tool poses.
+  // Tooltips for collision sites and tool poses, else what the pointer is over on a coloured mesh.
   const tip = document.createElement('div');
   tip.className = 'viewer-tip';
   host.appendChild(tip);
   const ray = new Raycaster();
-  renderer.domElement.addEventListener('pointermove', (ev) => {
+  const readout = (ev) => {
     const r = renderer.domElement.getBoundingClientRect();
     ray.setFromCamera(new Vector2(((ev.clientX - r.left) / r.width) * 2 - 1, -((ev.clientY - r.top) / r.height) * 2 + 1), camera);
     const targets = [];
@@ -253,18 +384,47 @@ export function startViewer() {
     const hit = ray.intersectObjects(targets, true)[0];
     let title = null;
     if (hit) title = hit.object.userData.titles ? hit.object.userData.titles[hit.instanceId] : hit.object.userData.title;
+    if (!title)
+      for (const layer of data.layers) {
+        const o = objects.get(layer.id);
+        if (!layer.colorings || !o || !o.visible) continue;
+        const h = ray.intersectObject(o, false)[0];
+        if (!h) continue;
+        // The face's corner nearest the hit.
+        const p = o.geometry.getAttribute('position');
+        let best = h.face.a, d = Infinity;
+        for (const v of [h.face.a, h.face.b, h.face.c]) {
+          const dv = new Vector3().fromBufferAttribute(p, v).distanceToSquared(h.point);
+          if (dv < d) { d = dv; best = v; }
+        }
+        title = meshReadout(o, layer, best);
+        break;
+      }
     tip.style.display = title ? 'block' : 'none';
     if (title) {
       tip.textContent = title;
       tip.style.left = `${ev.clientX - r.left + 12}px`;
       tip.style.top = `${ev.clientY - r.top + 12}px`;
     }
+    return title;
+  };
+  // A mesh of a few hundred thousand triangles takes a while to ray-cast: once a frame at most.
+  let pending = null;
+  renderer.domElement.addEventListener('pointermove', (ev) => {
+    if (!pending) requestAnimationFrame(() => { readout(pending); pending = null; });
+    pending = ev;
   });
 
   home();
   resize();
   let triangles = 0;
   for (const layer of data.layers) if (layer.kind === 'mesh') triangles += layer.mesh.triangles;
-  window.tfViewer = { layers: data.layers.length, triangles, render };
+  window.tfViewer = {
+    layers: data.layers.length, triangles, render,
+    // For tests: the colourings of each mesh, a way to switch them, and the read-out at client (x, y).
+    colorings: Object.fromEntries(data.layers.filter((l) => l.colorings).map((l) => [l.id, l.colorings.map((c) => c.id)])),
+    setColoring: (layerId, id) => (colorings.has(layerId) ? colorings.get(layerId)(id) : false),
+    readoutAt: (x, y) => readout({ clientX: x, clientY: y }),
+  };
   status('ready');
 }
