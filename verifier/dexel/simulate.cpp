@@ -149,9 +149,11 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.rapid = rapid;
   br.feed = b.feed;
   br.feed_mode = b.feed_mode;
-  if (opt_.engagement && !rapid && !tasks_.empty()) measure_block_engagement(pose_at, br, rep);
+  const bool engagement = opt_.engagement && !rapid && !tasks_.empty();
+  journal_on_ = engagement;
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
+  if (engagement) measure_block_engagement(pose_at, br, rep);
 
   const BlockTotals tot = merged_totals();
   br.removed_mm3 = (tot.removed[0] + tot.removed[1] + tot.removed[2]) / 3.0 * lattice_.h * lattice_.h;
@@ -204,13 +206,35 @@ void Simulator::select_tiles() {
     }
 }
 
-// Engagement is measured on the stock before this block removes anything: the in-process workpiece met by
-// the tool at the block's end, as in engagement by sampling.
+// Engagement is measured on the stock before this block removed anything (the in-process workpiece the
+// tool meets at the block's end), and only where the block removed material: the rays the cut changed
+// trade contents with their journal copies for the measurement (a swap of storage, no copy), then back.
+// A block that removed nothing engaged nothing and costs nothing here.
 void Simulator::measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+  Eigen::AlignedBox3d removed;
+  removed.setEmpty();
+  for (const Accum& a : accum_)
+    for (int d = 0; d < 3; ++d) {
+      const Accum::GridBox& b = a.removed_box[d];
+      if (!(b.t1 >= b.t0)) continue;
+      Eigen::Vector3d lo, hi;
+      lo[d] = b.t0, hi[d] = b.t1;
+      lo[Lattice::u_axis(d)] = b.u0, hi[Lattice::u_axis(d)] = b.u1;
+      lo[Lattice::v_axis(d)] = b.v0, hi[Lattice::v_axis(d)] = b.v1;
+      removed.extend(lo);
+      removed.extend(hi);
+    }
+  if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
+  auto swap_journal = [this] {
+    for (Accum& a : accum_)
+      for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
+  };
+  swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
   br.engagement = opt_.engagement(stock_, pose_at(1.0 - back), pose_at(1.0),
-                                  [this](const Eigen::AlignedBox3d& box) { return may_hold_material(box); });
+                                  Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
+  swap_journal();
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -243,35 +267,6 @@ void Simulator::report_collisions(const Depths& depth, const Block& b, int index
                                   pose_at(0.0), pose_at(1.0)});
         br.collision = true;
       }
-}
-
-// False only when no ray of any grid holds material inside `box` (the tiles' material extents).
-bool Simulator::may_hold_material(const Eigen::AlignedBox3d& box) const {
-  const Eigen::AlignedBox3d b(box.min().array() - lattice_.h, box.max().array() + lattice_.h);
-  for (int d = 0; d < 3; ++d) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    int tu0, tu1, tv0, tv1;
-    if (!tile_range(b.min()[u], b.max()[u], u, tu0, tu1) || !tile_range(b.min()[v], b.max()[v], v, tv0, tv1)) continue;
-    const float lo = static_cast<float>(b.min()[d] - lattice_.origin[d]);
-    const float hi = static_cast<float>(b.max()[d] - lattice_.origin[d]);
-    for (int tv = tv0; tv <= tv1; ++tv)
-      for (int tu = tu0; tu <= tu1; ++tu) {
-        if (meets(ext_.tile(d, tu, tv), lo, hi)) return true;
-      }
-  }
-  return false;
-}
-
-// Tiles along lattice axis `axis` whose nodes lie in [lo, hi]; false when none.
-bool Simulator::tile_range(double lo, double hi, int axis, int& t0, int& t1) const {
-  const double big = lattice_.n[axis] + 1.0;
-  const int n0 = static_cast<int>(std::clamp(std::ceil((lo - lattice_.origin[axis]) / lattice_.h), 0.0, big));
-  const int n1 =
-      static_cast<int>(std::clamp(std::floor((hi - lattice_.origin[axis]) / lattice_.h), -1.0, lattice_.n[axis] - 1.0));
-  if (n1 < n0) return false;
-  t0 = n0 / kTile;
-  t1 = n1 / kTile;
-  return true;
 }
 
 // The length the block's feed refers to: arcs and TCP moves the tip path; joint moves the XYZ path (the

@@ -35,6 +35,12 @@ struct RowPart {
 // Longest overlap along each grid direction, per component, obstacle kind and rapid flag.
 using Depths = std::array<std::array<std::array<std::array<float, 2>, 3>, 4>, 3>;
 
+// A ray of grid d at lattice node (iu, iv) of its (u, v) axes, which lie u_mm, v_mm from the lattice origin.
+struct RayAt {
+  int d, iu, iv;
+  float u_mm, v_mm;
+};
+
 // Per thread, per block.
 struct Accum {
   std::array<double, 3> removed{};
@@ -47,7 +53,22 @@ struct Accum {
   std::vector<double> shadow_lo, shadow_hi;  // per part and row of the tile: its shadow's stretch
   std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
   std::vector<RowPart> row;
+  // For the engagement, which is measured after the cut on the stock as it was before the block: the
+  // rays this thread changed, their contents before (journal_old[k] of journal_rays[k]) and, per grid, the
+  // box of the material the cutting parts removed (mm from the lattice origin, in the grid's u, v and
+  // ray axes; scalar fields, so that the per-ray update stays in registers).
+  struct GridBox {
+    float u0, u1, v0, v1, t0, t1;
+    void clear() { u0 = v0 = t0 = std::numeric_limits<float>::infinity(), u1 = v1 = t1 = -u0; }
+  };
+  bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
+  size_t journal_n = 0;
+  std::vector<Dexel*> journal_rays;
+  std::vector<Dexel> journal_old;
+  std::array<GridBox, 3> removed_box;
   void reset() {
+    journal_n = 0;
+    for (GridBox& b : removed_box) b.clear();
     removed = {};
     for (auto& a : depth)
       for (auto& b : a)
@@ -59,6 +80,7 @@ struct Accum {
 struct Task {
   int d, tu, tv;
 };
+
 
 // The rays of one task: grid d (ray axis d, across it u and v), rays iu0..iu_end-1 of rows iv0..iv_end-1.
 struct TileRays {
@@ -126,8 +148,6 @@ class Simulator {
   BlockTotals merged_totals();
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
-  bool may_hold_material(const Eigen::AlignedBox3d& box) const;
-  bool tile_range(double lo, double hi, int axis, int& t0, int& t1) const;
   double feed_path_mm(const Block& b, const Joints& from) const;
   double block_minutes(const Block& b, double len) const;
 
@@ -142,7 +162,10 @@ class Simulator {
   inline bool cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                       bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
-  inline bool cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const;
+  inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const;
+  RayAt ray_at(int d, int iu, int iv) const {
+    return {d, iu, iv, static_cast<float>(lattice_.h * iu), static_cast<float>(lattice_.h * iv)};
+  }
   inline void record_obstacles(int d, int iu, int iv, bool rapid, Accum& acc) const;
   inline void record_gouge(int d, int iu, int iv, Accum& acc) const;
 
@@ -164,6 +187,7 @@ class Simulator {
   uint32_t stamp_value_ = 0;
   std::vector<Task> tasks_;
   BlockSweep sweep_;
+  bool journal_on_ = false;  // this block keeps the changed rays' contents (Accum::journal_on)
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 

@@ -9,6 +9,7 @@
 // tiles of rays. Units: mm, mm^3, minutes. Defaults: 0.1 mm lattice, 0.01 mm sweep tolerance.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -34,14 +35,13 @@ ToolPose forward_xyz(const Joints& j);
 // gauge length.
 ForwardFn scene_forward(const Scene& scene);
 
-// Answers false only when no material of the stock can lie in the box (a conservative cull).
-using MaterialCull = std::function<bool(const Eigen::AlignedBox3d& box)>;
-
-// Measures a feed block's engagement at its end, from the stock before the block removes anything, the
-// pose a short time before the end and the end pose; `cull` lets it skip regions without material.
-// tiltfield_engagement's engagement_probe() makes one; the simulation itself does not depend on it.
+// Measures a feed block's engagement at its end: `stock` is the stock as it was before the block, `before`
+// the pose a short time before the end, `end` the end pose, and `removed` the box (part frame, mm) holding
+// all the material the block's cutting parts removed, outside which nothing can be engaged. Called only
+// for feed blocks that removed material. tiltfield_engagement's engagement_probe() makes one; the
+// simulation itself does not depend on it.
 using EngagementProbe = std::function<Engagement(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
-                                                 const MaterialCull& cull)>;
+                                                 const Eigen::AlignedBox3d& removed)>;
 
 struct VerifyOptions {
   double resolution = 0.1;               // lattice spacing (distance between neighbouring rays), mm
@@ -50,7 +50,7 @@ struct VerifyOptions {
   double collision_tolerance = 0.001;    // overlaps up to this deep (mm) are contact, not collision
   double gouge_tolerance = 0.01;         // over-cuts deeper than this (mm) are listed as gouges
   bool check_gouges = true;              // against the scene's design surface (when it has one)
-  // Called for every feed block that can touch material (empty: no engagement measured, the
+  // Called for every feed block that removed material (empty: no engagement measured, the
   // BlockResult::engagement stay empty). The command line sets it unless --no-engagement.
   EngagementProbe engagement;
   Progress progress;                     // stage "verify"
