@@ -27,9 +27,19 @@ int floor_index(double x) {
   return k > x ? k - 1 : k;
 }
 
-// Sorts and merges intervals in place into a disjoint union.
+// Sorts and merges intervals in place into a disjoint union. A ray's list is short (the parts and
+// sub-steps over it): insertion sort, std::sort beyond a few dozen.
 void merge_union(std::vector<Interval>& v) {
-  std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+  if (v.size() > 32) {
+    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+  } else {
+    for (size_t i = 1; i < v.size(); ++i) {
+      const Interval x = v[i];
+      size_t j = i;
+      for (; j > 0 && v[j - 1].lo > x.lo; --j) v[j] = v[j - 1];
+      v[j] = x;
+    }
+  }
   size_t m = 0;
   for (size_t i = 0; i < v.size(); ++i) {
     if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
@@ -213,20 +223,28 @@ void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Inter
 // material of any ray changed.
 bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                         bool rapid, Accum& acc) {
+  // Each part's hits go to the rays it covers (a row of a 5-axis block meets dozens of swept parts, each
+  // over a few of its rays: scattering them costs what they hold, not rays times parts).
+  for (int iu = first; iu <= last; ++iu) acc.ray_hits[iu - t.iu0].clear();
+  for (const RowPart& rp : acc.row) {
+    const SweptPart& p = sweep_.parts[rp.part];
+    const Hit proto{{0.f, 0.f}, static_cast<uint8_t>(p.component), p.cutting};
+    for (int iu = rp.first; iu <= rp.last; ++iu) {
+      const Interval r = range[iu - t.iu0];
+      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;  // no hit, or none where the ray holds anything
+      Hit h = proto;
+      h.iv = {static_cast<float>(t0), static_cast<float>(t1)};
+      acc.ray_hits[iu - t.iu0].push_back(h);
+    }
+  }
   bool row_changed = false;
   for (int iu = first; iu <= last; ++iu) {
-    const Interval r = range[iu - t.iu0];
-    if (r.lo > r.hi) continue;
-    acc.hits.clear();
-    for (const RowPart& rp : acc.row) {
-      if (iu < rp.first || iu > rp.last) continue;
-      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
-      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
-      const SweptPart& p = sweep_.parts[rp.part];
-      acc.hits.push_back(
-          {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
-    }
-    if (!acc.hits.empty() && process_ray(t.d, iu, iv, rapid, acc)) row_changed = true;
+    std::vector<Hit>& hits = acc.ray_hits[iu - t.iu0];
+    if (hits.empty()) continue;
+    acc.hits.swap(hits);
+    if (process_ray(t.d, iu, iv, rapid, acc)) row_changed = true;
+    acc.hits.swap(hits);
   }
   return row_changed;
 }

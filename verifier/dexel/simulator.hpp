@@ -46,7 +46,8 @@ struct Accum {
   std::array<double, 3> removed{};
   Depths depth{};
   double gouge = 0.0;
-  std::vector<Hit> hits;
+  std::vector<Hit> hits;                       // of the ray being processed
+  std::array<std::vector<Hit>, kTile> ray_hits;  // per ray of the row being cut
   std::vector<Interval> cut, mat, removed_pieces;
   std::vector<int> parts;
   std::vector<double> t0, t1;  // per part of the tile and ray of the row: its interval (see process_tile)

@@ -15,6 +15,11 @@ namespace {
 
 constexpr int kProbe = 16;      // poses sampling the block's rotation before any sub-step is chosen
 constexpr double kStart = 0.7;  // share of the tolerance the first sub-step guess spends on rotation
+
+// Sub-steps for a block turning the axis by theta (rad) to keep points `reach` from the pivot within
+// kStart * tol: the held axis is the sub-step's middle one, so a point turns at most theta / (2 n) away
+// from it.
+double rotation_substeps(double theta, double reach, double tol) { return theta * reach / (2.0 * kStart * tol); }
 constexpr double kAim = 0.9;    // share of the tolerance a refinement aims at
 
 double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
@@ -105,7 +110,7 @@ Bound sweep_group(const Context& cx, const std::vector<Piece>& pieces, double to
   double reach = 0.0;
   for (const Piece& p : pieces) reach = std::max(reach, p.reach);
   const int max_n = std::max(1, cx.options.max_substeps);
-  n = std::clamp(static_cast<int>(std::ceil(cx.theta * reach / (kStart * tol))), 1, max_n);
+  n = std::clamp(static_cast<int>(std::ceil(rotation_substeps(cx.theta, reach, tol))), 1, max_n);
   Bound b;
   for (;;) {
     b = substep_bound(poses_for(cx.pose_at, n, cx.out), n, pieces);
@@ -143,7 +148,7 @@ int cheapest_pieces(double length, double radius, double theta, double tol, int 
   int best = 1;
   double best_cost = std::numeric_limits<double>::infinity();
   for (int m = 1; m <= max_pieces; ++m) {
-    const double n = std::max(1.0, std::ceil(theta * length / (2 * m) / (kStart * tol)));
+    const double n = std::max(1.0, std::ceil(rotation_substeps(theta, length / (2 * m), tol)));
     const double cost = n * (length + 3.0 * radius * m);
     if (cost < best_cost) {
       best_cost = cost;
