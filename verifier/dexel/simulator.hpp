@@ -59,8 +59,8 @@ struct Accum {
   // box of the material the cutting parts removed (mm from the lattice origin, in the grid's u, v and
   // ray axes; scalar fields, so that the per-ray update stays in registers).
   struct GridBox {
-    float u0, u1, v0, v1, t0, t1;
-    void clear() { u0 = v0 = t0 = std::numeric_limits<float>::infinity(), u1 = v1 = t1 = -u0; }
+    static constexpr float kInf = std::numeric_limits<float>::infinity();
+    float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
   };
   bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
   size_t journal_n = 0;
@@ -69,7 +69,7 @@ struct Accum {
   std::array<GridBox, 3> removed_box;
   void reset() {
     journal_n = 0;
-    for (GridBox& b : removed_box) b.clear();
+    removed_box = {};
     removed = {};
     for (auto& a : depth)
       for (auto& b : a)
