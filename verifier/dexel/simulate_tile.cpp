@@ -197,7 +197,7 @@ void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Inter
     Eigen::Vector3d o = lattice_.origin;
     o[t.u] += h * rp.first;
     o[t.v] = cv;
-    if (p.kind == ToolPart::Kind::Sphere) {
+    if (p.kind == ToolPart::Kind::Sphere || p.arc) {
       ray_intervals(p, o, t.d, t.u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first],
                     &acc.t1[rp.offset + rp.first]);
       continue;

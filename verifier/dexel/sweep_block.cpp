@@ -209,14 +209,23 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
   out.swept_parts_cutting = 0;
   out.cutting_error = out.holder_error = 0.0;
   out.pose_sets_used = 0;
-  double theta = 0.0;
+  double theta = 0.0, off_chord = 0.0;  // the axis' turn (rad), the tip's largest distance from its chord
   {
-    ToolPose prev = pose_at(0.0);
+    const ToolPose first = pose_at(0.0), last = pose_at(1.0);
+    const Eigen::Vector3d chord = last.tip - first.tip;
+    ToolPose prev = first;
     for (int i = 1; i <= kProbe; ++i) {
-      const ToolPose p = pose_at(double(i) / kProbe);
+      const ToolPose p = i == kProbe ? last : pose_at(double(i) / kProbe);
       theta += angle_between(prev.axis.normalized(), p.axis.normalized());
+      off_chord = std::max(off_chord, (p.tip - first.tip - chord * (double(i) / kProbe)).norm());
       prev = p;
     }
+  }
+  // A tool that does not turn, carried along a circle across its axis: exact arc sweeps, no sub-steps.
+  PlanarArc arc;
+  if (theta == 0.0 && off_chord > 1e-9 && planar_arc(pose_at, arc)) {
+    sweep_arc(arc, pose_at(0.0), parts, out);
+    return;
   }
   const Context cx{pose_at, theta, options, out};
   // Cutting parts first: they are the ones removing material.
