@@ -38,7 +38,7 @@ VerifyReport run(const Scene& scene, const test::Moves& moves, double resolution
   o.resolution = resolution;
   EngagementOptions eo;
   eo.keep_pairs = keep_pairs;
-  o.engagement = engagement_probe(scene.tool, eo);
+  o.engagement = engagement_probe(eo);
   return verify_program(scene, moves.program(), forward_xyz, o).report;
 }
 
@@ -208,7 +208,7 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
   };
   VerifyOptions o;
   o.resolution = 0.1;
-  o.engagement = engagement_probe(s.tool);
+  o.engagement = engagement_probe();
   const VerifyReport r = verify_program(s, p, tilted, o).report;
   const Engagement& e = r.per_block.back().engagement;
   std::cout << "tilted ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";

@@ -22,8 +22,8 @@ ToolPose forward_xyz(const Joints& j) { return {Eigen::Vector3d(j.x, j.y, j.z), 
 namespace sim {
 
 Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
-    : scene_(scene), program_(program), forward_(forward), opt_(options),
-      lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
+    : scene_(scene), program_(program), opt_(options), lattice_(make_lattice(scene, options.resolution)),
+      stock_(make_stock(scene.stock, lattice_)), tools_(scene, forward, options.sweep) {
   for (const Mesh& m : scene.fixtures)
     obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture, {}});
   for (const Mesh& m : scene.check_surfaces)
@@ -36,7 +36,6 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
     design_ = std::make_unique<RayTable>(scene.design, lattice_);
     design_mesh_ = std::make_unique<RayMesh>(scene.design);
   }
-  parts_ = tool_parts(scene.tool, options.sweep);
   inv_h_ = 1.0 / lattice_.h;
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
@@ -53,6 +52,7 @@ VerifyResult Simulator::run() {
   rep.material_rays = stock_.material_rays();
   rep.stock_volume_start_mm3 = stock_.volume();
   rep.warnings = program_.warnings;
+  if (!design_) rep.warnings.push_back("no design surface: gouges and excess material were not computed");
   Joints from = program_.start;
   bool prev_tcp = program_.blocks.empty() ? false : program_.blocks.front().tcp;
   const size_t nb = program_.blocks.size();
@@ -60,7 +60,7 @@ VerifyResult Simulator::run() {
     const Block& b = program_.blocks[bi];
     if (b.tcp != prev_tcp) {
       if (b.tcp) {
-        const ToolPose p = forward_(from);  // joint position -> tip in the part frame
+        const ToolPose p = tools_.forward(b.tool)(from);  // joint position -> tip in the part frame
         from.x = p.tip.x();
         from.y = p.tip.y();
         from.z = p.tip.z();
@@ -137,8 +137,10 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   BlockResult br;
   br.block = index;
   br.line = b.line;
+  br.tool = b.tool;
+  br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, parts_, opt_.sweep, sweep_);
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_);
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);
@@ -149,7 +151,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.rapid = rapid;
   br.feed = b.feed;
   br.feed_mode = b.feed_mode;
-  if (opt_.engagement && !rapid && !tasks_.empty()) measure_block_engagement(pose_at, br, rep);
+  if (opt_.engagement && !rapid && !tasks_.empty()) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
 
@@ -167,12 +169,13 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
 // the part frame, and the joints give only the axis.
 PoseAt Simulator::block_pose(const Block& b, const Joints& from) const {
   const bool tcp = b.tcp;
-  return [this, &b, &from, tcp](double tau) {
+  const ForwardFn& forward = tools_.forward(b.tool);
+  return [&forward, &b, &from, tcp](double tau) {
     const Joints j = interpolate_block(from, b, tau);
-    if (!tcp) return forward_(j);
+    if (!tcp) return forward(j);
     Joints rot = j;
     rot.x = rot.y = rot.z = 0.0;
-    ToolPose p = forward_(rot);
+    ToolPose p = forward(rot);
     p.tip = Eigen::Vector3d(j.x, j.y, j.z);
     return p;
   };
@@ -206,10 +209,10 @@ void Simulator::select_tiles() {
 
 // Engagement is measured on the stock before this block removes anything: the in-process workpiece met by
 // the tool at the block's end, as in engagement by sampling.
-void Simulator::measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
   const auto t0 = std::chrono::steady_clock::now();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
-  br.engagement = opt_.engagement(stock_, pose_at(1.0 - back), pose_at(1.0),
+  br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
                                   [this](const Eigen::AlignedBox3d& box) { return may_hold_material(box); });
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -241,6 +244,7 @@ void Simulator::report_collisions(const Depths& depth, const Block& b, int index
         if (!std::isfinite(dep) || dep <= opt_.collision_tolerance) continue;
         rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep,
                                   pose_at(0.0), pose_at(1.0)});
+        rep.collisions.back().tool = b.tool;
         br.collision = true;
       }
 }

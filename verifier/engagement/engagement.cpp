@@ -424,10 +424,9 @@ Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const Too
   return out;
 }
 
-EngagementProbe engagement_probe(const Tool& tool, const EngagementOptions& options) {
-  return [tool, options](const TriDexel& stock, const ToolPose& before, const ToolPose& end, const MaterialCull& cull) {
-    return measure_engagement(stock, tool, before, end, options, cull);
-  };
+EngagementProbe engagement_probe(const EngagementOptions& options) {
+  return [options](const Tool& tool, const TriDexel& stock, const ToolPose& before, const ToolPose& end,
+                   const MaterialCull& cull) { return measure_engagement(stock, tool, before, end, options, cull); };
 }
 
 }  // namespace tf

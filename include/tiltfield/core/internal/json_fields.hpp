@@ -72,11 +72,8 @@ inline Eigen::Vector3d vec3(const json& j, const std::string& file, const std::s
   return {number(j[0], file, field + "[0]"), number(j[1], file, field + "[1]"), number(j[2], file, field + "[2]")};
 }
 
-// Parses a JSON file; a syntax error becomes an InputError with the line it is on.
-inline json parse_file(const std::string& file, const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, 0, "", "cannot open " + what);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// Parses JSON text; a syntax error becomes an InputError naming `file` and the line it is on.
+inline json parse_text(const std::string& text, const std::string& file) {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -86,6 +83,14 @@ inline json parse_file(const std::string& file, const std::string& what) {
     const auto colon = msg.find("syntax error");
     throw InputError(file, line, "", "invalid JSON: " + (colon == std::string::npos ? msg : msg.substr(colon)));
   }
+}
+
+// Parses a JSON file; a syntax error becomes an InputError with the line it is on.
+inline json parse_file(const std::string& file, const std::string& what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, 0, "", "cannot open " + what);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_text(text, file);
 }
 
 }  // namespace tf::json_fields
