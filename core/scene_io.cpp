@@ -133,7 +133,11 @@ std::map<std::string, WorkOffset> parse_work_offsets(const json& j, const std::s
     if (!v.is_array() || (v.size() != 3 && v.size() != 6))
       throw InputError(file, 0, field, "must be an array of 3 numbers (x, y, z) or 6 (x, y, z, a, b, c)");
     WorkOffset w{};
-    for (size_t k = 0; k < v.size(); ++k) w[k] = number(v[k], file, field + "[" + std::to_string(k) + "]");
+    for (size_t k = 0; k < v.size(); ++k) {
+      const std::string f = field + "[" + std::to_string(k) + "]";
+      w[k] = number(v[k], file, f);
+      if (std::abs(w[k]) > 1e9) throw InputError(file, 0, f, "out of range (more than 1e9)");
+    }
     out[it.key()] = w;
   }
   return out;

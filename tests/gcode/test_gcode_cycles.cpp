@@ -91,5 +91,12 @@ TEST(GcodeCycles, ProgramsLinuxcncRefuses) {
   }
 }
 
+// A block expands into at most 10 000 moves: a tiny Q or a huge L is refused before it fills the memory.
+TEST(GcodeCycles, ExpansionsAreBounded) {
+  expect_gcode_error("G0 X0 Y0 Z5\nG83 X1 Y1 Z-100 R1 Q0.001 F100\n", 2, "G83");
+  expect_gcode_error("G0 X0 Y0 Z5\nG91 G81 X1 Y0 Z-1 R1 L5000 F100\n", 2, "G81");
+  EXPECT_EQ(parse_program("G0 X0 Y0 Z5\nG91 G81 X1 Y0 Z-1 R1 L1000 F100\n").blocks.size(), 1u + 1u + 3000u);
+}
+
 }  // namespace
 }  // namespace tf

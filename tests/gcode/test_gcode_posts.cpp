@@ -51,13 +51,20 @@ TEST(GcodePosts, NumbersAsRs274WritesThem) {
 }
 
 TEST(GcodePosts, ParametersExpressionsAndSubroutinesAreErrors) {
-  expect_gcode_error("G0 X0\n#1 = 5\n", 2, "#");
-  expect_gcode_error("G0 X[1+2]\n", 1, "X");
-  expect_gcode_error("G0 X0\no100 sub\nG0 X1\no100 endsub\n", 2, "O100");
-  expect_gcode_error("G0 X0\nO<probe> call\n", 2, "O<");
-  expect_gcode_error("G0 X0\no200 if [1 GT 0]\n", 2, "O200");
-  expect_gcode_error("G0 X0\nM98 P1000\n", 2, "M98");
-  expect_gcode_error("G0 X0\nG0 X#<x>\n", 2, "X");
+  const struct {
+    const char* text;
+    int line;
+    const char* word;
+  } refused[] = {
+      {"G0 X0\n#1 = 5\n", 2, "#"},
+      {"G0 X[1+2]\n", 1, "X"},
+      {"G0 X0\no100 sub\nG0 X1\no100 endsub\n", 2, "O100"},
+      {"G0 X0\nO<probe> call\n", 2, "O<"},
+      {"G0 X0\no200 if [1 GT 0]\n", 2, "O200"},
+      {"G0 X0\nM98 P1000\n", 2, "M98"},
+      {"G0 X0\nG0 X#<x>\n", 2, "X"},
+  };
+  for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.word);
 }
 
 }  // namespace

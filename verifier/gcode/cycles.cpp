@@ -12,6 +12,7 @@ namespace {
 
 // LinuxCNC's peck clearance of G73 and G83 (0.010 inch), mm.
 constexpr double kPeckClearance = 0.254;
+constexpr double kMaxCycleMoves = 10000;
 
 // The axes of a plane in LinuxCNC's cycle order: the two in the plane, then the one along the hole.
 std::array<int, 3> cycle_axes(int plane) {
@@ -99,6 +100,11 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
     current_cc = old_cc;
   }
   const double clear = st_.retract_r_plane ? r : old_cc;
+  // A block expands into at most kMaxCycleMoves moves: a tiny Q or a huge L is a mistake, not a program.
+  const double pecks = motion == 730 || motion == 830 ? std::ceil((r - bottom) / q) : 0.0;
+  if (!(repeats * (4.0 + 3.0 * pecks) <= kMaxCycleMoves))
+    throw InputError(file_, line, name, "the cycle expands into more than " + std::to_string(int(kMaxCycleMoves)) +
+                                            " moves (check Q and L)");
   if (val.has(la)) st_.axes[ax[0]] = AxisState::Set;
   if (val.has(lb)) st_.axes[ax[1]] = AxisState::Set;
   for (int rep = repeats; rep > 0; --rep) {
@@ -112,8 +118,11 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
       if (clear > r) cycle_move(false, ax, a, b, r, line);
     }
     switch (motion) {
-      case 730: case 830:
+      case 730: case 830: {
+        // LinuxCNC's loop, with its accumulated depth; the count guards against a Q too small to progress.
+        int count = 0;
         for (double depth = r - q; depth > bottom; depth -= q) {
+          if (++count > pecks + 2) throw InputError(file_, line, name, "the peck depth Q is too small to progress");
           cycle_move(true, ax, a, b, depth, line);
           if (motion == 830) cycle_move(false, ax, a, b, r, line);
           cycle_move(false, ax, a, b, depth + kPeckClearance, line);
@@ -121,6 +130,7 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
         cycle_move(true, ax, a, b, bottom, line);
         cycle_move(false, ax, a, b, clear, line);
         break;
+      }
       case 850:
         cycle_move(true, ax, a, b, bottom, line);
         cycle_move(true, ax, a, b, r, line);

@@ -73,7 +73,8 @@ std::vector<Word> split_words(const std::string& code, const std::string& file, 
     } catch (const std::exception&) {
       throw InputError(file, line, text, "malformed number");
     }
-    if (!std::isfinite(v)) throw InputError(file, line, text, "number out of range");
+    // Beyond 1e9 (1000 km, or a feed or dwell as absurd) a number is a typo; this keeps every sum finite.
+    if (!std::isfinite(v) || std::abs(v) > 1e9) throw InputError(file, line, text, "number out of range");
     words.push_back({letter, v, text});
     i = j;
   }
