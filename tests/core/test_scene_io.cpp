@@ -138,6 +138,7 @@ std::vector<BadScene> bad_scenes() {
        "limits.X"},
       {"machine not json", [](json&) {}, "", "{\n  \"kinematics\": \n}", "machine.json", ":3"},
       {"no tool at all", [](json& j) { j.erase("tool"); }, "", "", "scene.json", "tool"},
+      {"empty key (found by fuzzing)", [](json& j) { j[""] = 1; }, "", "", "scene.json", "'\"\"'"},
       {"tools not an array", [](json& j) { j["tools"] = json::object(); }, "", "", "scene.json", "tools"},
       {"tool number missing", [](json& j) { j["tools"] = json::parse(R"([{"radius": 2}])"); }, "", "", "scene.json",
        "tools[0].number"},
@@ -194,6 +195,19 @@ TEST(SceneIO, SceneJsonSyntaxErrorGivesTheLine) {
   const auto r = tf::test::run_tiltfield("check '" + (dir / "scene.json").string() + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("scene.json:3"), std::string::npos) << r.out;
+}
+
+// A number beyond a double is a JSON error on its line, not an unexpected exception (found by fuzzing).
+TEST(SceneIO, HugeNumberNamesItsLine) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "scene.json", "{\n  \"stock\": {\"box\": {\"min\": [0, 0, 0],\n  \"max\": [1, 1e400, 1]}}\n}\n");
+  try {
+    tf::load_scene(dir / "scene.json");
+    ADD_FAILURE() << "loaded";
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.line(), 3) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e400"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneIO, CheckCommandSummarisesAValidScene) {
