@@ -76,7 +76,7 @@ void BM_FreeformFinishing(benchmark::State& state) {
   const tf::Program program = raster(static_cast<int>(state.range(0)), 1000, static_cast<int>(state.range(2)));
   tf::VerifyOptions opt;
   opt.resolution = 0.05;
-  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
   opt.check_gouges = false;
   double seconds = 0.0;
   size_t rays = 0;
@@ -146,7 +146,7 @@ void BM_Impeller(benchmark::State& state) {
   }
   tf::VerifyOptions opt;
   opt.resolution = state.range(0) / 100.0;
-  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(job->scene.tool);
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
   double seconds = 0.0, balance = 0.0, engagement = 0.0;
   size_t collisions = 0, engaged = 0;
   for (auto _ : state) {
@@ -194,7 +194,7 @@ void BM_LinuxcncImpeller(benchmark::State& state) {
     const auto t0 = std::chrono::steady_clock::now();
     const tf::Scene scene = tf::load_scene(scene_file);
     const tf::Program program = tf::read_gcode(kLinuxcncDemo, *scene.machine);
-    if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
+    if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
     const tf::VerifyResult r = tf::verify_program(scene, program, tf::scene_forward(scene), opt);
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     seconds = r.report.seconds;

@@ -64,7 +64,7 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockAndABoxHoldingItsRemoval) {
   std::vector<Eigen::AlignedBox3d> boxes;  // the removed boxes
   VerifyOptions o;
   o.resolution = 0.2;
-  o.engagement = [&](const TriDexel& stock, const ToolPose&, const ToolPose&, const Eigen::AlignedBox3d& removed) {
+  o.engagement = [&](const Tool&, const TriDexel& stock, const ToolPose&, const ToolPose&, const Eigen::AlignedBox3d& removed) {
     volumes.push_back(stock.volume());
     TriDexel copy(stock.lattice());
     for (int d = 0; d < 3; ++d)

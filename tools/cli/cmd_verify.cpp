@@ -34,7 +34,7 @@ void run_verify(const VerifyArgs& a) {
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
-  const Program program = read_gcode(a.program, machine);
+  const Program program = read_gcode(a.program, machine, gcode_options(scene));
   VerifyOptions opt;
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;
@@ -43,7 +43,7 @@ void run_verify(const VerifyArgs& a) {
   if (!a.no_engagement) {
     EngagementOptions eo;
     eo.keep_pairs = !a.pairs.empty();
-    opt.engagement = engagement_probe(scene.tool, eo);
+    opt.engagement = engagement_probe(eo);
   }
   opt.progress = terminal_progress();
   const bool scheduling = a.schedule_mrr != 0.0;
@@ -75,9 +75,11 @@ void run_verify(const VerifyArgs& a) {
   }
   const VerifyReport& r = result.report;
   if (!global_options().quiet) {
+    const std::string gouges = scene.design.n_faces() == 0
+                                   ? "gouges not computed (no design)"
+                                   : std::to_string(r.gouges.size()) + " gouges (max " + fixed(r.max_gouge_mm, 3) + " mm)";
     std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "
-              << r.collisions.size() << " collisions, " << r.gouges.size() << " gouges (max " << fixed(r.max_gouge_mm, 3)
-              << " mm), " << fixed(r.seconds, 2) << " s\n";
+              << r.collisions.size() << " collisions, " << gouges << ", " << fixed(r.seconds, 2) << " s\n";
     for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
   }
   if (a.fail_on_collision && !r.collisions.empty())

@@ -22,8 +22,8 @@ ToolPose forward_xyz(const Joints& j) { return {Eigen::Vector3d(j.x, j.y, j.z), 
 namespace sim {
 
 Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
-    : scene_(scene), program_(program), forward_(forward), opt_(options),
-      lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
+    : scene_(scene), program_(program), opt_(options), lattice_(make_lattice(scene, options.resolution)),
+      stock_(make_stock(scene.stock, lattice_)), tools_(scene, forward, options.sweep) {
   for (const Mesh& m : scene.fixtures)
     obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture, {}});
   for (const Mesh& m : scene.check_surfaces)
@@ -36,7 +36,6 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
     design_ = std::make_unique<RayTable>(scene.design, lattice_);
     design_mesh_ = std::make_unique<RayMesh>(scene.design);
   }
-  parts_ = tool_parts(scene.tool, options.sweep);
   inv_h_ = 1.0 / lattice_.h;
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
@@ -53,6 +52,9 @@ VerifyResult Simulator::run() {
   rep.material_rays = stock_.material_rays();
   rep.stock_volume_start_mm3 = stock_.volume();
   rep.warnings = program_.warnings;
+  // emplace_back: push_back of the literal trips a GCC 12 array-bounds false positive.
+  if (scene_.design.n_faces() == 0)
+    rep.warnings.emplace_back("no design surface: gouges and excess material were not computed");
   Joints from = program_.start;
   bool prev_tcp = program_.blocks.empty() ? false : program_.blocks.front().tcp;
   const size_t nb = program_.blocks.size();
@@ -60,7 +62,7 @@ VerifyResult Simulator::run() {
     const Block& b = program_.blocks[bi];
     if (b.tcp != prev_tcp) {
       if (b.tcp) {
-        const ToolPose p = forward_(from);  // joint position -> tip in the part frame
+        const ToolPose p = tools_.forward(b.tool)(from);  // joint position -> tip in the part frame
         from.x = p.tip.x();
         from.y = p.tip.y();
         from.z = p.tip.z();
@@ -137,8 +139,10 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   BlockResult br;
   br.block = index;
   br.line = b.line;
+  br.tool = b.tool;
+  br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, parts_, opt_.sweep, sweep_);
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_);
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);
@@ -153,7 +157,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   journal_on_ = engagement;
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
-  if (engagement) measure_block_engagement(pose_at, br, rep);
+  if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
 
   const BlockTotals tot = merged_totals();
   br.removed_mm3 = (tot.removed[0] + tot.removed[1] + tot.removed[2]) / 3.0 * lattice_.h * lattice_.h;
@@ -169,12 +173,13 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
 // the part frame, and the joints give only the axis.
 PoseAt Simulator::block_pose(const Block& b, const Joints& from) const {
   const bool tcp = b.tcp;
-  return [this, &b, &from, tcp](double tau) {
+  const ForwardFn& forward = tools_.forward(b.tool);
+  return [&forward, &b, &from, tcp](double tau) {
     const Joints j = interpolate_block(from, b, tau);
-    if (!tcp) return forward_(j);
+    if (!tcp) return forward(j);
     Joints rot = j;
     rot.x = rot.y = rot.z = 0.0;
-    ToolPose p = forward_(rot);
+    ToolPose p = forward(rot);
     p.tip = Eigen::Vector3d(j.x, j.y, j.z);
     return p;
   };
@@ -210,7 +215,7 @@ void Simulator::select_tiles() {
 // tool meets at the block's end), and only where the block removed material: the rays the cut changed
 // trade contents with their journal copies for the measurement (a swap of storage, no copy), then back.
 // A block that removed nothing engaged nothing and costs nothing here.
-void Simulator::measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
   Eigen::AlignedBox3d removed;
   removed.setEmpty();
   for (const Accum& a : accum_)
@@ -232,7 +237,7 @@ void Simulator::measure_block_engagement(const PoseAt& pose_at, BlockResult& br,
   };
   swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
-  br.engagement = opt_.engagement(stock_, pose_at(1.0 - back), pose_at(1.0),
+  br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
   swap_journal();
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -265,6 +270,7 @@ void Simulator::report_collisions(const Depths& depth, const Block& b, int index
         if (!std::isfinite(dep) || dep <= opt_.collision_tolerance) continue;
         rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep,
                                   pose_at(0.0), pose_at(1.0)});
+        rep.collisions.back().tool = b.tool;
         br.collision = true;
       }
 }

@@ -17,6 +17,7 @@
 #include "raycast.hpp"
 #include "sweep_rows.hpp"
 #include "tiltfield/dexel/verify.hpp"
+#include "tool_set.hpp"
 
 namespace tf::sim {
 
@@ -145,7 +146,7 @@ class Simulator {
   BlockResult simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep);
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
-  void measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
   BlockTotals merged_totals();
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
@@ -172,14 +173,13 @@ class Simulator {
 
   const Scene& scene_;
   const Program& program_;
-  ForwardFn forward_;
   VerifyOptions opt_;
   Lattice lattice_;
   TriDexel stock_;
   std::vector<Obstacle> obstacles_;
   std::unique_ptr<RayTable> design_;
   std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
-  std::vector<ToolPart> parts_;
+  ToolSet tools_;  // per block's tool: parts, forward map
   RayExtents ext_;                 // where the material is, per tile and row segment
   std::vector<PartSpan> spans_;    // per swept part of the block and grid
   std::vector<Shadow> shadows_;    // the same

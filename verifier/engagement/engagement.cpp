@@ -6,11 +6,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "sampler.hpp"
@@ -373,10 +375,25 @@ Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const Too
   return Meter(tool, opt).measure(stock, before, end, removed);
 }
 
-EngagementProbe engagement_probe(const Tool& tool, const EngagementOptions& options) {
-  auto meter = std::make_shared<Meter>(tool, options);
-  return [meter](const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& removed) {
-    return meter->measure(stock, before, end, &removed);
+EngagementProbe engagement_probe(const EngagementOptions& options) {
+  // One meter per cutting form met (a program's tools), found by the form's values, not its address.
+  struct Meters {
+    std::mutex mutex;
+    std::vector<std::pair<std::array<double, 4>, std::unique_ptr<Meter>>> by_form;
+    Meter& of(const Tool& tool, const EngagementOptions& opt) {
+      const double corner = std::holds_alternative<BullCutter>(tool.cutter) ? std::get<BullCutter>(tool.cutter).corner_radius : -1.0;
+      const std::array<double, 4> key{double(tool.cutter.index()), tool.radius(), corner, tool.flute_length};
+      const std::lock_guard<std::mutex> lock(mutex);
+      for (auto& [k, m] : by_form)
+        if (k == key) return *m;
+      by_form.emplace_back(key, std::make_unique<Meter>(tool, opt));
+      return *by_form.back().second;
+    }
+  };
+  auto meters = std::make_shared<Meters>();
+  return [meters, options](const Tool& tool, const TriDexel& stock, const ToolPose& before, const ToolPose& end,
+                           const Eigen::AlignedBox3d& removed) {
+    return meters->of(tool, options).measure(stock, before, end, &removed);
   };
 }
 

@@ -31,17 +31,18 @@ using ForwardFn = std::function<ToolPose(const Joints&)>;
 // The forward map of a 3-axis machine (tip = X Y Z, axis +Z), for scenes without rotary axes.
 ToolPose forward_xyz(const Joints& j);
 
-// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the tool's
-// gauge length.
+// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the gauge
+// length of the scene's tool, or of `tool`.
 ForwardFn scene_forward(const Scene& scene);
+ForwardFn scene_forward(const Scene& scene, const Tool& tool);
 
-// Measures a feed block's engagement at its end: `stock` is the stock as it was before the block, `before`
-// the pose a short time before the end, `end` the end pose, and `removed` the box (part frame, mm) holding
-// all the material the block's cutting parts removed, outside which nothing can be engaged. Called only
-// for feed blocks that removed material. tiltfield_engagement's engagement_probe() makes one; the
-// simulation itself does not depend on it.
-using EngagementProbe = std::function<Engagement(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
-                                                 const Eigen::AlignedBox3d& removed)>;
+// Measures a feed block's engagement at its end, for the tool in the spindle: `stock` is the stock as it
+// was before the block, `before` the pose a short time before the end, `end` the end pose, and `removed`
+// the box (part frame, mm) holding all the material the block's cutting parts removed, outside which
+// nothing can be engaged. Called only for feed blocks that removed material. tiltfield_engagement's
+// engagement_probe() makes one; the simulation itself does not depend on it.
+using EngagementProbe = std::function<Engagement(const Tool& tool, const TriDexel& stock, const ToolPose& before,
+                                                 const ToolPose& end, const Eigen::AlignedBox3d& removed)>;
 
 struct VerifyOptions {
   double resolution = 0.1;               // lattice spacing (distance between neighbouring rays), mm
@@ -61,8 +62,10 @@ struct VerifyResult {
   TriDexel stock;  // the stock after the simulated blocks
 };
 
-// Simulates `program` on the scene's stock with the scene's tool. `forward` maps the program's joint
-// values to tool poses; TCP blocks take their tip from X Y Z and only the axis from forward().
+// Simulates `program` on the scene's stock, each block with the tool in its spindle (Block::tool): a tool
+// of the scene's library by number, otherwise the scene's `tool`. `forward` maps the program's joint
+// values to tool poses for the scene's tool; library tools use the scene's machine with their own gauge
+// length (scene_forward). TCP blocks take their tip from X Y Z and only the axis from the forward map.
 // Throws InputError for a scene that cannot be simulated (no stock, bad resolution).
 VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
                             const VerifyOptions& options = {});

@@ -67,7 +67,7 @@ bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p);
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
                               const EngagementOptions& options = {}, const Eigen::AlignedBox3d* removed = nullptr);
 
-// The verifier's per-block hook (VerifyOptions::engagement) measuring `tool` with `options`.
-EngagementProbe engagement_probe(const Tool& tool, const EngagementOptions& options = {});
+// The verifier's per-block hook (VerifyOptions::engagement) measuring the block's tool with `options`.
+EngagementProbe engagement_probe(const EngagementOptions& options = {});
 
 }  // namespace tf
