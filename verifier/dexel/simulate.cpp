@@ -2,6 +2,7 @@
 // engagement, and the collision, gouge and removal bookkeeping. The work per tile and ray, in parallel
 // over tiles, is in simulate_tile.cpp.
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
 
 #include <algorithm>
 #include <array>
@@ -231,9 +232,11 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
     }
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
+  // Each thread's journal on its own (the rays of different journals are different rays).
   auto swap_journal = [this] {
-    for (Accum& a : accum_)
+    tbb::parallel_for_each(accum_.begin(), accum_.end(), [](Accum& a) {
       for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
+    });
   };
   swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));

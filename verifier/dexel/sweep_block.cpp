@@ -14,7 +14,7 @@ namespace tf {
 namespace {
 
 constexpr int kProbe = 16;      // poses sampling the block's rotation before any sub-step is chosen
-constexpr double kStart = 0.7;  // share of the tolerance the first sub-step guess spends on rotation
+constexpr double kStart = 0.85;  // share of the tolerance the first sub-step guess spends on rotation
 
 // Sub-steps for a block turning the axis by theta (rad) to keep points `reach` from the pivot within
 // kStart * tol: the held axis is the sub-step's middle one, so a point turns at most theta / (2 n) away
