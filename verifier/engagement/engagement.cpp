@@ -99,7 +99,13 @@ void angle_at(const SampleGrid& g, int j, double t, double& c, double& s) {
 double refine_angle(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const RingFrame& f, int i, int j,
                     int evaluations) {
   const double width = kRefineFraction * g.h / std::max(1e-9, g.ring[i].r * g.dphi);
-  const double t = engagement::refine_boundary(b.at(i, j), b.at(i, j + 1), width, evaluations, [&](double u) {
+  // The samples were classified without the facing value of the rear: measure both ends fully.
+  auto full = [&](int k) {
+    const PointState& s = b.at(i, k);
+    const int w = g.wrap(k);
+    return std::isnan(s.facing) ? sampler.state(f, g.cos_phi[w], g.sin_phi[w]) : s;
+  };
+  const double t = engagement::refine_boundary(full(j), full(j + 1), width, evaluations, [&](double u) {
     double c, s;
     angle_at(g, j, u, c, s);
     return sampler.state(f, c, s);
@@ -166,7 +172,7 @@ void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame&
     eng[j] = (x >= lo.x()) & (x <= hi.x()) & (y >= lo.y()) & (y <= hi.y()) & (z >= lo.z()) & (z <= hi.z());
   }
   for (int j = 0; j < g.na; ++j) {
-    state[j] = eng[j] ? sampler.state(f, g.cos_phi[j], g.sin_phi[j]) : PointState{};
+    state[j] = eng[j] ? sampler.state(f, g.cos_phi[j], g.sin_phi[j], false) : PointState{};
     eng[j] = state[j].engaged;
   }
 }
@@ -233,10 +239,14 @@ void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampl
     for (int j = 0; j < g.na; ++j) {
       const bool a = below[j] != 0, c = above[j] != 0;
       if (a == c) continue;
-      // A ring outside i0..i1 was not classified: it is not engaged, and its measures are unknown.
-      PointState sa = i >= b.i0 ? b.at(i, j) : PointState{}, sc = i + 1 <= b.i1 ? b.at(i + 1, j) : PointState{};
       double s0 = g.s_of(i), s1 = g.s_of(i + 1);
       auto at = [&](double s) { return sampler.state(sampler.ring(prof.at(s)), g.cos_phi[j], g.sin_phi[j]); };
+      // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
+      auto end = [&](int k) {
+        const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
+        return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
+      };
+      PointState sa = end(i), sc = end(i + 1);
       const double rim = prof.rim();
       double sb = -1.0;
       if (rim > s0 && rim < s1) {

@@ -66,18 +66,21 @@ class Sampler {
   // outside it are not engaged without a look at the stock.
   Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region);
   RingFrame ring(const ProfilePoint& pp) const;
-  // The point of ring f at the angle with cosine c and sine sn.
-  [[gnu::always_inline]] PointState state(const RingFrame& f, double c, double sn) const {
+  // The point of ring f at the angle with cosine c and sine sn. Unless `measured`, a point that faces
+  // away from its motion is only classified: its facing value (for the refinement) stays NaN.
+  [[gnu::always_inline]] PointState state(const RingFrame& f, double c, double sn, bool measured = true) const {
     PointState st;
     const Eigen::Vector3d x = f.c0 + c * f.a1 + sn * f.a2;
     if (!region_.contains(x)) return st;
     const Eigen::Vector3d v = f.dc + c * f.d1 + sn * f.d2;
+    const Eigen::Vector3d nu = f.n0 + c * f.n1 + sn * f.n2;
+    const double nv = nu.dot(v);
+    if (!measured && nv <= 0.0) return st;  // faces away: the rear only rubs the wall it has cut
     const double vn = v.norm();
     if (!(vn > 1e-12)) return st;
-    const Eigen::Vector3d nu = f.n0 + c * f.n1 + sn * f.n2;
-    const double facing = nu.dot(v) / vn;
+    const double facing = nv / vn;
     st.facing = static_cast<float>(facing);
-    if (facing <= kMinFacing) return st;  // faces away from its motion: the rear only rubs the wall it has cut
+    if (facing <= kMinFacing) return st;
     const double depth = material_depth(stock_, x - kInside * nu);
     st.depth = static_cast<float>(depth);
     st.engaged = depth <= 0.0;
