@@ -143,7 +143,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.tool = b.tool;
   br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_);
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid);
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);

@@ -202,7 +202,7 @@ void sweep_cylinder(const Context& cx, const ToolPart& part, bool covered_below,
 }  // namespace
 
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out) {
+                 BlockSweep& out, bool rapid) {
   out.parts.clear();
   out.box.setEmpty();
   out.substeps = 1;
@@ -232,7 +232,9 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
   for (int pass = 0; pass < 2; ++pass)
     for (const ToolPart& part : parts) {
       if (part.cutting != (pass == 0)) continue;
-      const double tol = std::max(part.cutting ? options.tolerance : options.holder_tolerance, 1e-6);
+      // In a rapid nothing cuts: every part only collides, and gets the collision-only bound.
+      const bool cuts = part.cutting && !rapid;
+      const double tol = std::max(cuts ? options.tolerance : options.holder_tolerance, 1e-6);
       Bound bound;
       int n = 1;
       if (part.kind == ToolPart::Kind::Sphere) {
@@ -241,10 +243,10 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
       } else {
         sweep_cylinder(cx, part, bottom_covered(part, parts), tol, bound, n);
       }
-      if (part.cutting) {
+      if (part.cutting) out.swept_parts_cutting = static_cast<int>(out.parts.size());
+      if (cuts) {
         out.cutting_error = std::max(out.cutting_error, bound.value);
         out.substeps = std::max(out.substeps, n);
-        out.swept_parts_cutting = static_cast<int>(out.parts.size());
       } else {
         out.holder_error = std::max(out.holder_error, bound.value);
       }

@@ -113,9 +113,11 @@ struct BlockSweep {
   size_t pose_sets_used = 0;
 };
 
-// Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks.
+// Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks. In a
+// rapid (`rapid`) nothing cuts: every part is swept to `holder_tolerance` and its bound counts as the
+// holder's (BlockSweep::holder_error).
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out);
+                 BlockSweep& out, bool rapid = false);
 
 // A block whose tool axis stays on one lattice axis while the tip runs on a circle in the plane across it
 // (a G17 arc with a vertical tool, and the like; no helix): the tip's circle in that plane. Found from the
