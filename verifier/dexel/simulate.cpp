@@ -156,6 +156,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.feed_mode = b.feed_mode;
   const bool engagement = opt_.engagement && !rapid && !tasks_.empty();
   journal_on_ = engagement;
+  if (engagement) engagement_reads(tools_.tool(b.tool), pose_at(1.0));
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
   if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
@@ -213,9 +214,9 @@ void Simulator::select_tiles() {
 }
 
 // Engagement is measured on the stock before this block removed anything (the in-process workpiece the
-// tool meets at the block's end), and only where the block removed material: the rays the cut changed
-// trade contents with their journal copies for the measurement (a swap of storage, no copy), then back.
-// A block that removed nothing engaged nothing and costs nothing here.
+// tool meets at the block's end), and only where the block removed material next to the tool's end pose:
+// the rays the cut changed there trade contents with their journal copies for the measurement (a swap of
+// storage, no copy), then back. A block that removed nothing there engaged nothing and costs nothing here.
 void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
   Eigen::AlignedBox3d removed;
   removed.setEmpty();
@@ -244,6 +245,20 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
   swap_journal();
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The rays the engagement can read: those within a spacing (the reach of its nearest-ray lookups) of the
+// cutting surface at the block's end (ball or end face up to the flutes' top, a cylinder of the tool's
+// radius), per grid as a footprint across the rays.
+void Simulator::engagement_reads(const Tool& tool, const ToolPose& end) {
+  const Eigen::Vector3d a = end.axis.normalized(), top = end.tip + tool.flute_length * a;
+  const Eigen::Vector3d ext =
+      (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * tool.radius() + Eigen::Vector3d::Constant(1.5 * lattice_.h);
+  const Eigen::Vector3d lo = end.tip.cwiseMin(top) - ext - lattice_.origin, hi = end.tip.cwiseMax(top) + ext - lattice_.origin;
+  for (int d = 0; d < 3; ++d) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    reads_[d] = {static_cast<float>(lo[u]), static_cast<float>(hi[u]), static_cast<float>(lo[v]), static_cast<float>(hi[v])};
+  }
 }
 
 Simulator::BlockTotals Simulator::merged_totals() {

@@ -79,7 +79,9 @@ bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::v
               Accum& acc) {
   const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, pieces);
   if (!(gone > 0)) return false;
-  if (acc.journal_on) {
+  // Only rays the engagement can read, near the tool's end pose, keep their content and bound the removal.
+  const auto& f = acc.reads[at.d];
+  if (acc.journal_on && at.u_mm >= f[0] && at.u_mm <= f[1] && at.v_mm >= f[2] && at.v_mm <= f[3]) {
     if (cutting) {
       // The removed material lies where the cut and the material before overlap.
       Accum::GridBox& b = acc.removed_box[at.d];
@@ -102,6 +104,7 @@ bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::v
 void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
   acc.journal_on = journal_on_;
+  acc.reads = reads_;
   acc.parts.clear();
   for (size_t i = 0; i < sweep_.parts.size(); ++i)
     if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));

@@ -64,6 +64,9 @@ struct Accum {
     float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
   };
   bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
+  // Per grid, the (u, v) footprint of the rays the engagement can read (mm from the lattice origin): only
+  // they are journalled and count for the removed box.
+  std::array<std::array<float, 4>, 3> reads{};
   size_t journal_n = 0;
   std::vector<Dexel*> journal_rays;
   std::vector<Dexel> journal_old;
@@ -147,6 +150,7 @@ class Simulator {
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
   void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  void engagement_reads(const Tool& tool, const ToolPose& end);
   BlockTotals merged_totals();
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
@@ -189,6 +193,7 @@ class Simulator {
   std::vector<Task> tasks_;
   BlockSweep sweep_;
   bool journal_on_ = false;  // this block keeps the changed rays' contents (Accum::journal_on)
+  std::array<std::array<float, 4>, 3> reads_{};  // Accum::reads for this block
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 
