@@ -27,19 +27,9 @@ int floor_index(double x) {
   return k > x ? k - 1 : k;
 }
 
-// Sorts and merges intervals in place into a disjoint union. A ray's list is short (the parts and
-// sub-steps over it): insertion sort, std::sort beyond a few dozen.
+// Sorts and merges intervals in place into a disjoint union.
 void merge_union(std::vector<Interval>& v) {
-  if (v.size() > 32) {
-    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
-  } else {
-    for (size_t i = 1; i < v.size(); ++i) {
-      const Interval x = v[i];
-      size_t j = i;
-      for (; j > 0 && v[j - 1].lo > x.lo; --j) v[j] = v[j - 1];
-      v[j] = x;
-    }
-  }
+  std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
   size_t m = 0;
   for (size_t i = 0; i < v.size(); ++i) {
     if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
