@@ -4,10 +4,10 @@
 //      and without the engagement measurement;
 //  (b) the bundled impeller, planned and posted in process, at 0.05 mm; at 0.1 mm with and without the
 //      engagement measurement (its cost);
-//  (d) arcs: a ring pocket as G3 arcs (swept exactly) and as 0.5 mm chords, time per mm of path;
 //  (c) LinuxCNC's own simultaneous 5-axis demo impeller-7bl-xyzac.ngc (4492 blocks, TCP, G93) on the
 //      scene tests/data/linuxcnc/impeller-7bl.json, at 0.05 and 0.1 mm, default options, with and
 //      without engagement; its sweep error bounds as counters.
+//  (d) arcs: a ring pocket as G3 arcs (swept exactly) and as 0.5 mm chords, time per mm of path.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
