@@ -233,11 +233,16 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
     }
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
-  // Each thread's journal on its own (the rays of different journals are different rays).
-  auto swap_journal = [this] {
-    tbb::parallel_for_each(accum_.begin(), accum_.end(), [](Accum& a) {
-      for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
-    });
+  // Each thread's journal on its own (the rays of different journals are different rays); in parallel only
+  // where that pays for the tasks (a short block's journal holds a few thousand rays).
+  size_t journalled = 0;
+  for (const Accum& a : accum_) journalled += a.journal_n;
+  auto swap_one = [](Accum& a) {
+    for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
+  };
+  auto swap_journal = [&] {
+    if (journalled > 16384) tbb::parallel_for_each(accum_.begin(), accum_.end(), swap_one);
+    else for (Accum& a : accum_) swap_one(a);
   };
   swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
