@@ -34,6 +34,9 @@ constexpr double kDeg = 180.0 / kPi;
 constexpr double kRefineFraction = 0.125;
 // Rings a task classifies at once when the rings are spread over the threads.
 constexpr int kRingGrain = 4;
+// Below this many samples to classify a block is measured on one thread: waking the others costs more than
+// they save (on the 3-axis raster, measuring every block on two threads took half as long again as this).
+constexpr size_t kParallelSamples = 300;
 
 // Largest and smallest of cos over the arc [a, b] (radians, b >= a, b - a <= 2 pi).
 void cos_range(double a, double b, double& lo, double& hi) {
@@ -159,34 +162,48 @@ RingResult ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sa
   return rr;
 }
 
-// The samples of ring i (f its frame). Their positions are tried against the region first, in one cheap
-// pass, so that only samples inside it are classified.
-void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
+// Marks the samples of ring i (f its frame) whose positions lie in the region (b.eng), in one cheap pass,
+// so that only they are classified; returns their count.
+int mark_in_region(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
   const Eigen::Vector3d lo = sampler.region().min(), hi = sampler.region().max();
-  PointState* state = &b.state[b.index(i, 0)];
   uint8_t* eng = &b.eng[b.index(i, 0)];
+  int n = 0;
   for (int j = 0; j < g.na; ++j) {
     const double c = g.cos_phi[j], s = g.sin_phi[j];
     const double x = f.c0.x() + c * f.a1.x() + s * f.a2.x(), y = f.c0.y() + c * f.a1.y() + s * f.a2.y(),
                  z = f.c0.z() + c * f.a1.z() + s * f.a2.z();
     eng[j] = (x >= lo.x()) & (x <= hi.x()) & (y >= lo.y()) & (y <= hi.y()) & (z >= lo.z()) & (z <= hi.z());
+    n += eng[j];
   }
+  return n;
+}
+
+// The samples of ring i (f its frame) that mark_in_region marked, classified; b.eng their states.
+void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
+  PointState* state = &b.state[b.index(i, 0)];
+  uint8_t* eng = &b.eng[b.index(i, 0)];
   for (int j = 0; j < g.na; ++j) {
     state[j] = eng[j] ? sampler.state(f, g.cos_phi[j], g.sin_phi[j], false) : PointState{};
     eng[j] = state[j].engaged;
   }
 }
 
-// The samples of rings i0..i1 and their arcs, the rings spread over the threads.
+// The samples of rings i0..i1 and their arcs; the rings are spread over the threads when the samples to
+// classify are many.
 void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations, BlockSamples& b,
                     std::vector<RingResult>& rings) {
   b.state.resize(size_t(b.i1 - b.i0 + 1) * g.na);
   b.eng.resize(b.state.size());
-  tbb::parallel_for(tbb::blocked_range<int>(b.i0, b.i1 + 1, kRingGrain), [&](const tbb::blocked_range<int>& r) {
+  size_t marked = 0;
+  for (int i = b.i0; i <= b.i1; ++i) marked += mark_in_region(g, sampler, sampler.ring(g.ring[i]), i, b);
+  auto rings_in = [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, sampler.ring(g.ring[i]), i, b);
     // The arcs read only their own ring's samples.
     for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, sampler.ring(g.ring[i]), evaluations);
-  });
+  };
+  const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
+  if (marked < kParallelSamples) rings_in(all);
+  else tbb::parallel_for(all, rings_in);
 }
 
 // The engaged area (mm^2) and the extent of the engaged surface: its heights z along the axis and its
