@@ -38,6 +38,7 @@ BlockRow block_row(const BlockResult& b) {
   r.axial_depth_mm = e.axial_depth_mm;
   r.radial_width_mm = e.radial_width_mm;
   r.pairs = e.max_pairs;
+  r.tool = b.tool;
   return r;
 }
 

@@ -25,6 +25,7 @@ nlohmann::ordered_json collision_json(const Collision& c) {
   o["with"] = std::string(to_string(c.with));
   o["rapid"] = c.rapid;
   o["depth_mm"] = num(c.depth_mm, 4);
+  o["tool"] = c.tool;
   if (c.has_poses) {
     o["start_tip"] = vec(c.start.tip, 4);
     o["start_axis"] = vec(c.start.axis, 6);
@@ -91,6 +92,9 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
                  {"mean_mm", num(r.excess.mean_mm, 4)},
                  {"p95_mm", num(r.excess.p95_mm, 4)},
                  {"max_mm", num(r.excess.max_mm, 4)}};
+  double program_minutes = 0.0;
+  for (const BlockResult& b : r.per_block) program_minutes += b.minutes + b.dwell_minutes;
+  j["program_minutes"] = num(program_minutes, 4);
   j["stopped_at_first_collision"] = r.stopped_early;
   j["memory_mb"] = num(r.memory_bytes / 1048576.0, 1);
   j["engagement"] = engagement_summary_json(r);
@@ -109,13 +113,13 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
 void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& file) {
   write_file_atomic(file, [&](std::ostream& out) {
     out << "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision,axial_depth_mm,"
-           "radial_width_mm,pairs\n";
+           "radial_width_mm,pairs,tool\n";
     for (const BlockResult& b : report.per_block) {
       const BlockRow r = block_row(b);
       out << r.block << ',' << r.line << ',' << cell(r.removed_mm3, 4) << ',' << cell(r.mrr_mm3_min, 2) << ','
           << cell(r.entry_deg, 3) << ',' << cell(r.exit_deg, 3) << ',' << cell(r.engaged_area_mm2, 4) << ','
           << (r.collision ? 1 : 0) << ',' << cell(r.axial_depth_mm, 4) << ',' << cell(r.radial_width_mm, 4) << ','
-          << r.pairs << "\n";
+          << r.pairs << ',' << r.tool << "\n";
     }
   });
 }

@@ -74,6 +74,8 @@ Collision read_collision(const json& o, const std::string& file, const std::stri
   c.with = named(o, "with", {HitWith::Stock, HitWith::Check, HitWith::Fixture}, file, prefix);
   c.rapid = boolean(o, "rapid", file, prefix);
   c.depth_mm = jf::required_number(o, "depth_mm", file, prefix);
+  if (o.contains("tool")) c.tool = whole_number(o, "tool", file, prefix);
+  if (c.tool < 0) throw InputError(file, 0, jf::join(prefix, "tool"), "must be a whole number >= 0");
   read_poses(o, file, prefix, c);
   return c;
 }
@@ -163,8 +165,8 @@ std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& path) {
   const CsvTable t = read_csv(path);
   const std::string file = path.string();
   const char* columns[] = {"block",    "line",     "removed_mm3",      "mrr_mm3_min",    "entry_deg",      "exit_deg",
-                           "engaged_area_mm2", "collision", "axial_depth_mm", "radial_width_mm", "pairs"};
-  constexpr int kRequired = 8, kColumns = 11;
+                           "engaged_area_mm2", "collision", "axial_depth_mm", "radial_width_mm", "pairs", "tool"};
+  constexpr int kRequired = 8, kColumns = 12;
   int col[kColumns];
   for (int k = 0; k < kColumns; ++k) {
     col[k] = t.column(columns[k]);
@@ -200,6 +202,7 @@ std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& path) {
     b.axial_depth_mm = number(8);
     b.radial_width_mm = number(9);
     b.pairs = col[10] < 0 || std::isnan(number(10)) ? -1 : whole(10);
+    b.tool = col[11] < 0 || std::isnan(number(11)) ? -1 : whole(11);
     rows.push_back(b);
   }
   return rows;

@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <cmath>
+
+#include "tiltfield/core/io.hpp"
 
 #include "tiltfield/core/internal/json_fields.hpp"
 #include "tiltfield/core/scene.hpp"
@@ -93,6 +96,63 @@ Stock parse_stock(const Scene& s, const json& j) {
   return st;
 }
 
+// "tools": [{"number": n, ...the fields of "tool"...}, ...]; numbers whole, >= 1 and distinct.
+std::vector<ToolEntry> parse_tool_library(const json& j, const std::string& file) {
+  if (!j.is_array() || j.empty()) throw InputError(file, 0, "tools", "must be a non-empty array of tools");
+  std::vector<ToolEntry> tools;
+  for (size_t i = 0; i < j.size(); ++i) {
+    const std::string prefix = "tools[" + std::to_string(i) + "]";
+    require_object(j[i], file, prefix);
+    if (!j[i].contains("number")) throw InputError(file, 0, prefix + ".number", "missing");
+    const json& n = j[i]["number"];
+    if (!n.is_number_integer() || n.get<long long>() < 1 || n.get<long long>() > 99999)
+      throw InputError(file, 0, prefix + ".number", "must be a whole number from 1 to 99999");
+    ToolEntry e;
+    e.number = static_cast<int>(n.get<long long>());
+    for (const ToolEntry& other : tools)
+      if (other.number == e.number)
+        throw InputError(file, 0, prefix + ".number", "tool " + std::to_string(e.number) + " is given twice");
+    json fields = j[i];
+    fields.erase("number");
+    e.tool = parse_tool_json(fields, file, prefix);
+    tools.push_back(std::move(e));
+  }
+  return tools;
+}
+
+// "work_offsets": {"G54": [x, y, z(, a, b, c)], ...}; mm and degrees.
+std::map<std::string, WorkOffset> parse_work_offsets(const json& j, const std::string& file) {
+  require_object(j, file, "work_offsets");
+  std::map<std::string, WorkOffset> out;
+  const auto& codes = work_offset_codes();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string field = "work_offsets." + it.key();
+    if (std::find(codes.begin(), codes.end(), it.key()) == codes.end())
+      throw InputError(file, 0, field, "unknown work offset (use G54 ... G59, G59.1, G59.2, G59.3)");
+    const json& v = it.value();
+    if (!v.is_array() || (v.size() != 3 && v.size() != 6))
+      throw InputError(file, 0, field, "must be an array of 3 numbers (x, y, z) or 6 (x, y, z, a, b, c)");
+    WorkOffset w{};
+    for (size_t k = 0; k < v.size(); ++k) {
+      const std::string f = field + "[" + std::to_string(k) + "]";
+      w[k] = number(v[k], file, f);
+      if (std::abs(w[k]) > 1e9) throw InputError(file, 0, f, "out of range (more than 1e9)");
+    }
+    out[it.key()] = w;
+  }
+  return out;
+}
+
+// A rotary offset on an axis the machine lacks would silently do nothing: refused.
+void check_work_offset_axes(const Scene& s) {
+  const MachineSpec machine = s.machine.value_or(MachineSpec{});
+  for (const auto& [code, w] : s.work_offsets)
+    for (int k = 3; k < 6; ++k)
+      if (w[k] != 0.0 && !machine.has_axis("ABC"[k - 3]))
+        throw InputError(s.file.string(), 0, "work_offsets." + code + "[" + std::to_string(k) + "]",
+                         "the machine has no " + std::string(1, "ABC"[k - 3]) + " axis");
+}
+
 PlannerBasics parse_planner_basics(const json& j, const std::string& file) {
   require_object(j, file, "planner");
   PlannerBasics p;
@@ -123,16 +183,29 @@ void require_for_planning(const Scene& s) {
   if (s.path.rows.empty()) throw InputError(s.file.string(), 0, "path", "missing (planning needs the input path)");
 }
 
-Scene load_scene(const fs::path& file) {
+const std::vector<std::string>& work_offset_codes() {
+  static const std::vector<std::string> codes = {"G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"};
+  return codes;
+}
+
+const Tool& scene_tool(const Scene& scene, int number) {
+  for (const ToolEntry& e : scene.tools)
+    if (e.number == number) return e.tool;
+  return scene.tool;
+}
+
+Scene load_scene(const fs::path& file) { return parse_scene(read_text_file(file, "scene file"), file); }
+
+Scene parse_scene(const std::string& text, const fs::path& file) {
   Scene s;
   s.file = file;
   s.dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
   const std::string name = file.string();
-  const json j = parse_file(name, "scene file");
+  const json j = parse_text(text, name);
   require_object(j, name, "(top level)");
   only_keys(j,
-            {"units", "design", "check_surfaces", "stock", "fixtures", "tool", "path", "planner", "machine", "name",
-             "comment", "generator"},
+            {"units", "design", "check_surfaces", "stock", "fixtures", "tool", "tools", "work_offsets", "path",
+             "planner", "machine", "name", "comment", "generator"},
             name, "");
   if (j.contains("units")) {
     s.units = string(j["units"], name, "units");
@@ -157,8 +230,16 @@ Scene load_scene(const fs::path& file) {
     if (!f.is_array()) throw InputError(name, 0, "fixtures", "must be an array of mesh files");
     for (size_t i = 0; i < f.size(); ++i) s.fixtures.push_back(load_mesh(resolve(s, f[i], "fixtures[" + std::to_string(i) + "]")));
   }
-  if (!j.contains("tool")) throw InputError(name, 0, "tool", "missing");
-  s.tool = parse_tool_json(j["tool"], name, "tool");
+  if (j.contains("tools")) s.tools = parse_tool_library(j["tools"], name);
+  if (j.contains("tool")) {
+    s.tool = parse_tool_json(j["tool"], name, "tool");
+  } else if (!s.tools.empty()) {
+    s.tool = s.tools.front().tool;
+    s.tool_number = s.tools.front().number;
+  } else {
+    throw InputError(name, 0, "tool", "missing (give \"tool\" or a \"tools\" library)");
+  }
+  if (j.contains("work_offsets")) s.work_offsets = parse_work_offsets(j["work_offsets"], name);
   if (j.contains("path")) {
     const auto& p = j["path"];
     require_object(p, name, "path");
@@ -181,6 +262,7 @@ Scene load_scene(const fs::path& file) {
       s.machine = parse_machine_json(m, name, "machine");
     }
   }
+  check_work_offset_axes(s);
   return s;
 }
 

@@ -7,6 +7,7 @@
 //  (c) LinuxCNC's own simultaneous 5-axis demo impeller-7bl-xyzac.ngc (4492 blocks, TCP, G93) on the
 //      scene tests/data/linuxcnc/impeller-7bl.json, at 0.05 and 0.1 mm, default options, with and
 //      without engagement; its sweep error bounds as counters.
+//  (d) arcs: a ring pocket as G3 arcs (swept exactly) and as 0.5 mm chords, time per mm of path.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -76,7 +78,7 @@ void BM_FreeformFinishing(benchmark::State& state) {
   const tf::Program program = raster(static_cast<int>(state.range(0)), 1000, static_cast<int>(state.range(2)));
   tf::VerifyOptions opt;
   opt.resolution = 0.05;
-  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
   opt.check_gouges = false;
   double seconds = 0.0;
   size_t rays = 0;
@@ -107,6 +109,60 @@ BENCHMARK(BM_FreeformFinishing)
     ->Args({500, 1, 0})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
+
+// (d) Arcs: a pocket of 19 concentric rings (radius 6 to 42 mm, 2 mm apart) 2 mm deep in a 100 x 100 x 20
+// block, ball R 3 at 0.05 mm; each ring as four G3 quarter arcs (argument 0: swept exactly along the arc),
+// or as chords of about 0.5 mm (1: lines, the same path within 0.003 mm). Time per mm of path is what to
+// compare: an arc should cost what a line does.
+void BM_ArcPocket(benchmark::State& state) {
+  tf::Scene scene;
+  scene.stock.kind = tf::Stock::Kind::Box;
+  scene.stock.box = {Eigen::Vector3d(-50, -50, 0), Eigen::Vector3d(50, 50, 20)};
+  scene.tool.cutter = tf::BallCutter{3};
+  scene.tool.flute_length = 15;
+  scene.tool.shank_radius = 3;
+  scene.tool.length = 60;
+  scene.tool.holder = {{12, 40}};
+  const bool chords = state.range(0) != 0;
+  tf::Program p;
+  const double z = 18.0;  // the tip 2 mm below the top
+  p.start = {6, 0, 30};
+  auto add = [&](tf::Motion m, double x, double y) {
+    tf::Block b;
+    b.motion = m;
+    b.line = static_cast<int>(p.blocks.size()) + 1;
+    b.target = {x, y, z};
+    b.feed = 2000;
+    b.arc_center = {0, 0, z};
+    p.blocks.push_back(b);
+  };
+  double path = 0.0;
+  for (double rho = 6; rho <= 42 + 1e-9; rho += 2) {
+    add(tf::Motion::Linear, rho, 0);
+    const int n = chords ? std::max(4, static_cast<int>(std::ceil(2 * std::numbers::pi * rho / 0.5 / 4)) * 4) : 4;
+    for (int i = 1; i <= n; ++i) {
+      const double a = 2 * std::numbers::pi * i / n;
+      add(chords ? tf::Motion::Linear : tf::Motion::ArcCCW, rho * std::cos(a), rho * std::sin(a));
+    }
+    path += 2 * std::numbers::pi * rho;
+  }
+  tf::VerifyOptions opt;
+  opt.resolution = 0.05;
+  opt.check_gouges = false;
+  double seconds = 0.0, removed = 0.0, err = 0.0;
+  for (auto _ : state) {
+    const tf::VerifyResult r = tf::verify_program(scene, p, tf::forward_xyz, opt);
+    seconds = r.report.seconds;
+    removed = r.report.removed_volume_mm3;
+    err = r.report.sweep_error_mm;
+  }
+  state.counters["moves"] = static_cast<double>(p.blocks.size());
+  state.counters["sim_seconds"] = seconds;
+  state.counters["ms_per_100mm"] = 1e5 * seconds / path;
+  state.counters["removed_mm3"] = removed;
+  state.counters["sweep_error_um"] = 1000.0 * err;
+}
+BENCHMARK(BM_ArcPocket)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond);
 
 // The bundled impeller, planned and posted in process (the same steps as `tiltfield run`), read back
 // from its G-code text.
@@ -146,7 +202,7 @@ void BM_Impeller(benchmark::State& state) {
   }
   tf::VerifyOptions opt;
   opt.resolution = state.range(0) / 100.0;
-  if (state.range(1) != 0) opt.engagement = tf::engagement_probe(job->scene.tool);
+  if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
   double seconds = 0.0, balance = 0.0, engagement = 0.0;
   size_t collisions = 0, engaged = 0;
   for (auto _ : state) {
@@ -194,7 +250,7 @@ void BM_LinuxcncImpeller(benchmark::State& state) {
     const auto t0 = std::chrono::steady_clock::now();
     const tf::Scene scene = tf::load_scene(scene_file);
     const tf::Program program = tf::read_gcode(kLinuxcncDemo, *scene.machine);
-    if (state.range(1) != 0) opt.engagement = tf::engagement_probe(scene.tool);
+    if (state.range(1) != 0) opt.engagement = tf::engagement_probe();
     const tf::VerifyResult r = tf::verify_program(scene, program, tf::scene_forward(scene), opt);
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     seconds = r.report.seconds;

@@ -33,6 +33,7 @@ VerifyReport sample_report() {
   c.depth_mm = 0.35;
   c.start = {Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(0, 0, 1)};
   c.end = {Eigen::Vector3d(4, 5, 6), Eigen::Vector3d(0, 0.6, 0.8)};
+  c.tool = 12;
   r.collisions.push_back(c);
   r.gouges.push_back({3, 8, 0.02});
   r.warnings.push_back("p.ngc:1: G54 is not simulated");
@@ -41,6 +42,8 @@ VerifyReport sample_report() {
   cut.line = 6;
   cut.removed_mm3 = 12.5;
   cut.minutes = 0.5;
+  cut.dwell_minutes = 0.25;
+  cut.tool = 3;
   cut.engagement.entry_deg = 10.0;
   cut.engagement.exit_deg = 170.0;
   cut.engagement.area_mm2 = 4.25;
@@ -80,6 +83,7 @@ TEST(ReportIo, VerifyJsonRoundTrip) {
   EXPECT_EQ(c.with, HitWith::Fixture);
   EXPECT_TRUE(c.rapid);
   EXPECT_DOUBLE_EQ(c.depth_mm, 0.35);
+  EXPECT_EQ(c.tool, 12);
   ASSERT_TRUE(c.has_poses);
   EXPECT_EQ(c.start.tip, Eigen::Vector3d(1, 2, 3));
   EXPECT_NEAR((c.end.axis - Eigen::Vector3d(0, 0.6, 0.8)).norm(), 0.0, 1e-12);
@@ -96,6 +100,9 @@ TEST(ReportIo, VerifyJsonRoundTrip) {
   EXPECT_EQ(r.stock_mesh->full_vertices, 90000u);
   EXPECT_EQ(r.stock_mesh->full_faces, 179996u);
   EXPECT_DOUBLE_EQ(r.stock_mesh->decimate_seconds, 2.5);
+  // The program's time: motion and dwells of every block.
+  const std::string text = test::read_text(dir / "v.json");
+  EXPECT_NE(text.find("\"program_minutes\": 0.75"), std::string::npos) << text;
 }
 
 TEST(ReportIo, VerifyJsonWithTheDocumentedFieldsOnly) {
@@ -109,6 +116,7 @@ TEST(ReportIo, VerifyJsonWithTheDocumentedFieldsOnly) {
   EXPECT_EQ(v.collisions[0].component, ToolComponent::Holder);
   EXPECT_EQ(v.collisions[0].with, HitWith::Check);
   EXPECT_FALSE(v.collisions[0].has_poses);
+  EXPECT_EQ(v.collisions[0].tool, 0) << "no tool field: 0";
   EXPECT_EQ(v.gouges[0].line, 29);
   EXPECT_DOUBLE_EQ(v.removed_volume_mm3, 12.5);
   EXPECT_TRUE(std::isnan(v.stock_volume_start_mm3)) << "not in the file: unknown";
@@ -128,6 +136,10 @@ TEST(ReportIo, VerifyJsonErrorsNameTheField) {
       {R"({"collisions": [{"block": 2, "line": 30, "component": "ball", "with": "stock", "rapid": false,
           "depth_mm": 1, "start_tip": [0, 0, 0], "start_axis": [0, 0, 2], "end_tip": [1, 0, 0],
           "end_axis": [0, 0, 1]}]})", "collisions[0].start_axis"},
+      {R"({"collisions": [{"block": 2, "line": 30, "component": "ball", "with": "stock", "rapid": false,
+          "depth_mm": 1, "tool": -1}]})", "collisions[0].tool"},
+      {R"({"collisions": [{"block": 2, "line": 30, "component": "ball", "with": "stock", "rapid": false,
+          "depth_mm": 1, "tool": "T1"}]})", "collisions[0].tool"},
       {R"({"gouges": {"block": 1}})", "gouges"},
       {R"({"removed_volume_mm3": "12"})", "removed_volume_mm3"},
   };
@@ -164,6 +176,8 @@ TEST(ReportIo, BlocksCsvRoundTrip) {
   EXPECT_DOUBLE_EQ(rows[0].engaged_area_mm2, 4.25);
   EXPECT_DOUBLE_EQ(rows[0].axial_depth_mm, 1.5);
   EXPECT_EQ(rows[0].pairs, 1);
+  EXPECT_EQ(rows[0].tool, 3);
+  EXPECT_EQ(rows[1].tool, 0);
   EXPECT_FALSE(rows[0].collision);
   EXPECT_TRUE(std::isnan(rows[1].mrr_mm3_min)) << "a block that takes no time has no MRR";
   EXPECT_TRUE(std::isnan(rows[1].entry_deg)) << "nothing engaged: no angle";
@@ -184,6 +198,7 @@ TEST(ReportIo, BlocksCsvWithTheDocumentedColumnsOnly) {
   EXPECT_TRUE(rows[1].collision);
   EXPECT_TRUE(std::isnan(rows[0].axial_depth_mm));
   EXPECT_EQ(rows[0].pairs, -1);
+  EXPECT_EQ(rows[0].tool, -1);
   test::write_text(dir / "bad.csv", "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision\n"
                                     "0,12,1.5,abc,0,90,2.5,0\n");
   try {

@@ -69,6 +69,31 @@ TEST(SceneIO, StockKindsAndInlineMachine) {
   EXPECT_EQ(tf::load_scene(tf::test::write_scene(dir, j)).stock.kind, tf::Stock::Kind::Mesh);
 }
 
+// A tool library and work offsets: every tool by number, "tool" still the planner's; without "tool" the
+// library's first entry serves.
+TEST(SceneIO, ToolLibraryAndWorkOffsets) {
+  tf::test::TempDir dir;
+  json j = tf::test::valid_scene_json();
+  j["tools"] = json::parse(R"([{"number": 7, "type": "flat", "radius": 4, "length": 45},
+                               {"number": 2, "type": "ball", "radius": 1.5, "flute_length": 8, "length": 30}])");
+  j["work_offsets"] = json::parse(R"({"G54": [10, 20, -30], "G59.3": [1, 2, 3, 4, 0, 6]})");
+  tf::Scene s = tf::load_scene(tf::test::write_scene(dir, j));
+  ASSERT_EQ(s.tools.size(), 2u);
+  EXPECT_EQ(s.tools[0].number, 7);
+  EXPECT_EQ(s.tools[1].tool.type_name(), "ball");
+  EXPECT_DOUBLE_EQ(tf::scene_tool(s, 2).length, 30.0);
+  EXPECT_DOUBLE_EQ(tf::scene_tool(s, 7).radius(), 4.0);
+  EXPECT_DOUBLE_EQ(tf::scene_tool(s, 0).length, 60.0);  // the scene's own tool
+  EXPECT_EQ(s.tool_number, 0);
+  EXPECT_DOUBLE_EQ(s.work_offsets.at("G54")[2], -30.0);
+  EXPECT_DOUBLE_EQ(s.work_offsets.at("G54")[3], 0.0);
+  EXPECT_DOUBLE_EQ(s.work_offsets.at("G59.3")[5], 6.0);
+  j.erase("tool");
+  s = tf::load_scene(tf::test::write_scene(dir, j));
+  EXPECT_EQ(s.tool_number, 7);
+  EXPECT_DOUBLE_EQ(s.tool.length, 45.0);
+}
+
 // One mutation of the valid scene, and where the error must point.
 struct BadScene {
   std::string name;
@@ -112,6 +137,27 @@ std::vector<BadScene> bad_scenes() {
       {"limits inverted", [](json&) {}, "", R"({"kinematics": "xyz", "limits": {"X": [5, 1]}})", "machine.json",
        "limits.X"},
       {"machine not json", [](json&) {}, "", "{\n  \"kinematics\": \n}", "machine.json", ":3"},
+      {"no tool at all", [](json& j) { j.erase("tool"); }, "", "", "scene.json", "tool"},
+      {"empty key (found by fuzzing)", [](json& j) { j[""] = 1; }, "", "", "scene.json", "'\"\"'"},
+      {"tools not an array", [](json& j) { j["tools"] = json::object(); }, "", "", "scene.json", "tools"},
+      {"tool number missing", [](json& j) { j["tools"] = json::parse(R"([{"radius": 2}])"); }, "", "", "scene.json",
+       "tools[0].number"},
+      {"tool number not whole", [](json& j) { j["tools"] = json::parse(R"([{"number": 1.5, "radius": 2}])"); }, "", "",
+       "scene.json", "tools[0].number"},
+      {"tool number twice", [](json& j) { j["tools"] = json::parse(R"([{"number": 3, "radius": 2}, {"number": 3, "radius": 1}])"); },
+       "", "", "scene.json", "tools[1].number"},
+      {"library tool bad radius", [](json& j) { j["tools"] = json::parse(R"([{"number": 3, "radius": -2}])"); }, "", "",
+       "scene.json", "tools[0].radius"},
+      {"library tool unknown key", [](json& j) { j["tools"] = json::parse(R"([{"number": 3, "radius": 2, "lenght": 9}])"); },
+       "", "", "scene.json", "tools[0].lenght"},
+      {"unknown work offset", [](json& j) { j["work_offsets"] = json::parse(R"({"G60": [0, 0, 0]})"); }, "", "",
+       "scene.json", "work_offsets.G60"},
+      {"work offset of 4", [](json& j) { j["work_offsets"] = json::parse(R"({"G54": [0, 0, 0, 1]})"); }, "", "",
+       "scene.json", "work_offsets.G54"},
+      {"work offset text", [](json& j) { j["work_offsets"] = json::parse(R"({"G55": [0, "1", 0]})"); }, "", "",
+       "scene.json", "work_offsets.G55[1]"},
+      {"work offset on a missing axis", [](json& j) { j["work_offsets"] = json::parse(R"({"G56": [0, 0, 0, 0, 5, 0]})"); },
+       "", "", "scene.json", "work_offsets.G56[4]"},
   };
 }
 
@@ -149,6 +195,19 @@ TEST(SceneIO, SceneJsonSyntaxErrorGivesTheLine) {
   const auto r = tf::test::run_tiltfield("check '" + (dir / "scene.json").string() + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("scene.json:3"), std::string::npos) << r.out;
+}
+
+// A number beyond a double is a JSON error on its line, not an unexpected exception (found by fuzzing).
+TEST(SceneIO, HugeNumberNamesItsLine) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "scene.json", "{\n  \"stock\": {\"box\": {\"min\": [0, 0, 0],\n  \"max\": [1, 1e400, 1]}}\n}\n");
+  try {
+    tf::load_scene(dir / "scene.json");
+    ADD_FAILURE() << "loaded";
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.line(), 3) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e400"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneIO, CheckCommandSummarisesAValidScene) {

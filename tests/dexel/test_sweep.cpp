@@ -355,6 +355,16 @@ TEST(Sweep, BlockSubstepsBoundTheError) {
   sweep_block(tilt, parts, opt, bs);
   EXPECT_LE(bs.cutting_error, opt.tolerance);
   check_bound(tilt, Body{3.0, {{3.0, 12.0, 3.0}}}, bs, true, bs.cutting_error);
+  // The same motion as a rapid: nothing cuts, every part gets the collision-only bound (fewer sub-steps).
+  opt.tolerance = 0.01;
+  sweep_block(tilt, parts, opt, bs);
+  const size_t feed_parts = bs.parts.size();
+  sweep_block(tilt, parts, opt, bs, true);
+  EXPECT_EQ(bs.cutting_error, 0.0);
+  EXPECT_LE(bs.holder_error, opt.holder_tolerance);
+  EXPECT_LT(bs.parts.size(), feed_parts);
+  check_bound(tilt, Body{3.0, {{3.0, 12.0, 3.0}}}, bs, true, bs.holder_error);
+  check_bound(tilt, Body{0.0, {{12.0, 40.0, 3.0}, {40.0, 60.0, 10.0}}}, bs, false, bs.holder_error);
   // A pure translation is one exact step of whole parts.
   sweep_block([&](double tau) { return ToolPose{Eigen::Vector3d(10 * tau, 0, 0), Eigen::Vector3d::UnitZ()}; }, parts,
               opt, bs);

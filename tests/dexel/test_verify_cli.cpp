@@ -9,6 +9,7 @@
 
 #include "helpers.hpp"
 #include "test_support.hpp"
+#include "tiltfield/core/report.hpp"
 
 namespace fs = std::filesystem;
 
@@ -70,9 +71,9 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
   std::ifstream csv(dir / "b.csv");
   std::string header, row;
   std::getline(csv, header);
-  // The spec's columns first, then the extra engagement columns.
+  // The spec's columns first, then the extra engagement columns and the tool.
   EXPECT_EQ(header, "block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,engaged_area_mm2,collision,axial_depth_mm,"
-                    "radial_width_mm,pairs");
+                    "radial_width_mm,pairs,tool");
   int rows = 0;
   while (std::getline(csv, row)) {
     ++rows;
@@ -81,13 +82,14 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
       std::stringstream cells(row);
       std::vector<std::string> c;
       for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
-      ASSERT_EQ(c.size(), 11u) << row;
+      ASSERT_EQ(c.size(), 12u) << row;
       EXPECT_EQ(c[0], "3");
       EXPECT_EQ(c[1], "4");
       EXPECT_NEAR(std::stod(c[4]), 0.0, 1.0) << row;
       EXPECT_NEAR(std::stod(c[5]), 180.0, 1.0) << row;
       EXPECT_GT(std::stod(c[6]), 0.0) << row;
       EXPECT_EQ(c[7], "0");
+      EXPECT_EQ(c[11], "0");  // no tool change: the scene's tool
     }
   }
   EXPECT_EQ(rows, 4);
@@ -177,6 +179,69 @@ TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
                     " --resolution -1", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(fs::exists(dir / "v.json"));
+  // RS274 numbers have no exponent: "1e3" is X1 followed by the word E3, which LinuxCNC refuses too.
+  write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X1e3 F100\n");
+  r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("X1E3"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+}
+
+TEST_F(VerifyCli, SceneWithoutDesignSaysNoGougesWereComputed) {
+  write(dir / "bare.json", R"({
+    "stock": {"box": {"min": [0, 0, 0], "max": [40, 30, 10]}},
+    "tool": {"type": "ball", "radius": 3, "flute_length": 12, "length": 20}
+  })");
+  write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = std::string(TILTFIELD_EXE) + " verify " + (dir / "bare.json").string() + " " +
+                          (dir / "p.ngc").string() + " -o " + (dir / "v.json").string() + " --resolution 0.25 2> " +
+                          err.string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream log(err);
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("gouges not computed (no design)"), std::string::npos) << text;
+  std::ifstream in(dir / "v.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["blocks"], 4);
+  EXPECT_GT(j["removed_volume_mm3"].get<double>(), 100.0);
+  EXPECT_TRUE(j["gouges"].empty());
+  EXPECT_EQ(j["excess"]["samples"], 0);
+  bool said = false;
+  for (const auto& w : j["warnings"]) said |= w.get<std::string>().find("no design surface") != std::string::npos;
+  EXPECT_TRUE(said) << j["warnings"].dump();
+}
+
+// A tool library: the program's T M6 picks the tool, G43 H its gauge length; collisions and blocks.csv
+// name it. Tool 2 is short (gauge 3 mm): 4 mm deep, its holder meets the stock; tool 1 has none.
+TEST_F(VerifyCli, ToolLibraryNamesTheToolOfEachBlockAndCollision) {
+  write(dir / "lib.json", R"({
+    "stock": {"box": {"min": [0, 0, 0], "max": [40, 30, 10]}},
+    "tools": [{"number": 1, "type": "ball", "radius": 3, "flute_length": 12, "length": 40},
+              {"number": 2, "type": "flat", "radius": 2, "flute_length": 2, "length": 3,
+               "holder": [{"radius": 10, "length": 20}]}],
+    "work_offsets": {"G54": [0, 0, 10]}
+  })");
+  // G54 puts the program's zero on the stock top; each tool's tip 4 mm deep at the slot.
+  write(dir / "p.ngc", "G21 G90 G17 G40 G49 G80 G94\nT1 M6\nG54 G0 X5 Y10\nG43 H1 Z10\nG1 Z-4 F600\n"
+                       "G1 X35 F1200\nG0 Z10\nT2 M6\nG43 H2 Z10\nG0 X5 Y20\nG1 Z-4 F600\nG1 X35\nG0 Z10\nM30\n");
+  const CliRun r = tiltfield("verify " + (dir / "lib.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                                 (dir / "v.json").string() + " --blocks " + (dir / "b.csv").string() + " --resolution 0.25",
+                             dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir / "v.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_FALSE(j["collisions"].empty());
+  for (const auto& c : j["collisions"]) {
+    EXPECT_EQ(c["tool"], 2) << c.dump();
+    EXPECT_GE(c["line"].get<int>(), 11) << c.dump();
+  }
+  const std::vector<BlockRow> rows = read_blocks_csv(dir / "b.csv");
+  ASSERT_EQ(rows.size(), 10u);
+  for (const BlockRow& b : rows) EXPECT_EQ(b.tool, b.line < 8 ? 1 : 2) << b.line;
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ VerifyReport run(const Scene& scene, const test::Moves& moves, double resolution
   o.resolution = resolution;
   EngagementOptions eo;
   eo.keep_pairs = keep_pairs;
-  o.engagement = engagement_probe(scene.tool, eo);
+  o.engagement = engagement_probe(eo);
   return verify_program(scene, moves.program(), forward_xyz, o).report;
 }
 
@@ -208,7 +208,7 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
   };
   VerifyOptions o;
   o.resolution = 0.1;
-  o.engagement = engagement_probe(s.tool);
+  o.engagement = engagement_probe();
   const VerifyReport r = verify_program(s, p, tilted, o).report;
   const Engagement& e = r.per_block.back().engagement;
   std::cout << "tilted ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << "\n";
@@ -243,6 +243,32 @@ TEST(Engagement, BullEndSlot) {
   expect_within(e.axial_depth_mm, ap, ap, "axial depth");
   expect_within(e.radial_width_mm, 2 * R, 2 * R, "radial width");
   expect_within(b.removed_mm3, section * L, section * L, "removed volume");
+}
+
+// The probe measures the tool in the spindle: full-width slots by a library's two tools, R 5 and R 2.
+TEST(Engagement, FollowsEachBlocksTool) {
+  Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  s.tools = {{1, make_tool(FlatCutter{R})}, {2, make_tool(FlatCutter{2.0})}};
+  Program p = test::Moves()
+                  .rapid({-10, -8, 10.0 - ap})
+                  .line({.x = 30}, 600)
+                  .line({.x = 50})
+                  .rapid({.z = 12})
+                  .rapid({.x = -10, .y = 8})
+                  .rapid({.z = 10.0 - ap})
+                  .line({.x = 30}, 600)
+                  .line({.x = 50})
+                  .program();
+  for (size_t i = 0; i < p.blocks.size(); ++i) p.blocks[i].tool = i < 3 ? 1 : 2;
+  VerifyOptions o;
+  o.resolution = 0.1;
+  o.engagement = engagement_probe();
+  const VerifyReport r = verify_program(s, p, forward_xyz, o).report;
+  ASSERT_EQ(r.per_block.size(), 8u);
+  expect_within(r.per_block[2].engagement.radial_width_mm, 2 * R, 2 * R, "tool 1's radial width");
+  expect_within(r.per_block[7].engagement.radial_width_mm, 4.0, 4.0, "tool 2's radial width");
+  expect_within(r.per_block[7].removed_mm3, 4.0 * ap * L, 4.0 * ap * L, "tool 2's removed volume");
+  EXPECT_EQ(r.per_block[7].tool, 2);
 }
 
 }  // namespace

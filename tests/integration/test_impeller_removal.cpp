@@ -31,7 +31,7 @@ TEST(ImpellerSlow, RemovedVolumeBalancesAndCuttingBlocksAreEngaged) {
   write_gcode(text, post_program(planned.path, post, po), post, po);
   const Program program = parse_gcode(text.str(), "impeller.ngc", post.machine);
   VerifyOptions vo;
-  vo.engagement = engagement_probe(scene.tool);
+  vo.engagement = engagement_probe();
   vo.resolution = 0.2;  // coarse for test time; the benchmark runs 0.1 and 0.05
   const VerifyReport r = verify_program(scene, program, scene_forward(scene), vo).report;
   const double gone = r.stock_volume_start_mm3 - r.stock_volume_end_mm3;

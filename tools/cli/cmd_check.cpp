@@ -29,6 +29,12 @@ void add_check_command(CLI::App& app) {
                 << s.path.rows.size() << " rows over "
                 << fixed(s.path.rows.empty() ? 0.0 : s.path.arc_length().back(), 1) << " mm, machine "
                 << (s.machine ? std::string(to_string(s.machine->kinematics)) : std::string("none")) << "\n";
+      for (const ToolEntry& e : s.tools)
+        std::cout << "  tool T" << e.number << ": " << e.tool.type_name() << " R" << fixed(e.tool.radius(), 3)
+                  << " gauge " << fixed(e.tool.length, 3) << "\n";
+      for (const auto& [code, w] : s.work_offsets)
+        std::cout << "  work offset " << code << ": X" << fixed(w[0], 3) << " Y" << fixed(w[1], 3) << " Z"
+                  << fixed(w[2], 3) << " A" << fixed(w[3], 3) << " B" << fixed(w[4], 3) << " C" << fixed(w[5], 3) << "\n";
     }
     if (!oriented.empty())
       std::cout << "oriented path " << oriented << ": " << read_oriented_csv(oriented).rows.size() << " rows\n";

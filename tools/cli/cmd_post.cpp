@@ -39,7 +39,7 @@ std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const s
   if (!(so.air_feed > 0.0)) so.air_feed = scene.machine->max_feed;
   check_feed_schedule_options(so);  // before the simulation
   positive_option(a.resolution, "--resolution");
-  const Program program = parse_gcode(text, a.out, *scene.machine);
+  const Program program = parse_gcode(text, a.out, *scene.machine, gcode_options(scene));
   VerifyOptions vo;
   vo.resolution = a.resolution;
   // No engagement probe: only removed volumes are needed.

@@ -42,7 +42,7 @@ void run_verify(const VerifyArgs& a) {
     throw InputError("", 0, "--mesh-tolerance", "must be a number of mm >= 0 (0: the full mesh)");
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
-  const Program program = read_gcode(a.program, machine);
+  const Program program = read_gcode(a.program, machine, gcode_options(scene));
   VerifyOptions opt;
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;
@@ -51,7 +51,7 @@ void run_verify(const VerifyArgs& a) {
   if (!a.no_engagement) {
     EngagementOptions eo;
     eo.keep_pairs = !a.pairs.empty();
-    opt.engagement = engagement_probe(scene.tool, eo);
+    opt.engagement = engagement_probe(eo);
   }
   opt.progress = terminal_progress();
   opt.record_last_block = !a.html.empty();  // the report colours the stock by the block that cut it
@@ -86,9 +86,11 @@ void run_verify(const VerifyArgs& a) {
   if (!a.html.empty()) write_verify_report(scene, program, a.program, result.report, stock ? &*stock : nullptr, a.html);
   const VerifyReport& r = result.report;
   if (!global_options().quiet) {
+    const std::string gouges = scene.design.n_faces() == 0
+                                   ? "gouges not computed (no design)"
+                                   : std::to_string(r.gouges.size()) + " gouges (max " + fixed(r.max_gouge_mm, 3) + " mm)";
     std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "
-              << r.collisions.size() << " collisions, " << r.gouges.size() << " gouges (max " << fixed(r.max_gouge_mm, 3)
-              << " mm), " << fixed(r.seconds, 2) << " s\n";
+              << r.collisions.size() << " collisions, " << gouges << ", " << fixed(r.seconds, 2) << " s\n";
     if (r.stock_mesh)
       std::cerr << "stock mesh: " << r.stock_mesh->vertices << " vertices, " << r.stock_mesh->faces << " faces, "
                 << fixed(double(r.stock_mesh->bytes) / 1e6, 1) << " MB as PLY, within "

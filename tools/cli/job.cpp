@@ -93,7 +93,7 @@ class PostAndVerify {
     post_job_.title = "tiltfield run: " + scene.file.filename().string();
     verify_options_.resolution = options.resolution_mm;
     verify_options_.progress = options.progress;
-    verify_options_.engagement = engagement_probe(scene.tool);
+    verify_options_.engagement = engagement_probe();
   }
 
   Round operator()(OrientedPath path, StageSeconds& seconds) const {
@@ -102,7 +102,8 @@ class PostAndVerify {
     std::ostringstream text;
     write_gcode(text, posted, post_job_, post_options_);
     // Verify the text exactly as it will be written, so collisions name its lines.
-    Program read_back = parse_gcode(text.str(), (options_.out_dir / "program.ngc").string(), *scene_.machine);
+    Program read_back = parse_gcode(text.str(), (options_.out_dir / "program.ngc").string(), *scene_.machine,
+                                     gcode_options(scene_));
     seconds.post += seconds_since(t);
     t = std::chrono::steady_clock::now();
     VerifyResult verified = verify_program(scene_, read_back, forward_, verify_options_);

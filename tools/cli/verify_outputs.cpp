@@ -77,7 +77,7 @@ void write_verify_report(const Scene& scene, const Program& program, const std::
   if (scene.design.n_faces() == 0) note += "; no design surface: no deviation colours, no gouge check";
   if (!report.warnings.empty())
     note += "; " + std::to_string(report.warnings.size()) + " warning" + (report.warnings.size() == 1 ? "" : "s") +
-            " about codes read but not simulated (VERIFY.json)";
+            " (listed in VERIFY.json)";
   in.summary.note = note;
   in.summary.removed_volume_mm3 = report.removed_volume_mm3;
   in.summary.max_gouge_mm = scene.design.n_faces() > 0 ? report.max_gouge_mm : -1.0;

@@ -30,6 +30,7 @@ struct CylRow {
   double inv_ae, inv_C;
   double kz, qa_z;        // on the axial lines t = kz s + c: Q's s^2 coefficient
   double qa_tan;          // on the tangency line s = -(B t + E) / C: Q's t^2 coefficient
+  double inv_A, inv_qa_z, inv_qa_tan;
   double shift;           // t from the row's origin = t from the plane through p0 + shift
 };
 
@@ -38,14 +39,15 @@ struct Roots {
   bool ok;
 };
 
-// Roots of qa x^2 + 2 qb x + qc (qa may be 0: then x1 is the linear root and x0 is not finite).
-[[gnu::always_inline]] inline Roots roots(double qa, double qb, double qc) {
+// Roots of qa x^2 + 2 qb x + qc, inv_qa = 1 / qa (a row's constant: one division less per ray; qa may be 0:
+// then x1 is the linear root and x0 is not finite).
+[[gnu::always_inline]] inline Roots roots(double qa, double inv_qa, double qb, double qc) {
   double disc = qb * qb - qa * qc;
   const bool ok = disc >= -1e-12 * (qb * qb + std::abs(qa * qc));
   disc = disc > 0.0 ? disc : 0.0;
   const double sq = std::sqrt(disc);
   const double q = -(qb + (qb >= 0.0 ? sq : -sq));
-  const double x0 = q / qa;
+  const double x0 = q * inv_qa;
   const double x1 = q != 0.0 ? qc / q : x0;
   return {x0, x1, ok};
 }
@@ -79,7 +81,7 @@ struct Roots {
 #pragma GCC unroll 2
   for (int c = 0; c < 2; ++c) {
     const double s = c;
-    const Roots r = roots(k.A, k.B * s + D, k.C * s * s + 2 * E * s + F);
+    const Roots r = roots(k.A, k.inv_A, k.B * s + D, k.C * s * s + 2 * E * s + F);
     take(r.ok & linear_ok(r.x0, s), r.x0);
     take(r.ok & linear_ok(r.x1, s), r.x1);
   }
@@ -87,14 +89,14 @@ struct Roots {
 #pragma GCC unroll 2
   for (int c = 0; c < 2; ++c) {
     const double cz = ((c ? k.H : 0.0) - aw) * k.inv_ae;
-    const Roots r = roots(k.qa_z, k.A * k.kz * cz + k.B * cz + D * k.kz + E, k.A * cz * cz + 2 * D * cz + F);
+    const Roots r = roots(k.qa_z, k.inv_qa_z, k.A * k.kz * cz + k.B * cz + D * k.kz + E, k.A * cz * cz + 2 * D * cz + F);
     const double ta = k.kz * r.x0 + cz, tb = k.kz * r.x1 + cz;
     take(r.ok & linear_ok(ta, r.x0), ta);
     take(r.ok & linear_ok(tb, r.x1), tb);
   }
   // (c) Q = 0 with dQ/ds = 0: s = -(B t + E) / C.
   {
-    const Roots r = roots(k.qa_tan, D - k.B * E * k.inv_C, F - E * E * k.inv_C);
+    const Roots r = roots(k.qa_tan, k.inv_qa_tan, D - k.B * E * k.inv_C, F - E * E * k.inv_C);
     const double sa = -(k.B * r.x0 + E) * k.inv_C, sb = -(k.B * r.x1 + E) * k.inv_C;
     take(r.ok & linear_ok(r.x0, sa), r.x0);
     take(r.ok & linear_ok(r.x1, sb), r.x1);
@@ -153,6 +155,9 @@ bool cylinder_intervals(const SweptPart& p, const Eigen::Vector3d& o, int dir, i
   k.kz = k.ad * k.inv_ae;
   k.qa_z = k.A * k.kz * k.kz + 2 * k.B * k.kz + k.C;
   k.qa_tan = k.A - k.B * k.B * k.inv_C;
+  k.inv_A = 1.0 / k.A;
+  k.inv_qa_z = 1.0 / k.qa_z;
+  k.inv_qa_tan = 1.0 / k.qa_tan;
   cylinder_row(k, n, t0, t1);
   return true;
 }

@@ -1,18 +1,15 @@
 #include "obstacles.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
-#include "raycast.hpp"
+#include "mesh_rays.hpp"
 
 namespace tf {
 
 RayTable::RayTable(const Mesh& mesh, const Lattice& L) {
   solid_ = mesh.n_faces() > 0 && is_closed(mesh) && signed_volume(mesh) > 0;
-  const RayMesh rm(mesh);
-  const Eigen::AlignedBox3d box = rm.box();
+  const Eigen::AlignedBox3d box = bounding_box(mesh);
   for (int d = 0; d < 3; ++d) {
     Grid& g = grids_[d];
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
@@ -33,20 +30,13 @@ RayTable::RayTable(const Mesh& mesh, const Lattice& L) {
     g.lo = static_cast<float>(box.min()[d] - L.origin[d]);
     g.hi = static_cast<float>(box.max()[d] - L.origin[d]);
     std::vector<std::vector<Crossing>> rows(g.nv);
-    std::vector<std::vector<uint32_t>> counts(g.nv);
-    Eigen::Vector3d e = Eigen::Vector3d::Zero();
-    e[d] = 1.0;
-    tbb::parallel_for(0, g.nv, [&](int jv) {
-      std::vector<RayHit> hits;
-      counts[jv].resize(g.nu);
-      for (int ju = 0; ju < g.nu; ++ju) {
-        Eigen::Vector3d o = L.origin;
-        o[u] = L.coord(u, g.u0 + ju);
-        o[v] = L.coord(v, g.v0 + jv);
-        rm.hits(o, e, box.min()[d] - L.origin[d] - 1.0, box.max()[d] - L.origin[d] + 1.0, hits);
-        counts[jv][ju] = static_cast<uint32_t>(hits.size());
-        for (const RayHit& h : hits) rows[jv].push_back({static_cast<float>(h.t), static_cast<float>(h.cos)});
-      }
+    std::vector<std::vector<uint32_t>> counts(g.nv, std::vector<uint32_t>(g.nu, 0));
+    // Rays are visited in increasing iu within a row, and each row by one task.
+    scan_mesh_rays(mesh, L, d, [&](int iu, int iv, const RayHit* hits, int n) {
+      const int ju = iu - g.u0, jv = iv - g.v0;
+      if (ju < 0 || ju >= g.nu || jv < 0 || jv >= g.nv) return;
+      counts[jv][ju] = static_cast<uint32_t>(n);
+      for (int k = 0; k < n; ++k) rows[jv].push_back({static_cast<float>(hits[k].t), static_cast<float>(hits[k].cos)});
     });
     g.offsets.assign(size_t(g.nu) * g.nv + 1, 0);
     size_t k = 0;

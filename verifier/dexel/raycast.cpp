@@ -66,42 +66,6 @@ RayMesh::~RayMesh() {
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-void RayMesh::hits(const Eigen::Vector3d& o, const Eigen::Vector3d& e, double t0, double t1,
-                   std::vector<RayHit>& out) const {
-  out.clear();
-  const Impl& m = *impl_;
-  // Embree wants tnear >= 0: start the ray at t0.
-  const Eigen::Vector3d os = o + t0 * e - m.shift;
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  double tnear = 0.0;
-  const double tfar = t1 - t0;
-  for (int guard = 0; guard < 100000 && tnear <= tfar; ++guard) {
-    RTCRayHit rh;
-    rh.ray.org_x = static_cast<float>(os.x());
-    rh.ray.org_y = static_cast<float>(os.y());
-    rh.ray.org_z = static_cast<float>(os.z());
-    rh.ray.dir_x = static_cast<float>(e.x());
-    rh.ray.dir_y = static_cast<float>(e.y());
-    rh.ray.dir_z = static_cast<float>(e.z());
-    rh.ray.tnear = static_cast<float>(tnear);
-    rh.ray.tfar = static_cast<float>(tfar);
-    rh.ray.time = 0.f;
-    rh.ray.mask = ~0u;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(m.scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-    const double t = rh.ray.tfar;
-    const double c = m.normals[rh.hit.primID].dot(e);
-    if (out.empty() || t + t0 - out.back().t > 1e-5) out.push_back({t + t0, c});
-    // Step past this crossing; float spacing at |t| bounds how little we may step.
-    tnear = t + std::max(1e-5, std::abs(t) * 4e-7);
-  }
-}
-
 namespace {
 
 struct ClosestQuery {

@@ -1,4 +1,5 @@
-// tiltfield verifier: ray casting of triangle meshes with Embree 3 (every crossing along a line).
+// tiltfield verifier: closest points on a triangle mesh with Embree 3 (gouge depths and deviation
+// colours), and RayHit, a crossing of a lattice ray with a mesh (mesh_rays.hpp finds them).
 #pragma once
 #include <Eigen/Core>
 #include <memory>
@@ -20,11 +21,6 @@ class RayMesh {
   ~RayMesh();
   RayMesh(const RayMesh&) = delete;
   RayMesh& operator=(const RayMesh&) = delete;
-
-  // All crossings of the line o + t e (e unit) with t in [t0, t1], sorted by t, into `out` (cleared).
-  // Hits closer than 1e-5 mm to the previous one (the same crossing seen through two triangles sharing an
-  // edge) are merged.
-  void hits(const Eigen::Vector3d& o, const Eigen::Vector3d& e, double t0, double t1, std::vector<RayHit>& out) const;
 
   // Closest point of the mesh to p (within max_dist mm); returns false when none is that close.
   // `normal` receives the unit normal of the closest triangle.

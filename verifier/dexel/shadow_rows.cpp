@@ -12,21 +12,6 @@ namespace {
 
 using row_kernels::kInf;
 
-Shadow::Stadium stadium(double pu, double pv, double du, double dv) {
-  Shadow::Stadium s;
-  s.pu = pu;
-  s.pv = pv;
-  s.du = du;
-  s.dv = dv;
-  s.len = std::sqrt(du * du + dv * dv);
-  if (s.len > 1e-12) {
-    s.tu = du / s.len;
-    s.tv = dv / s.len;
-    s.inv_tu = std::abs(s.tu) > 1e-15 ? 1.0 / s.tu : 0.0;
-    s.inv_tv = std::abs(s.tv) > 1e-15 ? 1.0 / s.tv : 0.0;
-  }
-  return s;
-}
 
 // Widens [lo, hi] by the stretch of the line {v = cv} within r of the segment s; selects only.
 [[gnu::always_inline]] inline void stadium_row(const Shadow::Stadium& s, double r, double cv, double& lo, double& hi) {
@@ -87,23 +72,40 @@ void shadow_batch(const Shadow& shadow, double cv0, double step, int n, double* 
 
 }  // namespace
 
+Shadow::Stadium make_stadium(double pu, double pv, double du, double dv) {
+  Shadow::Stadium s;
+  s.pu = pu;
+  s.pv = pv;
+  s.du = du;
+  s.dv = dv;
+  s.len = std::sqrt(du * du + dv * dv);
+  if (s.len > 1e-12) {
+    s.tu = du / s.len;
+    s.tv = dv / s.len;
+    s.inv_tu = std::abs(s.tu) > 1e-15 ? 1.0 / s.tu : 0.0;
+    s.inv_tv = std::abs(s.tv) > 1e-15 ? 1.0 / s.tv : 0.0;
+  }
+  return s;
+}
+
 Shadow make_shadow(const SweptPart& part, int dir, int u) {
+  if (part.arc) return arc_shadow(part, dir, u);
   const int v = 3 - dir - u;
   Shadow s;
   s.r = part.radius;
   const double pu = part.p0[u], pv = part.p0[v], du = part.d[u], dv = part.d[v];
   if (part.kind == ToolPart::Kind::Sphere || std::abs(part.axis[dir]) >= 1.0 - 1e-12) {
     s.count = 1;
-    s.stadiums[0] = stadium(pu, pv, du, dv);
+    s.stadiums[0] = make_stadium(pu, pv, du, dv);
     return s;
   }
   // The parallelogram p0 + [0, 1] axis H + [0, 1] d, by its four edges.
   const double au = part.axis[u] * part.height, av = part.axis[v] * part.height;
   s.count = 4;
-  s.stadiums[0] = stadium(pu, pv, du, dv);
-  s.stadiums[1] = stadium(pu + au, pv + av, du, dv);
-  s.stadiums[2] = stadium(pu, pv, au, av);
-  s.stadiums[3] = stadium(pu + du, pv + dv, au, av);
+  s.stadiums[0] = make_stadium(pu, pv, du, dv);
+  s.stadiums[1] = make_stadium(pu + au, pv + av, du, dv);
+  s.stadiums[2] = make_stadium(pu, pv, au, av);
+  s.stadiums[3] = make_stadium(pu + du, pv + dv, au, av);
   return s;
 }
 

@@ -2,6 +2,7 @@
 // engagement, and the collision, gouge and removal bookkeeping. The work per tile and ray, in parallel
 // over tiles, is in simulate_tile.cpp.
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
 
 #include <algorithm>
 #include <array>
@@ -22,8 +23,8 @@ ToolPose forward_xyz(const Joints& j) { return {Eigen::Vector3d(j.x, j.y, j.z), 
 namespace sim {
 
 Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
-    : scene_(scene), program_(program), forward_(forward), opt_(options),
-      lattice_(make_lattice(scene, options.resolution)), stock_(make_stock(scene.stock, lattice_)) {
+    : scene_(scene), program_(program), opt_(options), lattice_(make_lattice(scene, options.resolution)),
+      stock_(make_stock(scene.stock, lattice_)), tools_(scene, forward, options.sweep) {
   for (const Mesh& m : scene.fixtures)
     obstacles_.push_back({std::make_unique<RayTable>(m, lattice_), HitWith::Fixture, {}});
   for (const Mesh& m : scene.check_surfaces)
@@ -36,7 +37,6 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
     design_ = std::make_unique<RayTable>(scene.design, lattice_);
     design_mesh_ = std::make_unique<RayMesh>(scene.design);
   }
-  parts_ = tool_parts(scene.tool, options.sweep);
   inv_h_ = 1.0 / lattice_.h;
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
@@ -55,6 +55,9 @@ VerifyResult Simulator::run() {
   rep.material_rays = stock_.material_rays();
   rep.stock_volume_start_mm3 = stock_.volume();
   rep.warnings = program_.warnings;
+  // emplace_back: push_back of the literal trips a GCC 12 array-bounds false positive.
+  if (scene_.design.n_faces() == 0)
+    rep.warnings.emplace_back("no design surface: gouges and excess material were not computed");
   Joints from = program_.start;
   bool prev_tcp = program_.blocks.empty() ? false : program_.blocks.front().tcp;
   const size_t nb = program_.blocks.size();
@@ -62,7 +65,7 @@ VerifyResult Simulator::run() {
     const Block& b = program_.blocks[bi];
     if (b.tcp != prev_tcp) {
       if (b.tcp) {
-        const ToolPose p = forward_(from);  // joint position -> tip in the part frame
+        const ToolPose p = tools_.forward(b.tool)(from);  // joint position -> tip in the part frame
         from.x = p.tip.x();
         from.y = p.tip.y();
         from.z = p.tip.z();
@@ -140,8 +143,10 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.block = index;
   block_ = static_cast<uint32_t>(index);
   br.line = b.line;
+  br.tool = b.tool;
+  br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, parts_, opt_.sweep, sweep_);
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid);
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);
@@ -152,9 +157,12 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.rapid = rapid;
   br.feed = b.feed;
   br.feed_mode = b.feed_mode;
-  if (opt_.engagement && !rapid && !tasks_.empty()) measure_block_engagement(pose_at, br, rep);
+  const bool engagement = opt_.engagement && !rapid && !tasks_.empty();
+  journal_on_ = engagement;
+  if (engagement) engagement_reads(tools_.tool(b.tool), pose_at(1.0));
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
+  if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
 
   const BlockTotals tot = merged_totals();
   br.removed_mm3 = (tot.removed[0] + tot.removed[1] + tot.removed[2]) / 3.0 * lattice_.h * lattice_.h;
@@ -170,12 +178,13 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
 // the part frame, and the joints give only the axis.
 PoseAt Simulator::block_pose(const Block& b, const Joints& from) const {
   const bool tcp = b.tcp;
-  return [this, &b, &from, tcp](double tau) {
+  const ForwardFn& forward = tools_.forward(b.tool);
+  return [&forward, &b, &from, tcp](double tau) {
     const Joints j = interpolate_block(from, b, tau);
-    if (!tcp) return forward_(j);
+    if (!tcp) return forward(j);
     Joints rot = j;
     rot.x = rot.y = rot.z = 0.0;
-    ToolPose p = forward_(rot);
+    ToolPose p = forward(rot);
     p.tip = Eigen::Vector3d(j.x, j.y, j.z);
     return p;
   };
@@ -207,14 +216,57 @@ void Simulator::select_tiles() {
     }
 }
 
-// Engagement is measured on the stock before this block removes anything: the in-process workpiece met by
-// the tool at the block's end, as in engagement by sampling.
-void Simulator::measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+// Engagement is measured on the stock before this block removed anything (the in-process workpiece the
+// tool meets at the block's end), and only where the block removed material next to the tool's end pose:
+// the rays the cut changed there trade contents with their journal copies for the measurement (a swap of
+// storage, no copy), then back. A block that removed nothing there engaged nothing and costs nothing here.
+void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+  Eigen::AlignedBox3d removed;
+  removed.setEmpty();
+  for (const Accum& a : accum_)
+    for (int d = 0; d < 3; ++d) {
+      const Accum::GridBox& b = a.removed_box[d];
+      if (!(b.t1 >= b.t0)) continue;
+      Eigen::Vector3d lo, hi;
+      lo[d] = b.t0, hi[d] = b.t1;
+      lo[Lattice::u_axis(d)] = b.u0, hi[Lattice::u_axis(d)] = b.u1;
+      lo[Lattice::v_axis(d)] = b.v0, hi[Lattice::v_axis(d)] = b.v1;
+      removed.extend(lo);
+      removed.extend(hi);
+    }
+  if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
+  // Each thread's journal on its own (the rays of different journals are different rays); in parallel only
+  // where that pays for the tasks (a short block's journal holds a few thousand rays).
+  size_t journalled = 0;
+  for (const Accum& a : accum_) journalled += a.journal_n;
+  auto swap_one = [](Accum& a) {
+    for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
+  };
+  auto swap_journal = [&] {
+    if (journalled > 16384) tbb::parallel_for_each(accum_.begin(), accum_.end(), swap_one);
+    else for (Accum& a : accum_) swap_one(a);
+  };
+  swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
-  br.engagement = opt_.engagement(stock_, pose_at(1.0 - back), pose_at(1.0),
-                                  [this](const Eigen::AlignedBox3d& box) { return may_hold_material(box); });
+  br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
+                                  Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
+  swap_journal();
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The rays the engagement can read: those within a spacing (the reach of its nearest-ray lookups) of the
+// cutting surface at the block's end (ball or end face up to the flutes' top, a cylinder of the tool's
+// radius), per grid as a footprint across the rays.
+void Simulator::engagement_reads(const Tool& tool, const ToolPose& end) {
+  const Eigen::Vector3d a = end.axis.normalized(), top = end.tip + tool.flute_length * a;
+  const Eigen::Vector3d ext =
+      (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * tool.radius() + Eigen::Vector3d::Constant(1.5 * lattice_.h);
+  const Eigen::Vector3d lo = end.tip.cwiseMin(top) - ext - lattice_.origin, hi = end.tip.cwiseMax(top) + ext - lattice_.origin;
+  for (int d = 0; d < 3; ++d) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    reads_[d] = {static_cast<float>(lo[u]), static_cast<float>(hi[u]), static_cast<float>(lo[v]), static_cast<float>(hi[v])};
+  }
 }
 
 Simulator::BlockTotals Simulator::merged_totals() {
@@ -244,37 +296,9 @@ void Simulator::report_collisions(const Depths& depth, const Block& b, int index
         if (!std::isfinite(dep) || dep <= opt_.collision_tolerance) continue;
         rep.collisions.push_back({index, b.line, static_cast<ToolComponent>(c), static_cast<HitWith>(w), r == 1, dep,
                                   pose_at(0.0), pose_at(1.0)});
+        rep.collisions.back().tool = b.tool;
         br.collision = true;
       }
-}
-
-// False only when no ray of any grid holds material inside `box` (the tiles' material extents).
-bool Simulator::may_hold_material(const Eigen::AlignedBox3d& box) const {
-  const Eigen::AlignedBox3d b(box.min().array() - lattice_.h, box.max().array() + lattice_.h);
-  for (int d = 0; d < 3; ++d) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    int tu0, tu1, tv0, tv1;
-    if (!tile_range(b.min()[u], b.max()[u], u, tu0, tu1) || !tile_range(b.min()[v], b.max()[v], v, tv0, tv1)) continue;
-    const float lo = static_cast<float>(b.min()[d] - lattice_.origin[d]);
-    const float hi = static_cast<float>(b.max()[d] - lattice_.origin[d]);
-    for (int tv = tv0; tv <= tv1; ++tv)
-      for (int tu = tu0; tu <= tu1; ++tu) {
-        if (meets(ext_.tile(d, tu, tv), lo, hi)) return true;
-      }
-  }
-  return false;
-}
-
-// Tiles along lattice axis `axis` whose nodes lie in [lo, hi]; false when none.
-bool Simulator::tile_range(double lo, double hi, int axis, int& t0, int& t1) const {
-  const double big = lattice_.n[axis] + 1.0;
-  const int n0 = static_cast<int>(std::clamp(std::ceil((lo - lattice_.origin[axis]) / lattice_.h), 0.0, big));
-  const int n1 =
-      static_cast<int>(std::clamp(std::floor((hi - lattice_.origin[axis]) / lattice_.h), -1.0, lattice_.n[axis] - 1.0));
-  if (n1 < n0) return false;
-  t0 = n0 / kTile;
-  t1 = n1 / kTile;
-  return true;
 }
 
 // The length the block's feed refers to: arcs and TCP moves the tip path; joint moves the XYZ path (the

@@ -49,13 +49,43 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
   slot = std::max(slot, depth);
 }
 
-// Takes the disjoint intervals cut[0..n) out of ray `ray` of grid d (the removed pieces into `pieces`
-// when not null); false when no material went.
-bool subtract(Dexel& ray, int d, const Interval* cut, size_t n, std::vector<Interval>* pieces, Accum& acc) {
+// The ray's content before the block, copied the first time the block changes it (a crash removes from
+// the same ray again right after the cut, and is then the journal's last entry). Each journal slot keeps
+// its own storage, and so does the ray: nothing is allocated once the journal has grown.
+void journal(Dexel& ray, Accum& acc) {
+  if (acc.journal_n > 0 && acc.journal_rays[acc.journal_n - 1] == &ray) return;
+  if (acc.journal_n == acc.journal_old.size()) {
+    acc.journal_old.emplace_back();
+    acc.journal_rays.push_back(nullptr);
+  }
+  acc.journal_old[acc.journal_n].assign(ray.data(), ray.size());
+  acc.journal_rays[acc.journal_n++] = &ray;
+}
+
+// Takes the disjoint intervals cut[0..n) out of ray `ray` at `at` (the removed pieces into `pieces` when
+// not null); false when no material went. `cutting`: the cutting parts' union, whose removal bounds the
+// engagement (acc.removed_box), not a crash's.
+bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces, bool cutting,
+              Accum& acc) {
   const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, pieces);
   if (!(gone > 0)) return false;
+  // Only rays the engagement can read, near the tool's end pose, keep their content and bound the removal.
+  const auto& f = acc.reads[at.d];
+  if (acc.journal_on && at.u_mm >= f[0] && at.u_mm <= f[1] && at.v_mm >= f[2] && at.v_mm <= f[3]) {
+    if (cutting) {
+      // The removed material lies where the cut and the material before overlap.
+      Accum::GridBox& b = acc.removed_box[at.d];
+      b.t0 = std::min(b.t0, std::max(cut[0].lo, ray.begin()->lo));
+      b.t1 = std::max(b.t1, std::min(cut[n - 1].hi, (ray.end() - 1)->hi));
+      b.u0 = std::min(b.u0, at.u_mm);
+      b.u1 = std::max(b.u1, at.u_mm);
+      b.v0 = std::min(b.v0, at.v_mm);
+      b.v1 = std::max(b.v1, at.v_mm);
+    }
+    journal(ray, acc);
+  }
   ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
-  acc.removed[d] += gone;
+  acc.removed[at.d] += gone;
   return true;
 }
 
@@ -63,6 +93,8 @@ bool subtract(Dexel& ray, int d, const Interval* cut, size_t n, std::vector<Inte
 
 void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
+  acc.journal_on = journal_on_;
+  acc.reads = reads_;
   acc.parts.clear();
   for (size_t i = 0; i < sweep_.parts.size(); ++i)
     if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
@@ -158,7 +190,7 @@ void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Inter
     Eigen::Vector3d o = lattice_.origin;
     o[t.u] += h * rp.first;
     o[t.v] = cv;
-    if (p.kind == ToolPart::Kind::Sphere) {
+    if (p.kind == ToolPart::Kind::Sphere || p.arc) {
       ray_intervals(p, o, t.d, t.u, h, rp.last - rp.first + 1, &acc.t0[rp.offset + rp.first],
                     &acc.t1[rp.offset + rp.first]);
       continue;
@@ -184,24 +216,32 @@ void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Inter
 // material of any ray changed.
 bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                         bool rapid, Accum& acc) {
+  // Each part's hits go to the rays it covers (a row of a 5-axis block meets dozens of swept parts, each
+  // over a few of its rays: scattering them costs what they hold, not rays times parts).
+  for (int iu = first; iu <= last; ++iu) acc.ray_hits[iu - t.iu0].clear();
+  for (const RowPart& rp : acc.row) {
+    const SweptPart& p = sweep_.parts[rp.part];
+    const Hit proto{{0.f, 0.f}, static_cast<uint8_t>(p.component), p.cutting};
+    for (int iu = rp.first; iu <= rp.last; ++iu) {
+      const Interval r = range[iu - t.iu0];
+      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;  // no hit, or none where the ray holds anything
+      Hit h = proto;
+      h.iv = {static_cast<float>(t0), static_cast<float>(t1)};
+      acc.ray_hits[iu - t.iu0].push_back(h);
+    }
+  }
   bool row_changed = false;
   for (int iu = first; iu <= last; ++iu) {
-    const Interval r = range[iu - t.iu0];
-    if (r.lo > r.hi) continue;
-    acc.hits.clear();
-    for (const RowPart& rp : acc.row) {
-      if (iu < rp.first || iu > rp.last) continue;
-      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
-      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
-      const SweptPart& p = sweep_.parts[rp.part];
-      acc.hits.push_back(
-          {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
-    }
-    if (!acc.hits.empty() && process_ray(t.d, iu, iv, rapid, acc)) {
+    std::vector<Hit>& hits = acc.ray_hits[iu - t.iu0];
+    if (hits.empty()) continue;
+    acc.hits.swap(hits);
+    if (process_ray(t.d, iu, iv, rapid, acc)) {
       row_changed = true;
       // One task owns each ray in a block, so no other thread writes this entry.
       if (!last_block_[t.d].empty()) last_block_[t.d][size_t(iu) + size_t(lattice_.n[t.u]) * size_t(iv)] = block_;
     }
+    acc.hits.swap(hits);
   }
   return row_changed;
 }
@@ -211,7 +251,7 @@ bool Simulator::process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
   Dexel& ray = stock_.ray(d, iu, iv);
   // The common case: one cutting part, nothing to check but the removal.
   if (acc.hits.size() == 1 && acc.hits[0].cutting && !rapid && obstacles_.empty() && !design_)
-    return subtract(ray, d, &acc.hits[0].iv, 1, nullptr, acc);
+    return subtract(ray, ray_at(d, iu, iv), &acc.hits[0].iv, 1, nullptr, true, acc);
   // Union of the cutting parts' intervals.
   acc.cut.clear();
   for (const Hit& h : acc.hits)
@@ -219,7 +259,7 @@ bool Simulator::process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
   merge_union(acc.cut);
   bool changed = false;
   acc.removed_pieces.clear();
-  if (!ray.empty()) changed = cut_stock(ray, d, rapid, acc);
+  if (!ray.empty()) changed = cut_stock(ray, ray_at(d, iu, iv), rapid, acc);
   record_obstacles(d, iu, iv, rapid, acc);
   if (design_ && !acc.removed_pieces.empty()) record_gouge(d, iu, iv, acc);
   return changed;
@@ -227,14 +267,15 @@ bool Simulator::process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
 
 // On a ray holding material: the cutting parts' union (acc.cut) removed, and the overlaps of a rapid's
 // cutting parts and of the non-cutting parts with the material recorded. True when the material changed.
-bool Simulator::cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const {
+bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const {
+  const int d = at.d;
   bool changed = false;
   if (rapid)
     for (const Hit& h : acc.hits)
       if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, ray));
   const bool reaches =
       !acc.cut.empty() && acc.cut.front().lo < (ray.end() - 1)->hi && acc.cut.back().hi > ray.begin()->lo;
-  if (reaches && subtract(ray, d, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, acc))
+  if (reaches && subtract(ray, at, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, true, acc))
     changed = true;
   bool crash = false;
   for (const Hit& h : acc.hits) {
@@ -250,7 +291,7 @@ bool Simulator::cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const {
     for (const Hit& h : acc.hits)
       if (!h.cutting) acc.cut.push_back(h.iv);
     merge_union(acc.cut);
-    if (subtract(ray, d, acc.cut.data(), acc.cut.size(), nullptr, acc)) changed = true;
+    if (subtract(ray, at, acc.cut.data(), acc.cut.size(), nullptr, false, acc)) changed = true;
   }
   return changed;
 }

@@ -17,6 +17,7 @@
 #include "raycast.hpp"
 #include "sweep_rows.hpp"
 #include "tiltfield/dexel/verify.hpp"
+#include "tool_set.hpp"
 
 namespace tf::sim {
 
@@ -35,19 +36,44 @@ struct RowPart {
 // Longest overlap along each grid direction, per component, obstacle kind and rapid flag.
 using Depths = std::array<std::array<std::array<std::array<float, 2>, 3>, 4>, 3>;
 
+// A ray of grid d at lattice node (iu, iv) of its (u, v) axes, which lie u_mm, v_mm from the lattice origin.
+struct RayAt {
+  int d, iu, iv;
+  float u_mm, v_mm;
+};
+
 // Per thread, per block.
 struct Accum {
   std::array<double, 3> removed{};
   Depths depth{};
   double gouge = 0.0;
-  std::vector<Hit> hits;
+  std::vector<Hit> hits;                       // of the ray being processed
+  std::array<std::vector<Hit>, kTile> ray_hits;  // per ray of the row being cut
   std::vector<Interval> cut, mat, removed_pieces;
   std::vector<int> parts;
   std::vector<double> t0, t1;  // per part of the tile and ray of the row: its interval (see process_tile)
   std::vector<double> shadow_lo, shadow_hi;  // per part and row of the tile: its shadow's stretch
   std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
   std::vector<RowPart> row;
+  // For the engagement, which is measured after the cut on the stock as it was before the block: the
+  // rays this thread changed, their contents before (journal_old[k] of journal_rays[k]) and, per grid, the
+  // box of the material the cutting parts removed (mm from the lattice origin, in the grid's u, v and
+  // ray axes; scalar fields, so that the per-ray update stays in registers).
+  struct GridBox {
+    static constexpr float kInf = std::numeric_limits<float>::infinity();
+    float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
+  };
+  bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
+  // Per grid, the (u, v) footprint of the rays the engagement can read (mm from the lattice origin): only
+  // they are journalled and count for the removed box.
+  std::array<std::array<float, 4>, 3> reads{};
+  size_t journal_n = 0;
+  std::vector<Dexel*> journal_rays;
+  std::vector<Dexel> journal_old;
+  std::array<GridBox, 3> removed_box;
   void reset() {
+    journal_n = 0;
+    removed_box = {};
     removed = {};
     for (auto& a : depth)
       for (auto& b : a)
@@ -59,6 +85,7 @@ struct Accum {
 struct Task {
   int d, tu, tv;
 };
+
 
 // The rays of one task: grid d (ray axis d, across it u and v), rays iu0..iu_end-1 of rows iv0..iv_end-1.
 struct TileRays {
@@ -122,12 +149,11 @@ class Simulator {
   BlockResult simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep);
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
-  void measure_block_engagement(const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  void engagement_reads(const Tool& tool, const ToolPose& end);
   BlockTotals merged_totals();
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
-  bool may_hold_material(const Eigen::AlignedBox3d& box) const;
-  bool tile_range(double lo, double hi, int axis, int& t0, int& t1) const;
   double feed_path_mm(const Block& b, const Joints& from) const;
   double block_minutes(const Block& b, double len) const;
 
@@ -142,20 +168,22 @@ class Simulator {
   inline bool cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                       bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
-  inline bool cut_stock(Dexel& ray, int d, bool rapid, Accum& acc) const;
+  inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const;
+  RayAt ray_at(int d, int iu, int iv) const {
+    return {d, iu, iv, static_cast<float>(lattice_.h * iu), static_cast<float>(lattice_.h * iv)};
+  }
   inline void record_obstacles(int d, int iu, int iv, bool rapid, Accum& acc) const;
   inline void record_gouge(int d, int iu, int iv, Accum& acc) const;
 
   const Scene& scene_;
   const Program& program_;
-  ForwardFn forward_;
   VerifyOptions opt_;
   Lattice lattice_;
   TriDexel stock_;
   std::vector<Obstacle> obstacles_;
   std::unique_ptr<RayTable> design_;
   std::unique_ptr<RayMesh> design_mesh_;  // closest-point queries for gouge depths
-  std::vector<ToolPart> parts_;
+  ToolSet tools_;  // per block's tool: parts, forward map
   RayExtents ext_;                 // where the material is, per tile and row segment
   std::vector<PartSpan> spans_;    // per swept part of the block and grid
   std::vector<Shadow> shadows_;    // the same
@@ -166,6 +194,8 @@ class Simulator {
   BlockSweep sweep_;
   LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
   uint32_t block_ = 0;     // 1-based index of the block being simulated
+  bool journal_on_ = false;  // this block keeps the changed rays' contents (Accum::journal_on)
+  std::array<std::array<float, 4>, 3> reads_{};  // Accum::reads for this block
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 

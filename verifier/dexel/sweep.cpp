@@ -226,6 +226,7 @@ bool cylinder_interval(const SweptPart& p, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1) {
+  if (part.arc) return arc_interval(part, o, dir, t0, t1);
   if (part.kind == ToolPart::Kind::Cylinder) {
     Eigen::Vector3d e = Eigen::Vector3d::Zero();
     e[dir] = 1.0;
@@ -241,6 +242,17 @@ bool ray_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, doub
 
 void ray_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
                    double* t1) {
+  if (part.arc) {  // arc pieces ray by ray (a block has a few)
+    Eigen::Vector3d x = o;
+    for (int i = 0; i < n; ++i) {
+      x[u] = o[u] + step * i;
+      if (!arc_interval(part, x, dir, t0[i], t1[i])) {
+        t0[i] = std::numeric_limits<double>::infinity();
+        t1[i] = -t0[i];
+      }
+    }
+    return;
+  }
   if (part.kind == ToolPart::Kind::Sphere) {
     capsule_intervals(part, o, dir, u, step, n, t0, t1);
     return;

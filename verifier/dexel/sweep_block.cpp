@@ -14,7 +14,12 @@ namespace tf {
 namespace {
 
 constexpr int kProbe = 16;      // poses sampling the block's rotation before any sub-step is chosen
-constexpr double kStart = 0.7;  // share of the tolerance the first sub-step guess spends on rotation
+constexpr double kStart = 0.85;  // share of the tolerance the first sub-step guess spends on rotation
+
+// Sub-steps for a block turning the axis by theta (rad) to keep points `reach` from the pivot within
+// kStart * tol: the held axis is the sub-step's middle one, so a point turns at most theta / (2 n) away
+// from it.
+double rotation_substeps(double theta, double reach, double tol) { return theta * reach / (2.0 * kStart * tol); }
 constexpr double kAim = 0.9;    // share of the tolerance a refinement aims at
 
 double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
@@ -105,7 +110,7 @@ Bound sweep_group(const Context& cx, const std::vector<Piece>& pieces, double to
   double reach = 0.0;
   for (const Piece& p : pieces) reach = std::max(reach, p.reach);
   const int max_n = std::max(1, cx.options.max_substeps);
-  n = std::clamp(static_cast<int>(std::ceil(cx.theta * reach / (kStart * tol))), 1, max_n);
+  n = std::clamp(static_cast<int>(std::ceil(rotation_substeps(cx.theta, reach, tol))), 1, max_n);
   Bound b;
   for (;;) {
     b = substep_bound(poses_for(cx.pose_at, n, cx.out), n, pieces);
@@ -143,7 +148,7 @@ int cheapest_pieces(double length, double radius, double theta, double tol, int 
   int best = 1;
   double best_cost = std::numeric_limits<double>::infinity();
   for (int m = 1; m <= max_pieces; ++m) {
-    const double n = std::max(1.0, std::ceil(theta * length / (2 * m) / (kStart * tol)));
+    const double n = std::max(1.0, std::ceil(rotation_substeps(theta, length / (2 * m), tol)));
     const double cost = n * (length + 3.0 * radius * m);
     if (cost < best_cost) {
       best_cost = cost;
@@ -197,28 +202,39 @@ void sweep_cylinder(const Context& cx, const ToolPart& part, bool covered_below,
 }  // namespace
 
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out) {
+                 BlockSweep& out, bool rapid) {
   out.parts.clear();
   out.box.setEmpty();
   out.substeps = 1;
   out.swept_parts_cutting = 0;
   out.cutting_error = out.holder_error = 0.0;
   out.pose_sets_used = 0;
-  double theta = 0.0;
+  double theta = 0.0, off_chord = 0.0;  // the axis' turn (rad), the tip's largest distance from its chord
   {
-    ToolPose prev = pose_at(0.0);
+    const ToolPose first = pose_at(0.0), last = pose_at(1.0);
+    const Eigen::Vector3d chord = last.tip - first.tip;
+    ToolPose prev = first;
     for (int i = 1; i <= kProbe; ++i) {
-      const ToolPose p = pose_at(double(i) / kProbe);
+      const ToolPose p = i == kProbe ? last : pose_at(double(i) / kProbe);
       theta += angle_between(prev.axis.normalized(), p.axis.normalized());
+      off_chord = std::max(off_chord, (p.tip - first.tip - chord * (double(i) / kProbe)).norm());
       prev = p;
     }
+  }
+  // A tool that does not turn, carried along a circle across its axis: exact arc sweeps, no sub-steps.
+  PlanarArc arc;
+  if (theta == 0.0 && off_chord > 1e-9 && planar_arc(pose_at, arc)) {
+    sweep_arc(arc, pose_at(0.0), parts, out);
+    return;
   }
   const Context cx{pose_at, theta, options, out};
   // Cutting parts first: they are the ones removing material.
   for (int pass = 0; pass < 2; ++pass)
     for (const ToolPart& part : parts) {
       if (part.cutting != (pass == 0)) continue;
-      const double tol = std::max(part.cutting ? options.tolerance : options.holder_tolerance, 1e-6);
+      // In a rapid nothing cuts: every part only collides, and gets the collision-only bound.
+      const bool cuts = part.cutting && !rapid;
+      const double tol = std::max(cuts ? options.tolerance : options.holder_tolerance, 1e-6);
       Bound bound;
       int n = 1;
       if (part.kind == ToolPart::Kind::Sphere) {
@@ -227,10 +243,10 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
       } else {
         sweep_cylinder(cx, part, bottom_covered(part, parts), tol, bound, n);
       }
-      if (part.cutting) {
+      if (part.cutting) out.swept_parts_cutting = static_cast<int>(out.parts.size());
+      if (cuts) {
         out.cutting_error = std::max(out.cutting_error, bound.value);
         out.substeps = std::max(out.substeps, n);
-        out.swept_parts_cutting = static_cast<int>(out.parts.size());
       } else {
         out.holder_error = std::max(out.holder_error, bound.value);
       }

@@ -32,6 +32,8 @@ struct Shadow {
   std::array<Stadium, 4> stadiums;
 };
 Shadow make_shadow(const SweptPart& part, int dir, int u);
+// The stadium of the segment from (pu, pv) along (du, dv).
+Shadow::Stadium make_stadium(double pu, double pv, double du, double dv);
 // The stretch [lo, hi] of the line {v = cv} inside the shadow; false when the line misses it.
 bool shadow_row(const Shadow& shadow, double cv, double& lo, double& hi);
 // The same for the n rows v = cv0 + i step in one batch: lo[i] > hi[i] where row i misses.
@@ -44,5 +46,9 @@ void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir,
 // along it.
 bool cylinder_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
                         double* t0, double* t1);
+// An arc sweep (SweptPart::arc) against the ray o + t e_dir, exactly; and its shadow along dir
+// (sweep_arc.cpp).
+bool arc_interval(const SweptPart& part, const Eigen::Vector3d& o, int dir, double& t0, double& t1);
+Shadow arc_shadow(const SweptPart& part, int dir, int u);
 
 }  // namespace tf

@@ -1,12 +1,11 @@
 #include "tiltfield/dexel/tridexel.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 
-#include "raycast.hpp"
+#include "mesh_rays.hpp"
 #include "tiltfield/core/error.hpp"
 
 namespace tf {
@@ -147,21 +146,14 @@ double overlap_length(const Interval* a, size_t na, const Interval* b, size_t nb
 
 namespace {
 
-Eigen::Vector3d ray_origin(const Lattice& L, int d, int iu, int iv) {
-  Eigen::Vector3d o = L.origin;
-  o[Lattice::u_axis(d)] = L.coord(Lattice::u_axis(d), iu);
-  o[Lattice::v_axis(d)] = L.coord(Lattice::v_axis(d), iv);
-  return o;  // o[d] = origin[d]: parameters are coordinates relative to the lattice origin
-}
-
 // Material intervals from the sorted crossings of a closed, outward-oriented surface: a winding count;
 // parity when the winding does not return to zero (a defective mesh or a ray through a crack).
-void intervals_from_hits(const std::vector<RayHit>& hits, std::vector<Interval>& out) {
+void intervals_from_hits(const RayHit* hits, int n, std::vector<Interval>& out) {
   out.clear();
   int w = 0;
   double start = 0.0;
   bool ok = true;
-  for (const RayHit& h : hits) {
+  for (const RayHit& h : std::span(hits, size_t(n))) {
     const int before = w;
     w += h.cos < 0 ? 1 : -1;
     if (w < 0) { ok = false; break; }
@@ -170,7 +162,7 @@ void intervals_from_hits(const std::vector<RayHit>& hits, std::vector<Interval>&
   }
   if (ok && w == 0) return;
   out.clear();
-  for (size_t i = 0; i + 1 < hits.size(); i += 2)
+  for (int i = 0; i + 1 < n; i += 2)
     if (hits[i + 1].t - hits[i].t > kMinInterval) out.push_back({float(hits[i].t), float(hits[i + 1].t)});
 }
 
@@ -186,29 +178,13 @@ TriDexel dexels_from_mesh(const Mesh& mesh, const Lattice& lattice) {
     a.F.col(1).swap(a.F.col(2));
     oriented = mesh_from_arrays(a.V, a.F);
   }
-  RayMesh rm(oriented);
   TriDexel td(lattice);
-  const Eigen::AlignedBox3d box = rm.box();
-  for (int d = 0; d < 3; ++d) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    const int nu = lattice.n[u], nv = lattice.n[v];
-    Eigen::Vector3d e = Eigen::Vector3d::Zero();
-    e[d] = 1.0;
-    const double t1 = box.max()[d] - lattice.origin[d] + 1.0;
-    tbb::parallel_for(0, nv, [&](int iv) {
-      std::vector<RayHit> hits;
-      std::vector<Interval> iv_out;
-      const double cv = lattice.coord(v, iv);
-      if (cv < box.min()[v] || cv > box.max()[v]) return;
-      for (int iu = 0; iu < nu; ++iu) {
-        const double cu = lattice.coord(u, iu);
-        if (cu < box.min()[u] || cu > box.max()[u]) continue;
-        rm.hits(ray_origin(lattice, d, iu, iv), e, -1.0, t1, hits);
-        intervals_from_hits(hits, iv_out);
-        td.ray(d, iu, iv).assign(iv_out.data(), static_cast<uint32_t>(iv_out.size()));
-      }
+  for (int d = 0; d < 3; ++d)
+    scan_mesh_rays(oriented, lattice, d, [&](int iu, int iv, const RayHit* hits, int n) {
+      thread_local std::vector<Interval> pieces;
+      intervals_from_hits(hits, n, pieces);
+      td.ray(d, iu, iv).assign(pieces.data(), static_cast<uint32_t>(pieces.size()));
     });
-  }
   return td;
 }
 

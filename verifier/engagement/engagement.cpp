@@ -2,105 +2,41 @@
 // tri-dexel stock (include/tiltfield/engagement/engagement.hpp has the method and the angle convention).
 #include "tiltfield/engagement/engagement.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <numbers>
+#include <memory>
+#include <mutex>
 #include <utility>
+#include <variant>
 #include <vector>
+
+#include "sampler.hpp"
 
 namespace tf {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using engagement::kPi;
+using engagement::PointState;
+using engagement::Profile;
+using engagement::ProfilePoint;
+using engagement::RingFrame;
+using engagement::SampleGrid;
+using engagement::Sampler;
 constexpr double kDeg = 180.0 / kPi;
-// How deep inside the tool a surface point's material test looks (mm): a block that only grazes a surface
-// cut before (a repeated pass) engages nothing.
-constexpr double kInside = 1e-3;
-
-// Signed along-ray distance from coordinate t to the nearest material boundary of a ray: negative
-// inside material, positive outside, +inf for an empty ray.
-double along_ray_distance(const Dexel& ray, float t) {
-  // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
-  const Interval* b = ray.begin();
-  const Interval* e = ray.end();
-  const Interval* it = std::lower_bound(b, e, t, [](const Interval& iv, float x) { return iv.hi < x; });
-  if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
-  double best = std::numeric_limits<double>::infinity();
-  if (it != e) best = it->lo - t;
-  if (it != b) best = std::min<double>(best, t - (it - 1)->hi);
-  return best;
-}
-
-// The cutting surface of a body of revolution as a meridian profile, by arc length s from the tip's
-// centre: radius r(s), height z(s) and the outward normal's radial and axial components.
-struct ProfilePoint {
-  double r, z, nr, nz;
-};
-
-class Profile {
- public:
-  explicit Profile(const Tool& tool) : top_(tool.flute_length), R_(tool.radius()) {
-    if (const auto* b = std::get_if<BullCutter>(&tool.cutter)) {
-      rc_ = b->corner_radius;
-    } else if (std::holds_alternative<BallCutter>(tool.cutter)) {
-      rc_ = R_;
-    }
-    flat_ = R_ - rc_;
-    arc_ = 0.5 * kPi * rc_;
-    length_ = flat_ + arc_ + std::max(0.0, top_ - rc_);
-  }
-  double length() const { return length_; }
-  ProfilePoint at(double s) const {
-    s = std::clamp(s, 0.0, length_);
-    if (s < flat_) return {s, 0.0, 0.0, -1.0};  // end face (flat and bull)
-    if (s < flat_ + arc_) {                     // ball or torus corner, angle from the tip's normal
-      const double th = (s - flat_) / rc_;
-      return {flat_ + rc_ * std::sin(th), rc_ - rc_ * std::cos(th), std::sin(th), -std::cos(th)};
-    }
-    return {R_, rc_ + (s - flat_ - arc_), 1.0, 0.0};  // flutes
-  }
-  // Area of the band [s0, s1] over the full turn, exact for each piece of the profile, mm^2.
-  double band_area(double s0, double s1) const {
-    double a = 0.0;
-    auto piece = [&](double lo, double hi, auto&& antiderivative) {
-      const double x0 = std::clamp(s0, lo, hi), x1 = std::clamp(s1, lo, hi);
-      if (x1 > x0) a += antiderivative(x1) - antiderivative(x0);
-    };
-    piece(0.0, flat_, [](double s) { return kPi * s * s; });
-    piece(flat_, flat_ + arc_, [&](double s) {
-      const double th = (s - flat_) / rc_;
-      return 2.0 * kPi * rc_ * (flat_ * th - rc_ * std::cos(th));
-    });
-    piece(flat_ + arc_, length_, [&](double s) { return 2.0 * kPi * R_ * s; });
-    return a;
-  }
-
- private:
-  double top_, R_, rc_ = 0.0, flat_ = 0.0, arc_ = 0.0, length_ = 0.0;
-};
-
-// Rigid motion of the tool frame (tip at the origin, axis e3) to a pose, with the frame's e1 carried by
-// the minimal rotation from a reference so that `before` and `end` frames agree about the axis' roll.
-struct Frame {
-  Eigen::Vector3d o, e1, e2, e3;
-  Eigen::Vector3d point(double r, double z, double c, double s) const { return o + r * (c * e1 + s * e2) + z * e3; }
-  Eigen::Vector3d dir(double nr, double nz, double c, double s) const { return nr * (c * e1 + s * e2) + nz * e3; }
-};
-
-Frame frame_at(const ToolPose& pose, const Eigen::Vector3d& e1_hint) {
-  Frame f;
-  f.o = pose.tip;
-  f.e3 = pose.axis.normalized();
-  Eigen::Vector3d e1 = e1_hint - e1_hint.dot(f.e3) * f.e3;
-  if (e1.norm() < 1e-9) e1 = f.e3.unitOrthogonal();
-  f.e1 = e1.normalized();
-  f.e2 = f.e1.cross(f.e3);  // (n, f, a) is left-handed: angles run clockwise seen from the spindle
-  return f;
-}
+// Boundaries are refined until their bracket is this fraction of the lattice spacing: the rays do not
+// resolve the stock more finely, and further steps would only follow the classification's noise.
+constexpr double kRefineFraction = 0.125;
+// Rings a task classifies at once when the rings are spread over the threads.
+constexpr int kRingGrain = 4;
+// Below this many samples to classify a block is measured on one thread: waking the others costs more than
+// they save (on the 3-axis raster, measuring every block on two threads took half as long again as this).
+constexpr size_t kParallelSamples = 300;
 
 // Largest and smallest of cos over the arc [a, b] (radians, b >= a, b - a <= 2 pi).
 void cos_range(double a, double b, double& lo, double& hi) {
@@ -113,118 +49,71 @@ void cos_range(double a, double b, double& lo, double& hi) {
   }
 }
 
-class Sampler {
- public:
-  Sampler(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end)
-      : stock_(stock), profile_(tool) {
-    const Eigen::Vector3d a = end.axis.normalized();
-    Eigen::Vector3d f = (end.tip - before.tip) - (end.tip - before.tip).dot(a) * a;
-    if (f.norm() < 1e-9 * std::max(1.0, (end.tip - before.tip).norm())) {
-      f = Eigen::Vector3d::UnitX() - a.x() * a;
-      if (f.norm() < 1e-6) f = Eigen::Vector3d::UnitY() - a.y() * a;
-    }
-    f.normalize();
-    // Angle phi: direction cos(phi) n + sin(phi) f with n = a x f; the frame's e1 = n, e2 = f gives
-    // point(r, z, cos phi, sin phi).
-    const Eigen::Vector3d n = a.cross(f);
-    end_ = frame_at(end, n);
-    // The same material frame earlier: the minimal rotation taking the end axis to the earlier one.
-    auto carried = [&](const ToolPose& p) {
-      const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(a, p.axis.normalized());
-      return frame_at(p, q * n);
-    };
-    before_ = carried(before);
-  }
-
-  const Profile& profile() const { return profile_; }
-
-  bool engaged(double s, double phi) const { return engaged(profile_.at(s), std::cos(phi), std::sin(phi)); }
-
-  // The same at a profile point and the angle's cosine and sine (the sampling grid precomputes both).
-  bool engaged(const ProfilePoint& pp, double c, double sn) const {
-    const Eigen::Vector3d x = end_.point(pp.r, pp.z, c, sn);
-    const Eigen::Vector3d v = x - before_.point(pp.r, pp.z, c, sn);
-    const double vn = v.norm();
-    if (!(vn > 1e-12)) return false;
-    const Eigen::Vector3d nu = end_.dir(pp.nr, pp.nz, c, sn);
-    if (nu.dot(v) <= 1e-6 * vn) return false;  // faces away from its motion
-    // Material an epsilon inside the tool, before this block: the block removes it at its end.
-    return stock_contains(stock_, x - kInside * nu);
-  }
-
-  double height(double s) const { return profile_.at(s).z; }
-  double radius(double s) const { return profile_.at(s).r; }
-
- private:
-  const TriDexel& stock_;
-  Profile profile_;
-  Frame end_, before_;
-};
-
-// Bisection between a and b (states sa at a, the opposite at b) of a one-parameter test; the boundary.
-template <class Test>
-double refine(double a, double b, bool sa, int steps, const Test& test) {
-  for (int i = 0; i < steps; ++i) {
-    const double m = 0.5 * (a + b);
-    if (test(m) == sa) a = m;
-    else b = m;
-  }
-  return 0.5 * (a + b);
-}
-
 // Per ring: the engaged arcs (radians, entry < exit, exit may pass 2 pi) found around the ring.
 struct RingResult {
   std::vector<std::pair<double, double>> arcs;
   double angle = 0.0;  // engaged radians in total
 };
 
-// The sample grid on the cutting surface: nr rings at the middle of equal bands of the profile (arc length
-// s_of(i)), na angles phi_of(j) around each, and per sample whether it is engaged.
-struct SampleGrid {
-  SampleGrid(const Profile& prof, double h, const EngagementOptions& opt) : S(prof.length()) {
-    const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
-    nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
-    ds = S / nr;
-    na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
-    dphi = 2.0 * kPi / na;
-    state.resize(size_t(nr) * na);
-  }
-  double s_of(int i) const { return (i + 0.5) * ds; }
-  double phi_of(int j) const { return (j + 0.5) * dphi; }
-  // Sample j of ring i, j taken around the ring.
-  bool st(int i, int j) const { return state[size_t(i) * na + ((j % na) + na) % na] != 0; }
-
-  double S;  // the profile's length, mm
-  int nr = 0, na = 0;
-  double ds = 0.0, dphi = 0.0;
-  std::vector<uint8_t> state;
+// One block's samples: rings i0..i1 are classified (the only ones whose band can meet the region),
+// every other ring reads as disengaged. Angles j from -na to 2 na - 1 wrap around.
+struct BlockSamples {
+  int i0 = 0, i1 = -1, na = 0;
+  std::vector<PointState> state;  // ring-major, rings i0..i1
+  std::vector<uint8_t> eng;       // the same, engaged or not
+  size_t index(int i, int j) const { return size_t(i - i0) * na + (j < 0 ? j + na : j >= na ? j - na : j); }
+  const PointState& at(int i, int j) const { return state[index(i, j)]; }
+  bool st(int i, int j) const { return i >= i0 && i <= i1 && eng[index(i, j)] != 0; }
 };
 
-// Classifies every sample of the grid as engaged or not. A ring whose band `cull` finds free of material
-// stays disengaged without a test.
-void classify_samples(SampleGrid& g, const Sampler& sampler, const ToolPose& end, const MaterialCull& cull) {
-  std::vector<double> cos_phi(g.na), sin_phi(g.na);
-  for (int j = 0; j < g.na; ++j) {
-    cos_phi[j] = std::cos(g.phi_of(j));
-    sin_phi[j] = std::sin(g.phi_of(j));
-  }
-  const Eigen::Vector3d axis = end.axis.normalized();
+// The rings whose band (to the neighbouring rings, which their refinement may reach) meets the region.
+void active_rings(const SampleGrid& g, const Sampler& sampler, BlockSamples& b) {
+  const engagement::Frame& f = sampler.end_frame();
   // A circle of radius r about axis a spans r sqrt(1 - a_k^2) along axis k.
-  const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
-  tbb::parallel_for(0, g.nr, [&](int i) {
-    if (cull) {
-      // The band of ring i (to the neighbouring rings, which its refinement may reach).
-      Eigen::AlignedBox3d box;
-      for (const double s : {std::max(0.0, g.s_of(i - 1)), std::min(g.S, g.s_of(i + 1))}) {
-        const Eigen::Vector3d c = end.tip + sampler.height(s) * axis, e = sampler.radius(s) * span;
-        box.extend(c - e);
-        box.extend(c + e);
-      }
-      if (!cull(box)) return;  // state stays 0
+  const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - f.e3.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  b.i0 = g.nr;
+  b.i1 = -1;
+  b.na = g.na;
+  for (int i = 0; i < g.nr; ++i) {
+    Eigen::AlignedBox3d box;
+    for (const ProfilePoint& p : {g.ring[std::max(0, i - 1)], g.ring[std::min(g.nr - 1, i + 1)], g.ring[i]}) {
+      const Eigen::Vector3d c = f.o + p.z * f.e3, e = p.r * span;
+      box.extend(c - e);
+      box.extend(c + e);
     }
-    const ProfilePoint pp = sampler.profile().at(g.s_of(i));
-    for (int j = 0; j < g.na; ++j) g.state[size_t(i) * g.na + j] = sampler.engaged(pp, cos_phi[j], sin_phi[j]);
+    if (!box.intersects(sampler.region())) continue;
+    b.i0 = std::min(b.i0, i);
+    b.i1 = i;
+  }
+}
+
+// cos and sin of phi_of(j) + t dphi, t in [0, 1]: the sample's from the table, turned by t dphi (a few
+// degrees: the series to the 7th power is exact to 1e-12).
+void angle_at(const SampleGrid& g, int j, double t, double& c, double& s) {
+  const double x = t * g.dphi, x2 = x * x;
+  const double cx = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0));
+  const double sx = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)));
+  const int k = g.wrap(j);
+  c = g.cos_phi[k] * cx - g.sin_phi[k] * sx;
+  s = g.sin_phi[k] * cx + g.cos_phi[k] * sx;
+}
+
+// The boundary between sample j and j + 1 of ring i (opposite states; f its frame), as an angle.
+double refine_angle(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const RingFrame& f, int i, int j,
+                    int evaluations) {
+  const double width = kRefineFraction * g.h / std::max(1e-9, g.ring[i].r * g.dphi);
+  // The samples were classified without the facing value of the rear: measure both ends fully.
+  auto full = [&](int k) {
+    const PointState& s = b.at(i, k);
+    const int w = g.wrap(k);
+    return std::isnan(s.facing) ? sampler.state(f, g.cos_phi[w], g.sin_phi[w]) : s;
+  };
+  const double t = engagement::refine_boundary(full(j), full(j + 1), width, evaluations, [&](double u) {
+    double c, s;
+    angle_at(g, j, u, c, s);
+    return sampler.state(f, c, s);
   });
+  return g.phi_of(j) + t * g.dphi;
 }
 
 // Gaps shorter than the lattice spacing along the ring are below what the stock model resolves
@@ -244,12 +133,13 @@ void close_short_gaps(std::vector<std::pair<double, double>>& arcs, double min_g
   arcs = std::move(merged);
 }
 
-// The engaged arcs of ring i, their ends refined between the samples.
-RingResult ring_arcs(const SampleGrid& g, int i, const Sampler& sampler, double h, int refine_steps) {
+// The engaged arcs of ring i (f its frame), their ends refined between the samples.
+RingResult ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sampler& sampler, const RingFrame& f,
+                     int evaluations) {
   RingResult rr;
   int first_off = -1;
   for (int j = 0; j < g.na; ++j)
-    if (!g.st(i, j)) {
+    if (!b.st(i, j)) {
       first_off = j;
       break;
     }
@@ -258,21 +148,62 @@ RingResult ring_arcs(const SampleGrid& g, int i, const Sampler& sampler, double 
     rr.angle = 2.0 * kPi;
     return rr;
   }
-  const double s = g.s_of(i);
-  auto test = [&](double phi) { return sampler.engaged(s, phi); };
   // Walk once around from a disengaged sample, so that every arc is seen whole.
   for (int k = 1; k <= g.na; ++k) {
     const int j = first_off + k;
-    if (!g.st(i, j) || g.st(i, j - 1)) continue;
+    if (!b.st(i, j) || b.st(i, j - 1)) continue;
     int e = j;
-    while (g.st(i, e + 1)) ++e;
-    const double entry = refine(g.phi_of(j - 1), g.phi_of(j - 1) + g.dphi, false, refine_steps, test);
-    const double exit = refine(g.phi_of(e), g.phi_of(e) + g.dphi, true, refine_steps, test);
-    rr.arcs.push_back({entry, exit});
+    while (b.st(i, e + 1)) ++e;
+    rr.arcs.push_back(
+        {refine_angle(g, b, sampler, f, i, j - 1, evaluations), refine_angle(g, b, sampler, f, i, e, evaluations)});
   }
-  close_short_gaps(rr.arcs, h / std::max(sampler.radius(s), 1e-9));
-  for (const auto& [a, b] : rr.arcs) rr.angle += b - a;
+  close_short_gaps(rr.arcs, g.h / std::max(g.ring[i].r, 1e-9));
+  for (const auto& [lo, hi] : rr.arcs) rr.angle += hi - lo;
   return rr;
+}
+
+// Marks the samples of ring i (f its frame) whose positions lie in the region (b.eng), in one cheap pass,
+// so that only they are classified; returns their count.
+int mark_in_region(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
+  const Eigen::Vector3d lo = sampler.region().min(), hi = sampler.region().max();
+  uint8_t* eng = &b.eng[b.index(i, 0)];
+  int n = 0;
+  for (int j = 0; j < g.na; ++j) {
+    const double c = g.cos_phi[j], s = g.sin_phi[j];
+    const double x = f.c0.x() + c * f.a1.x() + s * f.a2.x(), y = f.c0.y() + c * f.a1.y() + s * f.a2.y(),
+                 z = f.c0.z() + c * f.a1.z() + s * f.a2.z();
+    eng[j] = (x >= lo.x()) & (x <= hi.x()) & (y >= lo.y()) & (y <= hi.y()) & (z >= lo.z()) & (z <= hi.z());
+    n += eng[j];
+  }
+  return n;
+}
+
+// The samples of ring i (f its frame) that mark_in_region marked, classified; b.eng their states.
+void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
+  PointState* state = &b.state[b.index(i, 0)];
+  uint8_t* eng = &b.eng[b.index(i, 0)];
+  for (int j = 0; j < g.na; ++j) {
+    state[j] = eng[j] ? sampler.state(f, g.cos_phi[j], g.sin_phi[j], false) : PointState{};
+    eng[j] = state[j].engaged;
+  }
+}
+
+// The samples of rings i0..i1 and their arcs; the rings are spread over the threads when the samples to
+// classify are many.
+void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations, BlockSamples& b,
+                    std::vector<RingResult>& rings) {
+  b.state.resize(size_t(b.i1 - b.i0 + 1) * g.na);
+  b.eng.resize(b.state.size());
+  size_t marked = 0;
+  for (int i = b.i0; i <= b.i1; ++i) marked += mark_in_region(g, sampler, sampler.ring(g.ring[i]), i, b);
+  auto rings_in = [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, sampler.ring(g.ring[i]), i, b);
+    // The arcs read only their own ring's samples.
+    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, sampler.ring(g.ring[i]), evaluations);
+  };
+  const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
+  if (marked < kParallelSamples) rings_in(all);
+  else tbb::parallel_for(all, rings_in);
 }
 
 // The engaged area (mm^2) and the extent of the engaged surface: its heights z along the axis and its
@@ -283,54 +214,80 @@ struct Extent {
   double wmin = zmin, wmax = -zmin;
 };
 
-// Each ring's band times its engaged fraction, and the extent of its arcs; their pairs into `out` when kept.
-Extent ring_bands(const SampleGrid& g, const std::vector<RingResult>& rings, const Sampler& sampler, bool keep_pairs,
-                  Engagement& out) {
+// Each classified ring's band times its engaged fraction, and the extent of its arcs; their pairs into
+// `out` when kept.
+Extent ring_bands(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
+                  const Profile& prof, bool keep_pairs, Engagement& out) {
   Extent x;
-  for (int i = 0; i < g.nr; ++i) {
+  for (int i = b.i0; i <= b.i1; ++i) {
     const RingResult& rr = rings[i];
     if (rr.arcs.empty()) continue;
-    x.area += sampler.profile().band_area(i * g.ds, (i + 1) * g.ds) * rr.angle / (2.0 * kPi);
-    const double z = sampler.height(g.s_of(i)), r = sampler.radius(g.s_of(i));
+    x.area += prof.band_area(i * g.ds, (i + 1) * g.ds) * rr.angle / (2.0 * kPi);
+    const double z = g.ring[i].z, r = g.ring[i].r;
     x.zmin = std::min(x.zmin, z);
     x.zmax = std::max(x.zmax, z);
-    for (const auto& [a, b] : rr.arcs) {
+    for (const auto& [lo_a, hi_a] : rr.arcs) {
       double lo, hi;
-      cos_range(a, b, lo, hi);
+      cos_range(lo_a, hi_a, lo, hi);
       x.wmin = std::min(x.wmin, r * lo);
       x.wmax = std::max(x.wmax, r * hi);
       if (keep_pairs) {
-        const bool full = b - a >= 2.0 * kPi - 1e-12;
-        out.pairs.push_back({z, full ? 0.0 : std::fmod(a * kDeg, 360.0), full ? 360.0 : std::fmod(b * kDeg, 360.0)});
+        const bool full = hi_a - lo_a >= 2.0 * kPi - 1e-12;
+        out.pairs.push_back(
+            {z, full ? 0.0 : std::fmod(lo_a * kDeg, 360.0), full ? 360.0 : std::fmod(hi_a * kDeg, 360.0)});
       }
     }
     out.max_pairs = std::max(out.max_pairs, static_cast<int>(rr.arcs.size()));
-    if (i == 0) x.zmin = std::min(x.zmin, sampler.height(0.0));
-    if (i == g.nr - 1) x.zmax = std::max(x.zmax, sampler.height(g.S));
+    if (i == 0) x.zmin = std::min(x.zmin, prof.at(0.0).z);
+    if (i == g.nr - 1) x.zmax = std::max(x.zmax, prof.at(g.S).z);
   }
   return x;
 }
 
 // Where the state changes between rings along a sample's meridian, the bands are off by the strip between
 // the band edge and the refined boundary: the strip's area, and the boundary into the extent.
-void add_meridian_strips(const SampleGrid& g, const Sampler& sampler, int refine_steps, Extent& x) {
-  for (int j = 0; j < g.na; ++j) {
-    const double phi = g.phi_of(j);
-    auto test = [&](double s) { return sampler.engaged(s, phi); };
-    for (int i = 0; i + 1 < g.nr; ++i) {
-      const bool a = g.st(i, j), b = g.st(i + 1, j);
-      if (a == b) continue;
-      const double sb = refine(g.s_of(i), g.s_of(i + 1), a, refine_steps, test);
+void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
+                         int evaluations, Extent& x) {
+  const double width = kRefineFraction * g.h / g.ds;
+  const std::vector<uint8_t> none(g.na, 0);
+  for (int i = std::max(0, b.i0 - 1); i <= std::min(b.i1, g.nr - 2); ++i) {
+    const uint8_t* below = i >= b.i0 ? &b.eng[b.index(i, 0)] : none.data();
+    const uint8_t* above = i + 1 <= b.i1 ? &b.eng[b.index(i + 1, 0)] : none.data();
+    for (int j = 0; j < g.na; ++j) {
+      const bool a = below[j] != 0, c = above[j] != 0;
+      if (a == c) continue;
+      double s0 = g.s_of(i), s1 = g.s_of(i + 1);
+      auto at = [&](double s) { return sampler.state(sampler.ring(prof.at(s)), g.cos_phi[j], g.sin_phi[j]); };
+      // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
+      auto end = [&](int k) {
+        const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
+        return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
+      };
+      PointState sa = end(i), sc = end(i + 1);
+      const double rim = prof.rim();
+      double sb = -1.0;
+      if (rim > s0 && rim < s1) {
+        // The facing measure jumps at the rim: a change of state across it is at the rim, otherwise the
+        // boundary lies on one side of it.
+        const double eps = 1e-9 * g.S;
+        const PointState below = at(rim - eps), above = at(rim + eps);
+        if (below.engaged != above.engaged) sb = rim;
+        else if (below.engaged == sa.engaged) s0 = rim + eps, sa = above;
+        else s1 = rim - eps, sc = below;
+      }
+      if (sb < 0.0)
+        sb = s0 + (s1 - s0) * engagement::refine_boundary(sa, sc, width * g.ds / (s1 - s0), evaluations,
+                                                          [&](double u) { return at(s0 + u * (s1 - s0)); });
       const double edge = (i + 1) * g.ds;  // band edge between the rings
       // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
       const double lo = std::min(sb, edge), hi = std::max(sb, edge);
-      const double strip = sampler.profile().band_area(lo, hi) / g.na;
+      const double strip = prof.band_area(lo, hi) / g.na;
       x.area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
-      const double z = sampler.height(sb), r = sampler.radius(sb);
-      x.zmin = std::min(x.zmin, z);
-      x.zmax = std::max(x.zmax, z);
-      x.wmin = std::min(x.wmin, r * std::cos(phi));
-      x.wmax = std::max(x.wmax, r * std::cos(phi));
+      const ProfilePoint p = prof.at(sb);
+      x.zmin = std::min(x.zmin, p.z);
+      x.zmax = std::max(x.zmax, p.z);
+      x.wmin = std::min(x.wmin, p.r * g.cos_phi[j]);
+      x.wmax = std::max(x.wmax, p.r * g.cos_phi[j]);
     }
   }
 }
@@ -383,50 +340,87 @@ void set_engaged_arc(const std::vector<RingResult>& rings, Engagement& out) {
   }
 }
 
+// Engagement of one tool, block after block: the sample grid and its tables are made once per lattice
+// spacing, the per-block buffers reused. One block at a time (a lock makes a shared meter safe).
+class Meter {
+ public:
+  Meter(const Tool& tool, const EngagementOptions& options) : profile_(tool), opt_(options) {}
+
+  Engagement measure(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
+                     const Eigen::AlignedBox3d* removed) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    Engagement out;
+    const double h = stock.lattice().h;
+    Eigen::AlignedBox3d region;
+    if (removed) {
+      if (removed->isEmpty()) return out;
+      // A sample is classified by rays up to about a spacing away, and the swept parts hold the true
+      // tool within the sweep's bound: material the block removed can make a sample engaged up to that far
+      // outside the box.
+      const double grow = 1.5 * h + opt_.removed_margin_mm;
+      region = Eigen::AlignedBox3d(removed->min().array() - grow, removed->max().array() + grow);
+    } else {
+      const Lattice& L = stock.lattice();
+      region = Eigen::AlignedBox3d(L.origin.array() - h, (L.origin + h * Eigen::Vector3d(L.n[0], L.n[1], L.n[2])).array() + h);
+    }
+    if (!grid_ || grid_->h != h) {
+      grid_ = std::make_unique<SampleGrid>(profile_, h, opt_);
+      rings_.assign(grid_->nr, {});
+    }
+    const SampleGrid& g = *grid_;
+    const Sampler sampler(stock, before, end, region);
+    for (int i = samples_.i0; i <= samples_.i1; ++i) rings_[i] = {};  // the previous block's
+    active_rings(g, sampler, samples_);
+    if (samples_.i1 < samples_.i0) return out;
+    const int evaluations = std::max(1, opt_.refine_steps);
+    classify_rings(g, sampler, evaluations, samples_, rings_);
+    Extent x = ring_bands(g, samples_, rings_, profile_, opt_.keep_pairs, out);
+    if (!(x.area > 0.0)) return out;
+    add_meridian_strips(g, samples_, sampler, profile_, evaluations, x);
+    out.area_mm2 = std::max(0.0, x.area);
+    out.axial_depth_mm = x.zmax - x.zmin;
+    out.radial_width_mm = x.wmax - x.wmin;
+    set_engaged_arc(rings_, out);
+    return out;
+  }
+
+ private:
+  Profile profile_;
+  EngagementOptions opt_;
+  std::mutex mutex_;
+  std::unique_ptr<SampleGrid> grid_;
+  BlockSamples samples_;
+  std::vector<RingResult> rings_;
+};
+
 }  // namespace
 
-bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) {
-  const Lattice& L = stock.lattice();
-  const double inv_h = 1.0 / L.h;
-  double best = std::numeric_limits<double>::infinity();
-  bool inside = false;
-  for (int d = 0; d < 3; ++d) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    // The nearest ray; the range test comes first so that the conversion to int cannot overflow.
-    const double fu = (p[u] - L.origin[u]) * inv_h + 0.5, fv = (p[v] - L.origin[v]) * inv_h + 0.5;
-    if (!(fu >= 0.0 && fv >= 0.0 && fu < L.n[u] && fv < L.n[v])) return false;  // outside the lattice: no material
-    const int iu = static_cast<int>(fu), iv = static_cast<int>(fv);
-    const double sd = along_ray_distance(stock.ray(d, iu, iv), static_cast<float>(p[d] - L.origin[d]));
-    if (std::abs(sd) < best) {
-      best = std::abs(sd);
-      inside = sd <= 0.0;
-    }
-  }
-  return inside;
-}
+bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) { return engagement::material_depth(stock, p) <= 0.0; }
 
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
-                              const EngagementOptions& opt, const MaterialCull& cull) {
-  Engagement out;
-  const Sampler sampler(stock, tool, before, end);
-  const double h = stock.lattice().h;
-  SampleGrid grid(sampler.profile(), h, opt);
-  classify_samples(grid, sampler, end, cull);
-  std::vector<RingResult> rings(grid.nr);
-  tbb::parallel_for(0, grid.nr, [&](int i) { rings[i] = ring_arcs(grid, i, sampler, h, opt.refine_steps); });
-  Extent x = ring_bands(grid, rings, sampler, opt.keep_pairs, out);
-  if (!(x.area > 0.0)) return out;
-  add_meridian_strips(grid, sampler, opt.refine_steps, x);
-  out.area_mm2 = std::max(0.0, x.area);
-  out.axial_depth_mm = x.zmax - x.zmin;
-  out.radial_width_mm = x.wmax - x.wmin;
-  set_engaged_arc(rings, out);
-  return out;
+                              const EngagementOptions& opt, const Eigen::AlignedBox3d* removed) {
+  return Meter(tool, opt).measure(stock, before, end, removed);
 }
 
-EngagementProbe engagement_probe(const Tool& tool, const EngagementOptions& options) {
-  return [tool, options](const TriDexel& stock, const ToolPose& before, const ToolPose& end, const MaterialCull& cull) {
-    return measure_engagement(stock, tool, before, end, options, cull);
+EngagementProbe engagement_probe(const EngagementOptions& options) {
+  // One meter per cutting form met (a program's tools), found by the form's values, not its address.
+  struct Meters {
+    std::mutex mutex;
+    std::vector<std::pair<std::array<double, 4>, std::unique_ptr<Meter>>> by_form;
+    Meter& of(const Tool& tool, const EngagementOptions& opt) {
+      const double corner = std::holds_alternative<BullCutter>(tool.cutter) ? std::get<BullCutter>(tool.cutter).corner_radius : -1.0;
+      const std::array<double, 4> key{double(tool.cutter.index()), tool.radius(), corner, tool.flute_length};
+      const std::lock_guard<std::mutex> lock(mutex);
+      for (auto& [k, m] : by_form)
+        if (k == key) return *m;
+      by_form.emplace_back(key, std::make_unique<Meter>(tool, opt));
+      return *by_form.back().second;
+    }
+  };
+  auto meters = std::make_shared<Meters>();
+  return [meters, options](const Tool& tool, const TriDexel& stock, const ToolPose& before, const ToolPose& end,
+                           const Eigen::AlignedBox3d& removed) {
+    return meters->of(tool, options).measure(stock, before, end, &removed);
   };
 }
 

@@ -27,7 +27,11 @@ struct Block {
   Eigen::Vector3d arc_center = Eigen::Vector3d::Zero();
   int plane = 17;
   double spindle_rpm = 0.0;
+  // The tool in the spindle (the T of the last M6; before any, the scene's `tool`: 0 unless the scene's
+  // library gives its number).
   int tool = 0;
+  // Seconds the controller waits before this block moves (G4, a canned cycle's P at the hole bottom).
+  double dwell_s = 0.0;
 };
 
 struct Program {

@@ -6,7 +6,7 @@
 //   VERIFY.json  the headline figures, collisions (with the tool poses at their block's start and end, so
 //                the re-planner can find the path rows without the program), gouges, engagement summary
 //   blocks.csv   one row per motion block: block,line,removed_mm3,mrr_mm3_min,entry_deg,exit_deg,
-//                engaged_area_mm2,collision, then axial_depth_mm,radial_width_mm,pairs
+//                engaged_area_mm2,collision, then axial_depth_mm,radial_width_mm,pairs,tool
 //   engagement   one row per entry/exit pair and height (optional)
 // Units: mm, mm^3, mm^2, deg, minutes, mm^3/min. Every file is written atomically. Readers throw
 // InputError naming the file, the line (CSV) and the field.
@@ -43,6 +43,7 @@ struct Collision {
   // VERIFY.json that does not carry them (they are an addition to the documented format).
   ToolPose start, end;
   bool has_poses = true;
+  int tool = 0;  // the tool in the spindle (Block::tool); 0 as well for a VERIFY.json without the field
 };
 
 struct Gouge {
@@ -75,8 +76,10 @@ struct Engagement {
 
 struct BlockResult {
   int block = 0, line = 0;
+  int tool = 0;          // the tool in the spindle (Block::tool)
   double removed_mm3 = 0.0;
   double minutes = 0.0;  // block time from its feed (rapids at the machine's rapid feed)
+  double dwell_minutes = 0.0;  // the dwell before the block's motion (Block::dwell_s); the block takes both
   bool collision = false;
   int substeps = 1;
   bool rapid = false;
@@ -131,7 +134,7 @@ struct VerifyReport {
 
 // One row of blocks.csv. NaN: not computed (an empty cell): the MRR of a block that takes no time, the
 // angles of a block that engages nothing. `axial_depth_mm`, `radial_width_mm` and `pairs` are NaN / -1
-// when the file has no such column (the eight documented columns only).
+// when the file has no such column (the eight documented columns only), `tool` -1.
 struct BlockRow {
   int block = 0;  // as the verifier numbers them, from 1
   int line = 0;   // 1-based G-code line, 0 when unknown
@@ -144,28 +147,30 @@ struct BlockRow {
   double axial_depth_mm = std::numeric_limits<double>::quiet_NaN();
   double radial_width_mm = std::numeric_limits<double>::quiet_NaN();
   int pairs = -1;
+  int tool = -1;
 };
 
 // The blocks.csv row of a block result.
 BlockRow block_row(const BlockResult& block);
 
-// VERIFY.json: the documented fields, then the tool poses of each collision, the stock volumes, sweep error
-// bounds, excess material statistics, memory, an engagement/MRR summary over the feed blocks and the stock
-// mesh's bound and sizes (when there is one).
+// VERIFY.json: the documented fields, then the tool and the tool poses of each collision, the stock
+// volumes, sweep error bounds, excess material statistics, memory, the program's time (motion and dwells,
+// `program_minutes`), an engagement/MRR summary over the feed blocks and the stock mesh's bound and sizes
+// (when there is one).
 void write_verify_json(const VerifyReport& report, const std::filesystem::path& file);
-// blocks.csv: the documented columns, then axial_depth_mm, radial_width_mm and pairs (the most entry/exit
-// pairs at one height).
+// blocks.csv: the documented columns, then axial_depth_mm, radial_width_mm, pairs (the most entry/exit
+// pairs at one height) and tool (Block::tool).
 void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& file);
 // Every entry/exit pair at every height: block,line,height_mm,entry_deg,exit_deg (needs the pairs kept).
 void write_engagement_csv(const VerifyReport& report, const std::filesystem::path& file);
 
-// Reads a VERIFY.json back: every figure write_verify_json writes except the engagement summary
-// (per_block stays empty; blocks.csv has the blocks). The documented fields are required in a
+// Reads a VERIFY.json back: every figure write_verify_json writes except the engagement summary and the
+// program's time (per_block stays empty; blocks.csv has the blocks). The documented fields are required in a
 // collision or gouge (block, line, component, with, rapid, depth_mm); the figures are optional (NaN, or
-// 0 for counts, when absent), the collision poses too (Collision::has_poses).
+// 0 for counts, when absent), the collision poses too (Collision::has_poses), and a collision's tool (0).
 VerifyReport read_verify_json(const std::filesystem::path& file);
 
-// Reads blocks.csv (the eight documented columns required, the three extra ones optional; collision 0/1 or
+// Reads blocks.csv (the eight documented columns required, the four extra ones optional; collision 0/1 or
 // true/false; an empty number cell is NaN).
 std::vector<BlockRow> read_blocks_csv(const std::filesystem::path& file);
 

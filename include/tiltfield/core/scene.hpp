@@ -1,13 +1,16 @@
 // tiltfield core: the scene: everything one job needs, loaded and validated from the scene JSON.
 //
 // In: a scene file (README, "Files": design, check surfaces, stock as mesh, box or cylinder, fixtures,
-// tool, path and feed, planner options, machine); paths inside it are relative to it. Out: a Scene with
-// every mesh and the path loaded, the machine resolved, and the planner's basic options (safety
-// distance, lead/tilt, max tilt) with their defaults. Units: mm, deg, mm/min. Unknown keys are refused.
+// tool and tool library, work offsets, path and feed, planner options, machine); paths inside it are
+// relative to it. Out: a Scene with every mesh and the path loaded, the machine resolved, and the
+// planner's basic options (safety distance, lead/tilt, max tilt) with their defaults. Units: mm, deg,
+// mm/min. Unknown keys are refused.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +55,16 @@ struct PlannerBasics {
   double max_tilt_deg = 60.0;     // largest angle between the tool axis and the surface normal, deg
 };
 
+// A numbered tool of the scene's library ("tools"): a program's T word and M6 select it, G43 H takes its
+// gauge length (Tool::length).
+struct ToolEntry {
+  int number = 1;  // >= 1
+  Tool tool;
+};
+
+// A work offset (G54 ... G59.3): X Y Z in mm, A B C in degrees, added to the programmed coordinates.
+using WorkOffset = std::array<double, 6>;
+
 struct Scene {
   std::filesystem::path file;  // the scene file as given
   std::filesystem::path dir;   // its folder; relative paths inside resolve against it
@@ -61,7 +74,12 @@ struct Scene {
   std::vector<std::filesystem::path> check_files;
   Stock stock;
   std::vector<Mesh> fixtures;
+  // The tool for the planner and for programs without a tool change (the spindle's tool before the first
+  // M6). Without a "tool" key: the first entry of `tools`.
   Tool tool;
+  int tool_number = 0;                             // 0, or the library number `tool` was taken from
+  std::vector<ToolEntry> tools;                    // the tool library, in file order (empty: one tool)
+  std::map<std::string, WorkOffset> work_offsets;  // "G54" ... "G59.3" -> offset
   ToolPath path;
   std::filesystem::path path_file;
   double feed = 1000.0;  // mm/min
@@ -80,6 +98,16 @@ Eigen::AlignedBox3d scene_bounds(const Scene& scene);
 // `path` are optional here (verifying a program needs neither); Scene::design is then empty and
 // Scene::path has no rows.
 Scene load_scene(const std::filesystem::path& file);
+
+// The same from the scene's JSON text; `file` names it in errors and its folder resolves relative paths.
+Scene parse_scene(const std::string& text, const std::filesystem::path& file);
+
+// The tool numbered `number` in the scene's library, or the scene's `tool` when the library has none of
+// that number (every number of a scene without a library).
+const Tool& scene_tool(const Scene& scene, int number);
+
+// The work-offset codes a scene may define, as LinuxCNC names them: G54 ... G59, G59.1, G59.2, G59.3.
+const std::vector<std::string>& work_offset_codes();
 
 // Throws InputError naming the field when the scene lacks what planning needs (design, path).
 void require_for_planning(const Scene& scene);

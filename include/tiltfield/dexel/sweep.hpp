@@ -71,6 +71,15 @@ struct SweptPart {
   Eigen::AlignedBox3d box;                         // bounds of the swept part
   ToolComponent component = ToolComponent::Ball;
   bool cutting = true;
+  // Arc sweeps (sweep_arc): the part carried, without turning, along a circular arc in the plane across
+  // lattice axis arc_axis, its own axis along that one. The arc is a piece of at most a quarter turn
+  // between two quadrant angles: centre (arc_cu, arc_cv) in the plane's coordinates u = arc_axis + 1,
+  // v = arc_axis + 2 (mod 3), radius, start and end angles counter-clockwise (a0 < a1, rad). Along arc_axis
+  // the part spans arc_z0..arc_z1 (a cylinder), or is centred at arc_z0 (a sphere).
+  bool arc = false;
+  int arc_axis = 2;
+  double arc_cu = 0.0, arc_cv = 0.0, arc_radius = 0.0, arc_a0 = 0.0, arc_a1 = 0.0, arc_z0 = 0.0, arc_z1 = 0.0;
+  Eigen::Vector4d arc_ends = Eigen::Vector4d::Zero();  // cos a0, sin a0, cos a1, sin a1
   // Sphere sweeps: constants of the per-ray test for each grid direction k, set by sweep_part (they are
   // the same for every ray of a grid): |d|, 1/|d|, d_k/|d|, 1/(1 - (d_k/|d|)^2) and |d|/d_k (0 where
   // the division has no meaning).
@@ -104,9 +113,26 @@ struct BlockSweep {
   size_t pose_sets_used = 0;
 };
 
-// Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks.
+// Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks. In a
+// rapid (`rapid`) nothing cuts: every part is swept to `holder_tolerance` and its bound counts as the
+// holder's (BlockSweep::holder_error).
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out);
+                 BlockSweep& out, bool rapid = false);
+
+// A block whose tool axis stays on one lattice axis while the tip runs on a circle in the plane across it
+// (a G17 arc with a vertical tool, and the like; no helix): the tip's circle in that plane. Found from the
+// motion itself (poses at 0, 1/4, 1/2, 3/4 and 1, all on the circle within 1e-7 mm).
+struct PlanarArc {
+  int axis = 2;                                        // the lattice axis the tool axis lies on
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();   // of the tip's circle (in the tip's plane)
+  double radius = 0.0;                                 // mm
+  double a0 = 0.0, sweep = 0.0;                        // start angle and signed turn, rad (u toward v)
+};
+bool planar_arc(const PoseAt& pose_at, PlanarArc& arc);
+
+// The parts of a block that moves them along `arc` without turning (pose0 the start pose), swept exactly
+// (no sub-steps: each part's pieces between quadrant angles are exact per ray), into out.parts.
+void sweep_arc(const PlanarArc& arc, const ToolPose& pose0, const std::vector<ToolPart>& parts, BlockSweep& out);
 
 // Joint values at time tau of a block starting at `from` (linear in every axis; XYZ on the arc for G2/G3).
 Joints interpolate_block(const Joints& from, const Block& block, double tau);

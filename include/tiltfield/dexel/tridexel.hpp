@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "tiltfield/core/mesh.hpp"
@@ -39,12 +40,19 @@ class Dexel {
   void assign(const Interval* iv, uint32_t n);
   // Heap bytes held (for memory statistics).
   size_t heap_bytes() const { return cap_ * sizeof(Interval); }
+  // Exchanges the contents, storage included (no allocation).
+  friend void swap(Dexel& a, Dexel& b) noexcept {
+    std::swap(a.raw_, b.raw_);
+    std::swap(a.n_, b.n_);
+    std::swap(a.cap_, b.cap_);
+  }
 
  private:
   void release();
   union {
     Interval inl_;
     Interval* heap_;
+    uint64_t raw_;  // either of the two, as one word for swap
   };
   uint32_t n_ = 0, cap_ = 0;
 };

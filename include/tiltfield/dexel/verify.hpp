@@ -9,6 +9,7 @@
 // tiles of rays. Units: mm, mm^3, minutes. Defaults: 0.1 mm lattice, 0.01 mm sweep tolerance.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -32,18 +33,18 @@ using ForwardFn = std::function<ToolPose(const Joints&)>;
 // The forward map of a 3-axis machine (tip = X Y Z, axis +Z), for scenes without rotary axes.
 ToolPose forward_xyz(const Joints& j);
 
-// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the tool's
-// gauge length.
+// The scene's machine (3-axis when the scene names none) through the shared Kinematics, with the gauge
+// length of the scene's tool, or of `tool`.
 ForwardFn scene_forward(const Scene& scene);
+ForwardFn scene_forward(const Scene& scene, const Tool& tool);
 
-// Answers false only when no material of the stock can lie in the box (a conservative cull).
-using MaterialCull = std::function<bool(const Eigen::AlignedBox3d& box)>;
-
-// Measures a feed block's engagement at its end, from the stock before the block removes anything, the
-// pose a short time before the end and the end pose; `cull` lets it skip regions without material.
-// tiltfield_engagement's engagement_probe() makes one; the simulation itself does not depend on it.
-using EngagementProbe = std::function<Engagement(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
-                                                 const MaterialCull& cull)>;
+// Measures a feed block's engagement at its end, for the tool in the spindle: `stock` is the stock as it
+// was before the block, `before` the pose a short time before the end, `end` the end pose, and `removed`
+// the box (part frame, mm) holding all the material the block's cutting parts removed, outside which
+// nothing can be engaged. Called only for feed blocks that removed material. tiltfield_engagement's
+// engagement_probe() makes one; the simulation itself does not depend on it.
+using EngagementProbe = std::function<Engagement(const Tool& tool, const TriDexel& stock, const ToolPose& before,
+                                                 const ToolPose& end, const Eigen::AlignedBox3d& removed)>;
 
 struct VerifyOptions {
   double resolution = 0.1;               // lattice spacing (distance between neighbouring rays), mm
@@ -52,7 +53,7 @@ struct VerifyOptions {
   double collision_tolerance = 0.001;    // overlaps up to this deep (mm) are contact, not collision
   double gouge_tolerance = 0.01;         // over-cuts deeper than this (mm) are listed as gouges
   bool check_gouges = true;              // against the scene's design surface (when it has one)
-  // Called for every feed block that can touch material (empty: no engagement measured, the
+  // Called for every feed block that removed material (empty: no engagement measured, the
   // BlockResult::engagement stay empty). The command line sets it unless --no-engagement.
   EngagementProbe engagement;
   Progress progress;                     // stage "verify"
@@ -70,8 +71,10 @@ struct VerifyResult {
   LastBlocks last_block;  // empty unless VerifyOptions::record_last_block
 };
 
-// Simulates `program` on the scene's stock with the scene's tool. `forward` maps the program's joint
-// values to tool poses; TCP blocks take their tip from X Y Z and only the axis from forward().
+// Simulates `program` on the scene's stock, each block with the tool in its spindle (Block::tool): a tool
+// of the scene's library by number, otherwise the scene's `tool`. `forward` maps the program's joint
+// values to tool poses for the scene's tool; library tools use the scene's machine with their own gauge
+// length (scene_forward). TCP blocks take their tip from X Y Z and only the axis from the forward map.
 // Throws InputError for a scene that cannot be simulated (no stock, bad resolution).
 VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
                             const VerifyOptions& options = {});

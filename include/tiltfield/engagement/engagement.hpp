@@ -40,11 +40,20 @@
 namespace tf {
 
 struct EngagementOptions {
-  double angle_step_deg = 3.0;  // sample spacing around the axis before refinement, deg
+  // Sample spacing around the axis, deg. Boundaries between samples are refined to a fraction of the
+  // lattice spacing, so the step only bounds what can be missed: an engaged arc narrower than it.
+  double angle_step_deg = 6.0;
   double axial_step_mm = 0.0;   // ring spacing along the profile before refinement; 0: the lattice spacing
   int max_rings = 160;          // cap on the ring count (a long profile is sampled more coarsely; the
                                 // refinement still finds every boundary between rings)
-  int refine_steps = 12;        // bisection steps per state change (3 deg / 4096 ~ 0.0007 deg)
+  // Evaluations per boundary between samples of opposite states, at most: each at the zero of the measure
+  // that tells them apart (the facing value, or the depth in material), until the bracket is an eighth
+  // of the lattice spacing (finer than the rays resolve).
+  int refine_steps = 8;
+  // How far outside the box of the material a block removed a sample can still be engaged, beyond the
+  // classification's reach of 1.5 lattice spacings: the sweep's bound (the swept parts hold the true tool
+  // within it), mm.
+  double removed_margin_mm = 0.05;
   bool keep_pairs = false;      // keep every pair at every height (Engagement::pairs)
 };
 
@@ -52,12 +61,13 @@ struct EngagementOptions {
 bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p);
 
 // The engagement of `tool` at pose `end`, reached from `before` (the pose a short time earlier: it gives
-// the velocity of every surface point). `stock` is the in-process stock before the block. `cull`, when
-// given, lets rings of samples that surely meet no material be skipped.
+// the velocity of every surface point). `stock` is the in-process stock before the block. `removed`, when
+// given, is the box (part frame, mm) holding the material the block removed: only samples near it can
+// be engaged, and only they are looked up (an empty box: nothing is engaged).
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
-                              const EngagementOptions& options = {}, const MaterialCull& cull = {});
+                              const EngagementOptions& options = {}, const Eigen::AlignedBox3d* removed = nullptr);
 
-// The verifier's per-block hook (VerifyOptions::engagement) measuring `tool` with `options`.
-EngagementProbe engagement_probe(const Tool& tool, const EngagementOptions& options = {});
+// The verifier's per-block hook (VerifyOptions::engagement) measuring the block's tool with `options`.
+EngagementProbe engagement_probe(const EngagementOptions& options = {});
 
 }  // namespace tf

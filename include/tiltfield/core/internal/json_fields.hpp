@@ -1,6 +1,7 @@
 // tiltfield (internal): typed access to JSON fields with errors that name the file and the field path.
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -30,7 +31,8 @@ inline void only_keys(const json& j, std::initializer_list<const char*> allowed,
   for (auto it = j.begin(); it != j.end(); ++it) {
     bool ok = false;
     for (const char* a : allowed) ok |= it.key() == a;
-    if (!ok) throw InputError(file, 0, join(prefix, it.key()), "unknown key");
+    // An empty key still gets a name the message can show.
+    if (!ok) throw InputError(file, 0, join(prefix, it.key().empty() ? "\"\"" : it.key()), "unknown key");
   }
 }
 
@@ -72,11 +74,8 @@ inline Eigen::Vector3d vec3(const json& j, const std::string& file, const std::s
   return {number(j[0], file, field + "[0]"), number(j[1], file, field + "[1]"), number(j[2], file, field + "[2]")};
 }
 
-// Parses a JSON file; a syntax error becomes an InputError with the line it is on.
-inline json parse_file(const std::string& file, const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, 0, "", "cannot open " + what);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// Parses JSON text; a syntax error becomes an InputError naming `file` and the line it is on.
+inline json parse_text(const std::string& text, const std::string& file) {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -85,7 +84,27 @@ inline json parse_file(const std::string& file, const std::string& what) {
     std::string msg = e.what();
     const auto colon = msg.find("syntax error");
     throw InputError(file, line, "", "invalid JSON: " + (colon == std::string::npos ? msg : msg.substr(colon)));
+  } catch (const json::exception& e) {
+    // A number too large for a double ("1e400") is an out_of_range error without a position: the line is
+    // that of the number it quotes.
+    std::string msg = e.what();
+    const auto quote = msg.find('\''), end = msg.rfind('\'');
+    int line = 0;
+    if (quote != std::string::npos && end > quote + 1) {
+      const size_t at = text.find(msg.substr(quote + 1, end - quote - 1));
+      if (at != std::string::npos) line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + long(at), '\n'));
+    }
+    const auto tail = msg.find("] ");
+    throw InputError(file, line, "", "invalid JSON: " + (tail == std::string::npos ? msg : msg.substr(tail + 2)));
   }
+}
+
+// Parses a JSON file; a syntax error becomes an InputError with the line it is on.
+inline json parse_file(const std::string& file, const std::string& what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, 0, "", "cannot open " + what);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_text(text, file);
 }
 
 }  // namespace tf::json_fields

@@ -1,0 +1,172 @@
+// The reader's motion judged by LinuxCNC's interpreter (rs274 -g): for programs with work offsets from
+// the scene (rs274: its .var file), G10 L2/L20, G92, G53, a tool library with G43 H / G43 / G49 (rs274:
+// its tool table), canned cycles (G73 G74 G81-G86 G89, G98/G99, L repeats, G91, G18/G19 planes) and dwells,
+// every motion block must end where rs274's canonical move ends (plus the offsets it reports), be a feed
+// or a rapid as there, and carry the dwell rs274 makes before it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rs274_judge.hpp"
+#include "tiltfield/gcode/gcode.hpp"
+
+namespace tf {
+namespace {
+
+// A table-table AC machine run as joint axes: its targets are the machine positions LinuxCNC commands
+// (tool length offset included), so they compare one to one.
+MachineSpec trt_joint() {
+  MachineSpec m;
+  m.name = "trt";
+  m.kinematics = KinematicsType::TableTableAC;
+  return m;
+}
+
+struct Judged {
+  Program program;
+  test::Rs274Run rs;
+};
+
+Judged judge(const std::string& text, const GcodeOptions& options, const MachineSpec& machine) {
+  test::TempDir dir;
+  std::map<int, std::array<double, 6>> systems;
+  const auto& codes = work_offset_codes();
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const auto it = options.work_offsets.find(codes[i]);
+    systems[int(i) + 1] = it == options.work_offsets.end() ? std::array<double, 6>{} : it->second;
+  }
+  Judged j;
+  j.rs = test::run_rs274(dir, text, test::rs274_tool_table(options.tool_lengths), test::rs274_var_file(systems));
+  j.program = parse_gcode(text, "judge.ngc", machine, options);
+  return j;
+}
+
+void expect_same_motion(const Judged& j, const std::string& what, double shift_z = 0.0) {
+  ASSERT_EQ(j.rs.exit_code, 0) << what << ": rs274 refused the program:\n" << j.rs.output.substr(0, 3000);
+  ASSERT_EQ(j.program.blocks.size(), j.rs.moves.size()) << what << "\n" << j.rs.output.substr(0, 6000);
+  for (size_t i = 0; i < j.rs.moves.size(); ++i) {
+    const Block& b = j.program.blocks[i];
+    const test::CanonMove& m = j.rs.moves[i];
+    const double ours[6] = {b.target.x, b.target.y, b.target.z + shift_z, b.target.a, b.target.b, b.target.c};
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(ours[k], m.m[k], 5e-4) << what << ": block " << i + 1 << " (line " << b.line << "), axis "
+                                         << "XYZABC"[k];
+    EXPECT_EQ(b.motion != Motion::Rapid, m.feed) << what << ": block " << i + 1 << " (line " << b.line << ")";
+    EXPECT_NEAR(b.dwell_s, m.dwell_before, 1e-9) << what << ": block " << i + 1 << " (line " << b.line << ")";
+  }
+}
+
+GcodeOptions library() {
+  GcodeOptions o;
+  o.tool_lengths = {{1, 42.5}, {2, 61.25}, {7, 30.0}};
+  o.tool_length = 42.5;
+  o.work_offsets = {{"G54", {12.7, -25.4, -50.8, 0, 0, 0}}, {"G55", {101.6, 50.8, -76.2, 0, 0, 15}}};
+  return o;
+}
+
+// A Fanuc-style drilling program: G54/G55 from the scene, tools 1, 2 and 7 with G43 H, and every cycle
+// with sticky words, both retract modes, repeats and incremental mode.
+const char* const kCycles = R"(%
+O0100 (judge: cycles)
+N10 G21 G17 G40 G49 G80 G90 G94
+N20 T1 M6
+N30 G54 G0 X0 Y0 Z60. A0 C0
+N40 G43 H1 Z50.
+N50 S1200 M3
+N60 M8
+N70 G99 G81 X10. Y10. Z-5. R2. F120.
+N80 X20.
+N90 Y20. Z-7.
+N100 G98 G82 X30. Y10. Z-4. R3. P0.5
+N110 G80
+N120 G0 Z40.
+N130 G55 X5. Y5.
+N140 G83 X10. Y12. Z-9.5 R1.5 Q2.2 F100.
+N150 G99 G73 X15. Q1.7 Z-6. R2.
+N160 G80
+N170 G91 G81 X4. Y3. Z-3. R2. L3 F80.
+N180 X-2. L2
+N190 G90 G80
+N200 G0 Z30.
+N210 T2 M6
+N220 G43 H2 Z30.
+N230 G85 X0 Y0 Z-2. R1. F50.
+N240 G98 G89 X5. Z-3. R1. P1.5
+N250 M4
+N260 G99 G74 X8. Z-2. R1. P0.2 F40.
+N270 M3
+N280 G84 X9. Z-2. R1. P0.2
+N290 G86 X10. Y1. Z-2. R2. P0.1
+N300 G80
+N310 T7 M6 G43
+N320 G0 Z20.
+N330 G18 G81 Z4. X6. Y-2. R3. F90.
+N340 G19 G82 Y3. Z4. X-1. R2. P0.25
+N350 G17 G80
+N360 G0 X0 Y0 Z10.
+M9 M5
+M30
+%
+)";
+
+TEST(Rs274Judge, CannedCyclesOffsetsAndToolLengths) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kCycles, library(), trt_joint()), "cycles");
+}
+
+// Offsets changed by the program: G10 L2/L20, G92 and its cancels, G53, G49, dwells, arcs.
+const char* const kOffsets = R"(G21 G90 G17
+T1 M6
+G43 H1
+G0 X1 Y2 Z3 A0 C0
+G10 L2 P1 X10 Y20 Z30 C5
+G0 X1 Y2 Z3
+G53 G0 Z5
+G0 X4
+G92 X7 C1
+G0 Y1
+G92.1
+G0 Y2
+G92 X0 Y0
+G92.2
+G0 X1
+G92.3
+G0 X2
+G10 L20 P2 X0 Y0 Z0
+G55 G0 X1
+G10 L2 P0 X100
+G0 Y1
+G91 G0 Z0
+G49
+G0 X0
+G90 G0 Z5
+G4 P2.5
+G1 X10 F200
+G2 X20 Y1 I5 J0
+G3 X10 Y1 R5
+G52 X3 Y4
+G1 X0 Y0
+G52 X0 Y0
+G1 X10 Y0 Z0
+G18 G2 X14 Z0 I2 K0
+G19 G3 Y2 Z2 J0 K2
+G17 G43 H2
+G1 X0 Z0
+M2
+)";
+
+TEST(Rs274Judge, ProgramOffsetsG10G92G53AndArcs) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kOffsets, library(), trt_joint()), "offsets");
+}
+
+// On a 3-axis machine with tool length offsets in use the targets are the tool tip: LinuxCNC's position
+// (the spindle nose) less the loaded tool's gauge length.
+TEST(Rs274Judge, ThreeAxisTargetsAreTheTipBelowTheNose) {
+  TF_REQUIRE_RS274();
+  const std::string text = "G21 G90\nT2 M6\nG43 H2\nG54 G0 X5 Y5 Z20\nG81 X10 Y10 Z-3 R1 F100\nG80\nM30\n";
+  expect_same_motion(judge(text, library(), MachineSpec{}), "3-axis", 61.25);
+}
+
+}  // namespace
+}  // namespace tf

@@ -1,0 +1,90 @@
+// tiltfield engagement (internal): the cutting surface of a tool of revolution as a meridian profile, and
+// the tool frame at a pose, which place the engagement's sample points.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <variant>
+
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/tool.hpp"
+
+namespace tf::engagement {
+
+inline constexpr double kPi = std::numbers::pi;
+
+// A point of the profile: radius r and height z above the tip, and the outward normal's radial and axial
+// components.
+struct ProfilePoint {
+  double r, z, nr, nz;
+};
+
+// The cutting surface (end form and flutes, not the shank or holder) by arc length s from the tip's
+// centre: the end face of a flat or bull end, the ball or torus corner, the flutes.
+class Profile {
+ public:
+  explicit Profile(const Tool& tool) : top_(tool.flute_length), R_(tool.radius()) {
+    if (const auto* b = std::get_if<BullCutter>(&tool.cutter)) {
+      rc_ = b->corner_radius;
+    } else if (std::holds_alternative<BallCutter>(tool.cutter)) {
+      rc_ = R_;
+    }
+    flat_ = R_ - rc_;
+    arc_ = 0.5 * kPi * rc_;
+    length_ = flat_ + arc_ + std::max(0.0, top_ - rc_);
+  }
+  double length() const { return length_; }
+  // Where the normal jumps along the profile: the rim of a flat end (face to flutes), or -1 for a ball or
+  // bull end, whose corner turns smoothly.
+  double rim() const { return rc_ == 0.0 && flat_ > 0.0 ? flat_ : -1.0; }
+  ProfilePoint at(double s) const {
+    s = std::clamp(s, 0.0, length_);
+    if (s < flat_) return {s, 0.0, 0.0, -1.0};  // end face (flat and bull)
+    if (s < flat_ + arc_) {                     // ball or torus corner, angle from the tip's normal
+      const double th = (s - flat_) / rc_;
+      return {flat_ + rc_ * std::sin(th), rc_ - rc_ * std::cos(th), std::sin(th), -std::cos(th)};
+    }
+    return {R_, rc_ + (s - flat_ - arc_), 1.0, 0.0};  // flutes
+  }
+  // Area of the band [s0, s1] over the full turn, exact for each piece of the profile, mm^2.
+  double band_area(double s0, double s1) const {
+    double a = 0.0;
+    auto piece = [&](double lo, double hi, auto&& antiderivative) {
+      const double x0 = std::clamp(s0, lo, hi), x1 = std::clamp(s1, lo, hi);
+      if (x1 > x0) a += antiderivative(x1) - antiderivative(x0);
+    };
+    piece(0.0, flat_, [](double s) { return kPi * s * s; });
+    piece(flat_, flat_ + arc_, [&](double s) {
+      const double th = (s - flat_) / rc_;
+      return 2.0 * kPi * rc_ * (flat_ * th - rc_ * std::cos(th));
+    });
+    piece(flat_ + arc_, length_, [&](double s) { return 2.0 * kPi * R_ * s; });
+    return a;
+  }
+
+ private:
+  double top_, R_, rc_ = 0.0, flat_ = 0.0, arc_ = 0.0, length_ = 0.0;
+};
+
+// Rigid motion of the tool frame (tip at the origin, axis e3) to a pose, with the frame's e1 carried by
+// the minimal rotation from a reference so that two frames of one motion agree about the axis' roll.
+struct Frame {
+  Eigen::Vector3d o, e1, e2, e3;
+  Eigen::Vector3d point(double r, double z, double c, double s) const { return o + r * (c * e1 + s * e2) + z * e3; }
+  Eigen::Vector3d dir(double nr, double nz, double c, double s) const { return nr * (c * e1 + s * e2) + nz * e3; }
+};
+
+inline Frame frame_at(const ToolPose& pose, const Eigen::Vector3d& e1_hint) {
+  Frame f;
+  f.o = pose.tip;
+  f.e3 = pose.axis.normalized();
+  Eigen::Vector3d e1 = e1_hint - e1_hint.dot(f.e3) * f.e3;
+  if (e1.norm() < 1e-9) e1 = f.e3.unitOrthogonal();
+  f.e1 = e1.normalized();
+  f.e2 = f.e1.cross(f.e3);  // (n, f, a) is left-handed: angles run clockwise seen from the spindle
+  return f;
+}
+
+}  // namespace tf::engagement

@@ -1,0 +1,93 @@
+// The engagement's point classification and sample grid (sampler.hpp).
+#include "sampler.hpp"
+
+#include <algorithm>
+
+namespace tf::engagement {
+namespace {
+
+// Signed along-ray distance from coordinate t to the nearest material boundary of a ray: negative inside
+// material, positive outside, +inf for an empty ray.
+double along_ray_distance(const Dexel& ray, float t) {
+  // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
+  const Interval* b = ray.begin();
+  const Interval* e = ray.end();
+  const Interval* it = b;
+  while (it != e && it->hi < t) ++it;  // rays hold few intervals: a scan beats a binary search
+  if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
+  double best = std::numeric_limits<double>::infinity();
+  if (it != e) best = it->lo - t;
+  if (it != b) best = std::min<double>(best, t - (it - 1)->hi);
+  return best;
+}
+
+}  // namespace
+
+double material_depth(const TriDexel& stock, const Eigen::Vector3d& p) {
+  const Lattice& L = stock.lattice();
+  const double inv_h = 1.0 / L.h;
+  const double inf = std::numeric_limits<double>::infinity();
+  int iu[3], iv[3];
+  for (int d = 0; d < 3; ++d) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    // The range test comes first so that the conversion to int cannot overflow.
+    const double fu = (p[u] - L.origin[u]) * inv_h + 0.5, fv = (p[v] - L.origin[v]) * inv_h + 0.5;
+    if (!(fu >= 0.0 && fv >= 0.0 && fu < L.n[u] && fv < L.n[v])) return inf;  // outside the lattice: no material
+    iu[d] = static_cast<int>(fu);
+    iv[d] = static_cast<int>(fv);
+  }
+  double best = inf;
+  for (int d = 0; d < 3; ++d) {
+    const double sd = along_ray_distance(stock.ray(d, iu[d], iv[d]), static_cast<float>(p[d] - L.origin[d]));
+    if (std::abs(sd) < std::abs(best)) best = sd;
+  }
+  return best;
+}
+
+SampleGrid::SampleGrid(const Profile& prof, double spacing, const EngagementOptions& opt)
+    : S(prof.length()), h(spacing) {
+  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
+  nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
+  ds = S / nr;
+  na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
+  dphi = 2.0 * kPi / na;
+  for (int i = 0; i < nr; ++i) ring.push_back(prof.at(s_of(i)));
+  for (int j = 0; j < na; ++j) {
+    cos_phi.push_back(std::cos(phi_of(j)));
+    sin_phi.push_back(std::sin(phi_of(j)));
+  }
+}
+
+Sampler::Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region)
+    : stock_(stock), region_(region) {
+  const Eigen::Vector3d a = end.axis.normalized();
+  Eigen::Vector3d f = (end.tip - before.tip) - (end.tip - before.tip).dot(a) * a;
+  if (f.norm() < 1e-9 * std::max(1.0, (end.tip - before.tip).norm())) {
+    f = Eigen::Vector3d::UnitX() - a.x() * a;
+    if (f.norm() < 1e-6) f = Eigen::Vector3d::UnitY() - a.y() * a;
+  }
+  f.normalize();
+  // Angle phi: direction cos(phi) n + sin(phi) f with n = a x f; the frame's e1 = n, e2 = f gives
+  // point(r, z, cos phi, sin phi).
+  const Eigen::Vector3d n = a.cross(f);
+  end_ = frame_at(end, n);
+  // The same material frame earlier: the minimal rotation taking the end axis to the earlier one.
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(a, before.axis.normalized());
+  before_ = frame_at(before, q * n);
+}
+
+RingFrame Sampler::ring(const ProfilePoint& pp) const {
+  RingFrame f;
+  f.c0 = end_.o + pp.z * end_.e3;
+  f.a1 = pp.r * end_.e1;
+  f.a2 = pp.r * end_.e2;
+  f.dc = f.c0 - (before_.o + pp.z * before_.e3);
+  f.d1 = pp.r * (end_.e1 - before_.e1);
+  f.d2 = pp.r * (end_.e2 - before_.e2);
+  f.n0 = pp.nz * end_.e3;
+  f.n1 = pp.nr * end_.e1;
+  f.n2 = pp.nr * end_.e2;
+  return f;
+}
+
+}  // namespace tf::engagement

@@ -1,0 +1,176 @@
+// The G-code reader's moves: straight moves (G0, G1, and G53's machine coordinates), arcs (G2, G3 with I J
+// K or R, and P full turns) and the motion blocks they become, at the machine position.
+#include <cmath>
+#include <numbers>
+
+#include "reader.hpp"
+#include "tiltfield/core/error.hpp"
+
+namespace tf::gcode {
+
+void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
+  const Axes start = st_.pos;
+  if (g53) {
+    // G53: the axis words are machine coordinates for this block (the tool length offset included, as
+    // LinuxCNC's interpreter takes them).
+    if (motion != 0 && motion != 10) throw InputError(file_, line, "G53", "G53 needs G0 or G1");
+    if (st_.incremental) throw InputError(file_, line, "G53", "G53 needs absolute distance mode (G90)");
+    const Axes off = offset();
+    for (char c : std::string_view("XYZABC")) {
+      if (!val.has(c)) continue;
+      const int a = axis_index(c);
+      st_.pos[a] = length(c, *val[c]) - off[a];
+      st_.axes[a] = AxisState::Set;
+    }
+  } else {
+    move_axes(val);
+  }
+  if (motion == 0) {
+    emit(Motion::Rapid, st_.pos, line);
+    return;
+  }
+  if (st_.inverse_time && !val.has('F'))
+    throw InputError(file_, line, "F", "inverse-time feed (G93) needs F on every feed block");
+  if (!st_.inverse_time && st_.feed <= 0.0) throw InputError(file_, line, "F", "feed block with no feed rate set");
+  if (st_.inverse_time && st_.feed <= 0.0) throw InputError(file_, line, "F", "inverse-time feed must be positive");
+  if (motion == 10) {
+    emit(Motion::Linear, st_.pos, line);
+    return;
+  }
+  arc(motion, start, st_.pos, val, line);
+}
+
+// Moves the position by the block's axis words (absolute or incremental, linear ones in program units).
+Axes Reader::move_axes(const Values& val) {
+  for (char c : std::string_view("XYZABC")) {
+    if (!val.has(c)) continue;
+    const int a = axis_index(c);
+    const double v = length(c, *val[c]);
+    // An axis the program has not set yet counts incremental words from where it is taken to be.
+    st_.pos[a] = st_.incremental ? st_.pos[a] + v : v;
+    st_.axes[a] = AxisState::Set;
+  }
+  return st_.pos;
+}
+
+// With a tool library every move needs a tool of the library in the spindle.
+void Reader::check_tool(int line) const {
+  if (options_.tool_lengths.empty()) return;
+  if (st_.empty_spindle)
+    throw InputError(file_, line, "T0", "motion with no tool in the spindle (T0 loaded at line " +
+                                             std::to_string(st_.tool_line) + ")");
+  if (st_.tool != 0 && !options_.tool_lengths.count(st_.tool)) {
+    std::string numbers;
+    for (const auto& [n, length] : options_.tool_lengths) numbers += (numbers.empty() ? "" : ", ") + std::to_string(n);
+    throw InputError(file_, line, "T" + std::to_string(st_.tool),
+                     "tool " + std::to_string(st_.tool) + " (loaded at line " + std::to_string(st_.tool_line) +
+                         ") is not in the scene's tools (" + numbers + ")");
+  }
+}
+
+// A motion block to `target` (program coordinates), at the machine position: + work offset, G92 offset
+// and tool length offset. `centre`: an arc's centre in program coordinates.
+void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre) {
+  check_tool(line);
+  const Axes off = offset();
+  Block b;
+  b.line = line;
+  b.motion = m;
+  b.target = Joints{target[0] + off[0], target[1] + off[1], target[2] + off[2],
+                    target[3] + off[3], target[4] + off[4], target[5] + off[5]};
+  b.tcp = st_.tcp;
+  b.feed_mode = st_.inverse_time ? FeedMode::InverseTime : FeedMode::PerMinute;
+  b.feed = st_.feed;
+  b.spindle_rpm = st_.spindle;
+  b.tool = st_.tool;
+  b.plane = st_.plane;
+  if (centre) b.arc_center = *centre + Eigen::Vector3d(off[0], off[1], off[2]);
+  b.dwell_s = st_.dwell;
+  st_.dwell = 0.0;
+  program_.blocks.push_back(b);
+  axes_.push_back(st_.axes);
+  block_tlo_.push_back(st_.tlo);
+}
+
+namespace {
+// The in-plane axes (u, v) of a plane and their centre-offset letters.
+struct PlaneAxes {
+  int u, v;
+  char lu, lv;
+};
+PlaneAxes plane_axes(int plane) {
+  if (plane == 18) return {2, 0, 'K', 'I'};
+  if (plane == 19) return {1, 2, 'J', 'K'};
+  return {0, 1, 'I', 'J'};
+}
+}  // namespace
+
+// G2/G3 from `start` to `end`; with P n, n - 1 full turns come first (a helix shares its travel along the
+// plane's normal and the rotaries by angle), each a block of its own.
+void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& val, int line) {
+  const bool ccw = motion == 30;
+  const Eigen::Vector3d c = arc_center(ccw, start, end, val, line);
+  int turns = 1;
+  if (val.has('P')) {
+    const double p = *val['P'];
+    if (!(p >= 1 && p <= 10000) || p != std::floor(p))
+      throw InputError(file_, line, val.word('P'), "the turns of an arc must be a whole number >= 1");
+    turns = static_cast<int>(p);
+  }
+  const Motion m = ccw ? Motion::ArcCCW : Motion::ArcCW;
+  if (turns > 1) {
+    const PlaneAxes pa = plane_axes(st_.plane);
+    const double two_pi = 2.0 * std::numbers::pi;
+    const double as = std::atan2(start[pa.v] - c[pa.v], start[pa.u] - c[pa.u]);
+    const double ae = std::atan2(end[pa.v] - c[pa.v], end[pa.u] - c[pa.u]);
+    double sweep = std::fmod((ccw ? ae - as : as - ae) + 2.0 * two_pi, two_pi);
+    if (sweep < 1e-9) sweep = two_pi;  // same start and end: a full circle
+    const double total = sweep + two_pi * (turns - 1);
+    for (int k = 1; k < turns; ++k) {
+      Axes p = start;
+      const double f = two_pi * k / total;
+      for (int a = 0; a < 6; ++a)
+        if (a != pa.u && a != pa.v) p[a] = start[a] + f * (end[a] - start[a]);
+      emit(m, p, line, &c);
+    }
+  }
+  emit(m, end, line, &c);
+}
+
+Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const {
+  const PlaneAxes pa = plane_axes(st_.plane);
+  Eigen::Vector3d c(start[0], start[1], start[2]);
+  const auto R = val['R'];
+  const auto ou = val[pa.lu], ov = val[pa.lv];
+  if (R) {
+    if (ou || ov) throw InputError(file_, line, "R", "give either R or the centre offsets, not both");
+    const double r = *R * unit();
+    const Eigen::Vector2d s2(start[pa.u], start[pa.v]), e2(end[pa.u], end[pa.v]);
+    const double chord = (e2 - s2).norm();
+    if (chord < 1e-9) throw InputError(file_, line, "R", "an R-form arc needs distinct start and end points");
+    if (std::abs(r) < chord / 2.0 - options_.arc_tolerance)
+      throw InputError(file_, line, "R", "radius is smaller than half the chord");
+    const double h = std::sqrt(std::max(0.0, r * r - chord * chord / 4.0));
+    const Eigen::Vector2d mid = 0.5 * (s2 + e2), dir = (e2 - s2) / chord;
+    const Eigen::Vector2d left(-dir.y(), dir.x());
+    // CCW with positive R: the centre is on the left of the chord; CW on the right; negative R flips.
+    double side = ccw ? 1.0 : -1.0;
+    if (r < 0) side = -side;
+    const Eigen::Vector2d c2 = mid + side * h * left;
+    c[pa.u] = c2.x();
+    c[pa.v] = c2.y();
+  } else {
+    if (!ou && !ov) throw InputError(file_, line, std::string(1, pa.lu), "arc without centre offsets or R");
+    const double du = ou.value_or(0.0) * unit(), dv = ov.value_or(0.0) * unit();
+    c[pa.u] = st_.arc_incremental ? start[pa.u] + du : (ou ? du : start[pa.u]);
+    c[pa.v] = st_.arc_incremental ? start[pa.v] + dv : (ov ? dv : start[pa.v]);
+    const double rs = std::hypot(start[pa.u] - c[pa.u], start[pa.v] - c[pa.v]);
+    const double re = std::hypot(end[pa.u] - c[pa.u], end[pa.v] - c[pa.v]);
+    if (std::abs(rs - re) > std::max(options_.arc_tolerance, 1e-3 * rs))
+      throw InputError(file_, line, std::string(1, pa.lu), "start and end are not on one circle about the centre");
+    if (rs < 1e-9) throw InputError(file_, line, std::string(1, pa.lu), "arc radius is zero");
+  }
+  return c;
+}
+
+}  // namespace tf::gcode

@@ -1,0 +1,131 @@
+// tiltfield gcode (internal): the reader's state machine, one instance per program. It follows LinuxCNC's
+// interpreter: a block's words take effect in RS274/NGC's order of execution, positions are kept in the
+// program's coordinates (the current coordinate system, mm and degrees) and every motion is emitted at
+// the machine position programmed + work offset + G92 offset + tool length offset along Z.
+//
+// Split by subject: reader.cpp (lines, words, modal codes, M codes), motion.cpp (straight moves, arcs,
+// G53, the emitted blocks), offsets.cpp (coordinate systems, G92, G10, tool length offsets, G28/G30, and
+// the end of the program), cycles.cpp (canned cycles).
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tiltfield/gcode/gcode.hpp"
+#include "words.hpp"
+
+namespace tf::gcode {
+
+using Axes = std::array<double, 6>;  // X Y Z (mm) A B C (deg)
+
+inline int axis_index(char c) { return static_cast<int>(std::string_view("XYZABC").find(c)); }
+
+// G54 ... G59.3 (keys 540 ... 593) -> 0 ... 8; -1 for another key.
+inline int work_offset_index(int key) {
+  if (key >= 540 && key <= 590 && key % 10 == 0) return (key - 540) / 10;
+  if (key >= 591 && key <= 593) return key - 585;
+  return -1;
+}
+
+// Per block and axis: whether the program has set its position.
+enum class AxisState : unsigned char { Set, NotYet, SentHome };
+
+// G-code motion modes as code keys (G1 -> 10); kNoMotion before any, 800 after G80 (no mode either).
+constexpr int kNoMotion = -1;
+inline bool is_cycle(int motion) {
+  return motion == 730 || motion == 740 || (motion >= 810 && motion <= 890);
+}
+
+struct State {
+  Axes pos{};                  // program coordinates in the current coordinate system
+  std::array<AxisState, 6> axes{AxisState::NotYet, AxisState::NotYet, AxisState::NotYet,
+                               AxisState::NotYet, AxisState::NotYet, AxisState::NotYet};
+  int motion = kNoMotion;
+  int plane = 17;
+  bool inch = false;
+  bool incremental = false;
+  bool arc_incremental = true;  // G91.1 default
+  bool inverse_time = false;
+  bool tcp = false;       // tool-centre-point control on
+  bool tcp_g434 = false;  // switched on by G43.4 (which G49 cancels), not by an M code
+  double feed = 0.0;
+  double spindle = 0.0;
+  int spindle_dir = 0;    // 1 M3, -1 M4, 0 stopped
+  int tool = 0, pending_tool = 0;
+  bool empty_spindle = false;  // T0 M6 with a tool library
+  int tool_line = 0;           // where the tool in the spindle was loaded
+  double tlo = 0.0;            // tool length offset in force (G43), mm along Z
+  int cs = 0;                  // coordinate system 0..8: G54 ... G59.3
+  std::array<Axes, 9> offsets{};
+  std::array<bool, 9> defined{};
+  Axes g92{}, g92_saved{};
+  // Canned cycles (LinuxCNC's cycle_il, cycle_r, cycle_cc, cycle_p, cycle_q); G99 is its default.
+  bool retract_r_plane = true;
+  bool cycle_il_flag = false;
+  double cycle_il = 0.0, cycle_r = 0.0, cycle_cc = 0.0, cycle_p = 0.0, cycle_q = 0.0;
+  double dwell = 0.0;          // seconds before the next motion block
+  bool ended = false;
+  bool percent = false;        // a "%" line opened the program; the next one ends it
+};
+
+class Reader {
+ public:
+  Reader(const std::string& file, const MachineSpec& machine, const GcodeOptions& options);
+  void line(std::string_view raw, int number);
+  Program finish();
+
+ private:
+  // reader.cpp
+  void warn(int line, const std::string& code, const std::string& what);
+  void block(const std::vector<Word>& words, int line);
+  void sort_words(const std::vector<Word>& words, int line, Values& val, std::vector<int>& gs, std::vector<int>& ms) const;
+  void apply_m_codes(const std::vector<int>& ms, const Values& val, int line);
+  void apply_units_and_feed_mode(const std::vector<int>& gs, int line);
+  void apply_modal_g_codes(const std::vector<int>& gs, const Values& val, int line);
+  void apply_feed_speed_tool(const Values& val, int line);
+  double unit() const { return st_.inch ? 25.4 : 1.0; }
+  double length(char axis, double v) const { return axis_index(axis) < 3 ? v * unit() : v; }
+
+  // motion.cpp
+  void motion_block(int motion, bool g53, const Values& val, int line);
+  Axes move_axes(const Values& val);
+  void emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre = nullptr);
+  void arc(int motion, const Axes& start, const Axes& end, const Values& val, int line);
+  Eigen::Vector3d arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const;
+  void check_tool(int line) const;
+
+  // offsets.cpp
+  Axes offset() const;  // program -> machine: work offset + G92 + tool length along Z
+  void set_offset_keeping_position(const std::function<void()>& change);
+  void select_coordinate_system(int key, int line);
+  void set_g92(int key, const Values& val, int line);
+  void drop_blocks_sent_home(const std::vector<bool>& drop);
+  void g10(const Values& val, int line);
+  void tool_length_offset(int key, const Values& val, int line);
+  double tool_length(int number, int line, const std::string& word) const;
+  void reference_return(int key, const Values& val, int line);
+  void fill_unknown_axes();
+  void tool_tip_targets();
+
+  // cycles.cpp
+  void canned_cycle(int motion, const Values& val, int line);
+  void cycle_move(bool feed, const std::array<int, 3>& plane_axes, double a, double b, double c, int line);
+
+  std::string file_;
+  const MachineSpec& machine_;
+  GcodeOptions options_;
+  std::optional<int> tcp_on_, tcp_off_;
+  State st_;
+  Program program_;
+  std::vector<std::array<AxisState, 6>> axes_;  // per block: which axes the program has set
+  std::vector<double> block_tlo_;           // per block: the tool length offset in force
+  bool uses_length_offsets_ = false;        // G43 / G43.4 anywhere
+  int reference_line_ = 0;                  // the last G28/G30
+  std::set<std::string> warned_;
+};
+
+}  // namespace tf::gcode

@@ -1,0 +1,45 @@
+// tiltfield gcode (internal): one line of RS274/NGC text into words: comments and blanks removed, letters
+// in upper case, numbers as RS274 writes them (no exponent), G and M numbers as integer keys.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tf::gcode {
+
+struct Word {
+  char letter;
+  double value;
+  std::string text;  // as written (letter + number), for messages
+};
+
+// Strips "( ... )" and "; ..." comments and whitespace; returns the code part in upper case.
+// Throws InputError on an unclosed "(".
+std::string strip_line(std::string_view raw, const std::string& file, int line);
+
+// Splits "G1X10.5Y-3" into words. Numbers are RS274 decimals: [+-] digits [. digits] (no exponent).
+// Throws InputError on parameters and expressions ("#", "[", "<"), O-word subroutines and control flow,
+// and anything that is not a letter followed by a number.
+std::vector<Word> split_words(const std::string& code, const std::string& file, int line);
+
+// A G or M number with up to one decimal, as an integer key: G43.4 -> 434, G1 -> 10. Throws on anything else.
+int code_key(const Word& w, const std::string& file, int line);
+
+// "G43.4" from the key 434.
+std::string code_name(char letter, int key);
+
+// "M128" (or "m128", "M 128") -> key 1280; nullopt when the text names no M code.
+std::optional<int> machine_m_code(const std::string& code);
+
+// A block's value words (not G, M, N or O) by letter, with their text for messages.
+struct Values {
+  std::array<std::optional<double>, 26> value{};
+  std::array<std::string, 26> text{};
+  const std::optional<double>& operator[](char c) const { return value[size_t(c - 'A')]; }
+  bool has(char c) const { return value[size_t(c - 'A')].has_value(); }
+  std::string word(char c) const { return text[size_t(c - 'A')].empty() ? std::string(1, c) : text[size_t(c - 'A')]; }
+};
+
+}  // namespace tf::gcode
