@@ -14,6 +14,9 @@ namespace tf::sim {
 
 namespace {
 
+// Rows met by at most this many parts gather each ray's hits directly instead of scattering them.
+constexpr size_t kFewRowParts = 3;
+
 // ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
 // from a mistyped coordinate) are clamped first, well inside int.
 int ceil_index(double x) {
@@ -216,6 +219,7 @@ void Simulator::part_intervals(const TileRays& t, int iv, const std::array<Inter
 // material of any ray changed.
 bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                         bool rapid, Accum& acc) {
+  if (acc.row.size() <= kFewRowParts) return cut_row_direct(t, iv, first, last, range, rapid, acc);
   // Each part's hits go to the rays it covers (a row of a 5-axis block meets dozens of swept parts, each
   // over a few of its rays: scattering them costs what they hold, not rays times parts).
   for (int iu = first; iu <= last; ++iu) acc.ray_hits[iu - t.iu0].clear();
@@ -236,14 +240,39 @@ bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const st
     std::vector<Hit>& hits = acc.ray_hits[iu - t.iu0];
     if (hits.empty()) continue;
     acc.hits.swap(hits);
-    if (process_ray(t.d, iu, iv, rapid, acc)) {
-      row_changed = true;
-      // One task owns each ray in a block, so no other thread writes this entry.
-      if (!last_block_[t.d].empty()) last_block_[t.d][size_t(iu) + size_t(lattice_.n[t.u]) * size_t(iv)] = block_;
-    }
+    row_changed |= cut_ray(t, iu, iv, rapid, acc);
     acc.hits.swap(hits);
   }
   return row_changed;
+}
+
+// cut_row for a row that few parts meet (a 3-axis block's ball and flutes): each ray gathers its hits
+// from the parts directly, which costs less than scattering them.
+bool Simulator::cut_row_direct(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
+                               bool rapid, Accum& acc) {
+  bool row_changed = false;
+  for (int iu = first; iu <= last; ++iu) {
+    const Interval r = range[iu - t.iu0];
+    if (r.lo > r.hi) continue;
+    acc.hits.clear();
+    for (const RowPart& rp : acc.row) {
+      if (iu < rp.first || iu > rp.last) continue;
+      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
+      const SweptPart& p = sweep_.parts[rp.part];
+      acc.hits.push_back({{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
+    }
+    if (!acc.hits.empty()) row_changed |= cut_ray(t, iu, iv, rapid, acc);
+  }
+  return row_changed;
+}
+
+// process_ray on ray iu of row iv with its hits in acc.hits, and the block that last cut it kept.
+bool Simulator::cut_ray(const TileRays& t, int iu, int iv, bool rapid, Accum& acc) {
+  if (!process_ray(t.d, iu, iv, rapid, acc)) return false;
+  // One task owns each ray in a block, so no other thread writes this entry.
+  if (!last_block_[t.d].empty()) last_block_[t.d][size_t(iu) + size_t(lattice_.n[t.u]) * size_t(iv)] = block_;
+  return true;
 }
 
 // The hits acc.hits on ray (iu, iv) of grid d: removal, collisions and gouges. True when its material changed.

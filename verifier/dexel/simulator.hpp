@@ -167,6 +167,9 @@ class Simulator {
   inline void part_intervals(const TileRays& t, int iv, const std::array<Interval, kTile>& range, Accum& acc) const;
   inline bool cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                       bool rapid, Accum& acc);
+  inline bool cut_row_direct(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
+                             bool rapid, Accum& acc);
+  inline bool cut_ray(const TileRays& t, int iu, int iv, bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
   inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const;
   RayAt ray_at(int d, int iu, int iv) const {
