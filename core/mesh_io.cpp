@@ -25,10 +25,15 @@ bool known_extension(const std::string& ext) {
 }
 }  // namespace
 
-Mesh load_mesh(const fs::path& file) {
+void check_mesh_format(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (!known_extension(ext))
     throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
+}
+
+Mesh load_mesh(const fs::path& file) {
+  check_mesh_format(file);
+  const std::string ext = lower_extension(file);
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), 0, "", "mesh file not found");
   Mesh mesh;
@@ -88,9 +93,8 @@ size_t ply_size(const Mesh& mesh) {
 }
 
 void write_mesh(const Mesh& mesh, const fs::path& file) {
+  check_mesh_format(file);
   const std::string ext = lower_extension(file);
-  if (!known_extension(ext))
-    throw InputError(file.string(), 0, "", "unknown mesh format '" + ext + "' (use .stl, .obj, .off or .ply)");
   const OpenMesh::IO::Options opt = writer_options(mesh, ext);
   write_path_atomic(file, [&](const fs::path& tmp) {
     // OpenMesh picks the writer by extension; keep it on the temporary name.

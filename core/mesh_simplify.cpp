@@ -162,11 +162,15 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
   };
 
   // The quadric's error of a collapse and its squared edge length (the tie-break that keeps a flat
-  // region's collapses spread out instead of growing one fan); false when the quadric refuses it.
+  // region's collapses spread out instead of growing one fan); false when the quadric refuses it. Where the
+  // true error is zero (a flat region) the quadric's sum rounds to either side of it: a tiny negative
+  // value is zero, not a refusal (ILLEGAL_COLLAPSE is -1).
   static bool cheap(Quadric& quadric, const CollapseInfo& ci, float& error, float& length2) {
     error = quadric.collapse_priority(ci);
     length2 = float((ci.p0 - ci.p1).sqrnorm());
-    return error >= 0.0f;
+    if (error <= float(Quadric::ILLEGAL_COLLAPSE)) return false;
+    error = std::max(error, 0.0f);
+    return true;
   }
 
   // (Re-)queues v with its cheapest collapse by the quadric, legal or not: the topology test is left to

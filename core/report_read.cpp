@@ -128,11 +128,17 @@ void read_figures(const json& j, const std::string& file, VerifyReport& r) {
     jf::require_object(m, file, "stock_mesh");
     StockMeshStats s;
     s.max_error_mm = jf::number_or(m, "max_error_mm", 0.0, file, "stock_mesh");
-    s.vertices = count_or_zero(m, "vertices", file);
-    s.faces = count_or_zero(m, "faces", file);
-    s.bytes = count_or_zero(m, "bytes", file);
-    s.full_vertices = count_or_zero(m, "full_vertices", file);
-    s.full_faces = count_or_zero(m, "full_faces", file);
+    if (!(s.max_error_mm >= 0.0)) throw InputError(file, 0, "stock_mesh.max_error_mm", "must be a number of mm >= 0");
+    auto count = [&](const char* key) {
+      if (m.contains(key) && !m[key].is_number_unsigned())
+        throw InputError(file, 0, std::string("stock_mesh.") + key, "must be a whole number >= 0");
+      return count_or_zero(m, key, file);
+    };
+    s.vertices = count("vertices");
+    s.faces = count("faces");
+    s.bytes = count("bytes");
+    s.full_vertices = count("full_vertices");
+    s.full_faces = count("full_faces");
     s.mesh_seconds = jf::number_or(m, "mesh_seconds", 0.0, file, "stock_mesh");
     s.decimate_seconds = jf::number_or(m, "decimate_seconds", 0.0, file, "stock_mesh");
     r.stock_mesh = s;

@@ -81,8 +81,8 @@ TEST(MeshSimplify, TorusWithinTheBoundBothWays) {
   const tf::BoundedDecimation d = tf::decimate_within(input, o);
   EXPECT_EQ(d.input_vertices, input.n_vertices());
   EXPECT_EQ(d.input_faces, input.n_faces());
-  // The faces' samples must stay within 0.6 of the bound: chords up to sqrt(8 r 0.006) = 0.49 mm across the
-  // tube (0.31 mm before), much longer around it.
+  // The faces' samples must stay within half the bound: chords up to sqrt(8 r 0.005) across the tube, much
+  // longer around it.
   EXPECT_LT(d.mesh.n_faces(), input.n_faces() / 2);
   EXPECT_GT(d.mesh.n_faces(), 100u);
   ASSERT_EQ(d.source_vertex.size(), d.mesh.n_vertices());

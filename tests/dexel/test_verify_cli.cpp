@@ -1,6 +1,7 @@
 // `tiltfield verify` end to end: outputs, exit codes, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -186,6 +187,32 @@ TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
   EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("X1E3"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "v.json"));
+}
+
+TEST_F(VerifyCli, OutputsThatCannotBeWrittenAreRefusedBeforeTheSimulation) {
+  write(dir / "p.ngc", "G0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --resolution 0.5 --blocks " + (dir / "b.csv").string();
+  const std::string missing = (dir / "no-such-folder").string();
+  for (const std::string option : {"--html", "--stock-mesh", "--engagement"}) {
+    const CliRun r = tiltfield(base + " " + option + " " + missing + "/out.ply", dir);
+    EXPECT_EQ(r.code, 2) << option;
+    EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no-such-folder"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir / "v.json")) << option << ": nothing written";
+    EXPECT_FALSE(fs::exists(dir / "b.csv")) << option << ": nothing written";
+  }
+  CliRun r = tiltfield(base + " --stock-mesh " + (dir / "s.vtk").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("s.vtk"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+  for (const char* bad : {"nan", "inf"}) {
+    r = tiltfield(base + " --mesh-tolerance " + bad, dir);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find("--mesh-tolerance"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "v.json"));
+  }
 }
 
 TEST_F(VerifyCli, SceneWithoutDesignSaysNoGougesWereComputed) {

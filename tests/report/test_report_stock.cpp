@@ -87,12 +87,12 @@ TEST(ReportStock, StockMeshCardGivesTheBoundAndSizes) {
   const std::string html = render_html_report(job->inputs);
   EXPECT_NE(html.find("Stock mesh"), std::string::npos);
   EXPECT_NE(html.find("152\u2009993"), std::string::npos);
-  EXPECT_NE(html.find("within 0.01 mm of the dexel surface, 276\u2009367 faces, 5.43 MB PLY (full mesh: 2\u2009996\u2009240 "
+  EXPECT_NE(html.find("decimated within 0.01 mm of the full mesh, 276\u2009367 faces, 5.43 MB PLY (full mesh: 2\u2009996\u2009240 "
                       "vertices, 5\u2009962\u2009760 faces)"),
             std::string::npos);
   m.max_error_mm = 0.0;
   job->inputs.stock_mesh = m;
-  EXPECT_NE(render_html_report(job->inputs).find("the full dexel surface"), std::string::npos);
+  EXPECT_NE(render_html_report(job->inputs).find("the full mesh, "), std::string::npos);
 }
 
 }  // namespace

@@ -26,6 +26,10 @@ Progress terminal_progress();
 // One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
 void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);
 
+// Throws InputError naming `option` and `path` when the file could not be written there (its folder is
+// missing or not writable), so that a command refuses it before its long work; an empty path is not asked.
+void check_output_file(const std::string& option, const std::string& path);
+
 // The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.
 std::filesystem::path bundled_scene(const std::string& name);

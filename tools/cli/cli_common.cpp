@@ -22,6 +22,15 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, c
   for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
 }
 
+void check_output_file(const std::string& option, const std::string& path) {
+  if (path.empty()) return;
+  fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec) || ::access(folder.c_str(), W_OK) != 0)
+    throw InputError(path, 0, option, "cannot be written: folder '" + folder.string() + "' is missing or not writable");
+}
+
 Progress terminal_progress() {
   if (global_options().quiet || !::isatty(STDERR_FILENO)) return {};
   return [last = -1](std::string_view stage, double fraction) mutable {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <optional>
+#include <utility>
 
 #include "cli.hpp"
 #include "verify_outputs.hpp"
@@ -13,6 +14,7 @@
 #include "tiltfield/engagement/feed_schedule.hpp"
 #include "tiltfield/gcode/gcode.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/scene.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tiltfield/engagement/engagement.hpp"
@@ -40,6 +42,13 @@ void run_verify(const VerifyArgs& a) {
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
   if (!(a.mesh_tolerance >= 0.0) || !std::isfinite(a.mesh_tolerance))
     throw InputError("", 0, "--mesh-tolerance", "must be a number of mm >= 0 (0: the full mesh)");
+  // Every output name is checked before the simulation, so that a mistyped one costs no minutes and
+  // leaves no other output behind.
+  for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"-o", a.out}, {"--blocks", a.blocks},
+                                     {"--stock-mesh", a.stock_mesh}, {"--engagement", a.pairs},
+                                     {"--report", a.report}, {"--html", a.html}})
+    check_output_file(option, path);
+  if (!a.stock_mesh.empty()) check_mesh_format(a.stock_mesh);
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
   const Program program = read_gcode(a.program, machine, gcode_options(scene));
@@ -93,9 +102,12 @@ void run_verify(const VerifyArgs& a) {
               << r.collisions.size() << " collisions, " << gouges << ", " << fixed(r.seconds, 2) << " s\n";
     if (r.stock_mesh)
       std::cerr << "stock mesh: " << r.stock_mesh->vertices << " vertices, " << r.stock_mesh->faces << " faces, "
-                << fixed(double(r.stock_mesh->bytes) / 1e6, 1) << " MB as PLY, within "
-                << fixed(r.stock_mesh->max_error_mm, 4) << " mm of the dexel surface (full: " << r.stock_mesh->full_vertices
-                << " vertices); " << fixed(r.stock_mesh->mesh_seconds, 1) << " s mesh, "
+                << fixed(double(r.stock_mesh->bytes) / 1e6, 1) << " MB as PLY, "
+                << (r.stock_mesh->max_error_mm > 0.0
+                        ? "decimated within " + fixed(r.stock_mesh->max_error_mm, 4) + " mm of the full mesh (" +
+                              std::to_string(r.stock_mesh->full_vertices) + " vertices)"
+                        : std::string("the full mesh"))
+                << "; " << fixed(r.stock_mesh->mesh_seconds, 1) << " s mesh, "
                 << fixed(r.stock_mesh->decimate_seconds, 1) << " s decimation\n";
     for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
   }
@@ -116,7 +128,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
   cmd->add_option("--html", args.html, "HTML report: the stock in 3-D (by deviation, or by block/tool), collisions, plots");
   cmd->add_option("--mesh-tolerance", args.mesh_tolerance,
-                  "stock mesh (--stock-mesh, --html) decimated within this distance of the dexel surface, mm; 0: the "
+                  "stock mesh (--stock-mesh, --html) decimated within this distance of the full dual-contoured mesh, mm; 0: the "
                   "full mesh (default 0.01)");
   cmd->add_option("--resolution", args.resolution, "dexel spacing, mm (default 0.1)");
   cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");

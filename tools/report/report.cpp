@@ -65,11 +65,11 @@ std::string megabytes(size_t bytes) { return fixed(double(bytes) / 1e6, bytes < 
 
 // The stock mesh's size and the bound it was decimated within.
 Card stock_mesh_card(const StockMeshStats& m) {
-  std::string detail = m.max_error_mm > 0.0 ? "within " + fixed(m.max_error_mm, 4) + " mm of the dexel surface, " +
+  std::string detail = m.max_error_mm > 0.0 ? "decimated within " + fixed(m.max_error_mm, 4) + " mm of the full mesh, " +
                                                   thousands(double(m.faces), 0) + " faces, " + megabytes(m.bytes) +
                                                   " PLY (full mesh: " + thousands(double(m.full_vertices), 0) +
                                                   " vertices, " + thousands(double(m.full_faces), 0) + " faces)"
-                                            : "the full dexel surface, " + thousands(double(m.faces), 0) + " faces, " +
+                                            : "the full mesh, " + thousands(double(m.faces), 0) + " faces, " +
                                                   megabytes(m.bytes) + " PLY";
   return {"Stock mesh", thousands(double(m.vertices), 0), "vertices", detail, ""};
 }

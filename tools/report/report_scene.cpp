@@ -182,9 +182,9 @@ nlohmann::json colorings(const IndexedMesh& mesh, const ReportInputs& in) {
   nlohmann::json by_block_json{
       {"id", "block"}, {"kind", "block"}, {"label", "block that last cut"},
       {"legend", "last block to cut each place"},
-      {"note", "Coloured by order among the blocks that cut; grey: raw stock. Read per dexel ray, so an upper "
-               "bound: where every ray through a place was cut again later elsewhere, a later block shows "
-               "(docs/verifier.md)."},
+      {"note", "Coloured by order among the blocks that cut; grey: raw stock. Read per dexel ray, so approximate: "
+               "where every ray through a place was cut again later elsewhere a later block shows, and where two "
+               "passes meet either may (docs/verifier.md)."},
       {"blocks", blocks}};
   const bool several_tools = distinct.size() > 1;
   if (several_tools && mesh.values.empty()) out.push_back(std::move(by_tool));

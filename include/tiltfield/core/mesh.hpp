@@ -30,6 +30,10 @@ struct TriangleArrays {
 // cannot be read, has an unknown extension, or has no triangles. Polygons are triangulated.
 Mesh load_mesh(const std::filesystem::path& file);
 
+// Throws InputError naming `file` unless its extension is a mesh format load_mesh and write_mesh know
+// (.stl, .obj, .off, .ply, any case): lets a command refuse an output name before its long work.
+void check_mesh_format(const std::filesystem::path& file);
+
 // Writes by extension (.stl binary, .obj, .off, .ply binary); vertex colours are written when the mesh
 // has them and the format carries them. Written to a temporary name and renamed.
 void write_mesh(const Mesh& mesh, const std::filesystem::path& file);

@@ -2,7 +2,8 @@
 // stock mesh (`tiltfield verify --stock-mesh`, the report of `verify --html`).
 //
 // In:  a triangle mesh (mm), the bound. Out: a mesh made by half-edge collapses, so every output vertex
-//      is an input vertex at its own position (`source_vertex` names it). Both ways within the bound:
+//      is an input vertex at its own position (`source_vertex` names it). Within the bound, one way exact,
+//      the other sampled:
 //      - every input vertex lies within `max_error_mm` of the output's triangles: OpenMesh's ModHausdorffT
 //        keeps the removed vertices on the faces nearest to them and allows a collapse only when each of
 //        them stays within the bound (exact, for the vertices);

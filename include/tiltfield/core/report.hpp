@@ -97,8 +97,9 @@ struct ExcessStats {
 };
 
 // The stock mesh that came with the report (`verify --stock-mesh`, `--html`): an addition to the spec's
-// report. The mesh is the dual-contoured dexel surface decimated within `max_error_mm` both ways
-// (tiltfield/core/mesh_simplify.hpp); 0 means the full mesh.
+// report. The mesh is the dual-contoured dexel surface decimated within `max_error_mm` (the bound asked
+// for, not a measurement: every full-mesh vertex within it of the compact faces, the compact faces sampled
+// within half of it of the full mesh; tiltfield/core/mesh_simplify.hpp); 0 means the full mesh.
 struct StockMeshStats {
   double max_error_mm = 0.0;
   size_t vertices = 0, faces = 0;

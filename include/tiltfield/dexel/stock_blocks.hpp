@@ -4,10 +4,12 @@
 // The simulation records per ray only the last block that changed it (VerifyOptions::record_last_block,
 // VerifyResult::last_block), not where along the ray. A stock-mesh vertex lies where rays of the three
 // grids cross the surface; the block that last moved one of those crossings changed that ray, so each
-// such ray's last block is at least the block that last cut the place, and it is that block unless the
-// ray was cut again later somewhere else along its length. The smallest over the crossing rays near the
-// vertex is therefore an upper bound of the true block, and exact wherever one of them was not cut again
-// later. A crossing that is still where the raw stock had it was not cut at all: block 0.
+// such ray's last block is at least the block that last cut its crossing, and it is that block unless the
+// ray was cut again later somewhere else along its length. The vertex gets the smallest over the rays
+// crossing the surface near it: exact where one of them was last cut there; a later block where every one
+// was cut again elsewhere; and where two passes meet (the rays near the vertex shaped by either) possibly
+// the earlier pass. An approximation, then, not a bound. A crossing that is still where the raw stock had
+// it was not cut at all: block 0 (so a cut wall within 1.5 spacings of an uncut face may read 0).
 #pragma once
 #include <cstdint>
 #include <vector>
