@@ -43,12 +43,7 @@ void write_job_report(const Scene& scene, const OrientedPath& first_plan, const 
   in.oriented = &final_round.path;
   in.first_plan = &first_plan;
   in.replanned = replanned;
-  in.axes = block_axes(final_round.program);
-  for (const BlockResult& b : report.per_block) in.blocks.push_back(block_row(b));
-  in.collisions = report.collisions;
-  in.gouges = report.gouges;
-  in.stock = &stock_mesh;
-  if (scene.design.n_faces()) in.stock_deviation_mm = stock_deviation(stock_mesh, scene.design);
+  set_verification(in, final_round.program, report, &stock_mesh, scene.design);
   in.summary.title = scene.file.parent_path().filename().string();
   in.summary.collisions_found = static_cast<int>(summary.collisions_first);
   in.summary.collisions_fixed =

@@ -61,13 +61,8 @@ void write_verify_report(const Scene& scene, const Program& program, const std::
   using namespace reporting;
   ReportInputs in;
   in.scene = &scene;
-  in.axes = block_axes(program);
-  for (const BlockResult& b : report.per_block) in.blocks.push_back(block_row(b));
-  in.collisions = report.collisions;
-  in.gouges = report.gouges;
+  set_verification(in, program, report, stock ? &stock->mesh : nullptr, scene.design);
   if (stock) {
-    in.stock = &stock->mesh;
-    if (scene.design.n_faces() > 0) in.stock_deviation_mm = stock_deviation(stock->mesh, scene.design);
     in.stock_block = stock->block;
     in.stock_mesh = stock->stats;
   }

@@ -106,6 +106,12 @@ std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design);
 // the verifier numbers them), the G-code line, the axis values at the block's end.
 std::vector<BlockAxes> block_axes(const Program& program);
 
+// The verification's part of the inputs: the program's axes per block, the per-block rows, collisions and
+// gouges of `report`, and `stock` (not owned; may be null) with its deviation from `design` when the
+// design has faces. What `run` and `verify --html` share.
+void set_verification(ReportInputs& inputs, const Program& program, const VerifyReport& report, const Mesh* stock,
+                      const Mesh& design);
+
 // The report's inputs read back from the files of a `tiltfield run` folder (oriented.csv,
 // program.ngc, verify.json, blocks.csv, stock.ply); a missing file leaves its part empty, a bad one
 // throws InputError. The stock's deviation is computed against the scene's design.

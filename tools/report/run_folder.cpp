@@ -8,6 +8,18 @@
 
 namespace tf::reporting {
 
+void set_verification(ReportInputs& in, const Program& program, const VerifyReport& report, const Mesh* stock,
+                      const Mesh& design) {
+  in.axes = block_axes(program);
+  in.blocks.clear();
+  for (const BlockResult& b : report.per_block) in.blocks.push_back(block_row(b));
+  in.collisions = report.collisions;
+  in.gouges = report.gouges;
+  in.stock = stock;
+  in.stock_deviation_mm.clear();
+  if (stock && design.n_faces() > 0) in.stock_deviation_mm = stock_deviation(*stock, design);
+}
+
 std::vector<BlockAxes> block_axes(const Program& program) {
   std::vector<BlockAxes> axes;
   axes.reserve(program.blocks.size());

@@ -223,18 +223,10 @@ bool Simulator::cut_row(const TileRays& t, int iv, int first, int last, const st
   // Each part's hits go to the rays it covers (a row of a 5-axis block meets dozens of swept parts, each
   // over a few of its rays: scattering them costs what they hold, not rays times parts).
   for (int iu = first; iu <= last; ++iu) acc.ray_hits[iu - t.iu0].clear();
-  for (const RowPart& rp : acc.row) {
-    const SweptPart& p = sweep_.parts[rp.part];
-    const Hit proto{{0.f, 0.f}, static_cast<uint8_t>(p.component), p.cutting};
-    for (int iu = rp.first; iu <= rp.last; ++iu) {
-      const Interval r = range[iu - t.iu0];
-      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
-      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;  // no hit, or none where the ray holds anything
-      Hit h = proto;
-      h.iv = {static_cast<float>(t0), static_cast<float>(t1)};
-      acc.ray_hits[iu - t.iu0].push_back(h);
-    }
-  }
+  Hit h;
+  for (const RowPart& rp : acc.row)
+    for (int iu = rp.first; iu <= rp.last; ++iu)
+      if (part_hit(rp, iu, range[iu - t.iu0], acc, h)) acc.ray_hits[iu - t.iu0].push_back(h);
   bool row_changed = false;
   for (int iu = first; iu <= last; ++iu) {
     std::vector<Hit>& hits = acc.ray_hits[iu - t.iu0];
@@ -255,16 +247,22 @@ bool Simulator::cut_row_direct(const TileRays& t, int iv, int first, int last, c
     const Interval r = range[iu - t.iu0];
     if (r.lo > r.hi) continue;
     acc.hits.clear();
-    for (const RowPart& rp : acc.row) {
-      if (iu < rp.first || iu > rp.last) continue;
-      const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
-      if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) continue;
-      const SweptPart& p = sweep_.parts[rp.part];
-      acc.hits.push_back({{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting});
-    }
+    Hit h;
+    for (const RowPart& rp : acc.row)
+      if (iu >= rp.first && iu <= rp.last && part_hit(rp, iu, r, acc, h)) acc.hits.push_back(h);
     if (!acc.hits.empty()) row_changed |= cut_ray(t, iu, iv, rapid, acc);
   }
   return row_changed;
+}
+
+// The hit of row part rp on ray iu (range r: where the ray holds material or meets an obstacle) into h;
+// false when the part misses the ray or meets none of that range.
+bool Simulator::part_hit(const RowPart& rp, int iu, const Interval& r, const Accum& acc, Hit& h) const {
+  const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
+  if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) return false;
+  const SweptPart& p = sweep_.parts[rp.part];
+  h = {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting};
+  return true;
 }
 
 // process_ray on ray iu of row iv with its hits in acc.hits, and the block that last cut it kept.

@@ -169,6 +169,7 @@ class Simulator {
                       bool rapid, Accum& acc);
   inline bool cut_row_direct(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,
                              bool rapid, Accum& acc);
+  inline bool part_hit(const RowPart& rp, int iu, const Interval& r, const Accum& acc, Hit& h) const;
   inline bool cut_ray(const TileRays& t, int iu, int iv, bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
   inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const;
