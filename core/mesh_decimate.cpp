@@ -102,11 +102,11 @@ size_t kept_triangles(const IndexedTriangles& mesh, const Clustering& c) {
 
 // The quadric sum of w (n . x - d)^2 over the planes (n, d) of some triangles, w twice a triangle's area:
 // minimised where A x = b. A is symmetric: xx, xy, xz, yy, yz, zz.
-struct Quadric {
+struct ClusterQuadric {
   std::array<double, 6> A{};
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
 
-  Quadric& operator+=(const Quadric& q) {
+  ClusterQuadric& operator+=(const ClusterQuadric& q) {
     for (size_t i = 0; i < 6; ++i) A[i] += q.A[i];
     b += q.b;
     return *this;
@@ -123,7 +123,7 @@ struct Cluster {
   double value_sum = 0.0;
   uint32_t label = 0;  // of the first vertex
   uint32_t count = 0;
-  Quadric quadric;  // of the triangles at the cluster's vertices
+  ClusterQuadric quadric;  // of the triangles at the cluster's vertices
 };
 
 std::vector<Cluster> vertex_sums(const IndexedTriangles& mesh, const Clustering& c) {
@@ -149,7 +149,7 @@ void add_plane(const IndexedTriangles& mesh, const std::array<uint32_t, 3>& f, c
   const int corners = g[0] == g[1] && g[1] == g[2] ? 3 : 1;
   // w n n^T = n2 n2^T / w, w n d = n2 (n2 . p) / w.
   const Eigen::Vector3d m = n2 * (corners / w);
-  const Quadric q{{m.x() * n2.x(), m.x() * n2.y(), m.x() * n2.z(), m.y() * n2.y(), m.y() * n2.z(), m.z() * n2.z()},
+  const ClusterQuadric q{{m.x() * n2.x(), m.x() * n2.y(), m.x() * n2.z(), m.y() * n2.y(), m.y() * n2.z(), m.z() * n2.z()},
                   m * n2.dot(mesh.V[f[0]])};
   for (int k = 0; k < 4 - corners; ++k) clusters[g[size_t(k)]].quadric += q;
 }

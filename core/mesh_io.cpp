@@ -9,6 +9,7 @@
 #include "mesh_readers.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/mesh.hpp"
 
 namespace tf {
@@ -86,9 +87,10 @@ class CountingBuffer : public std::streambuf {
 size_t ply_size(const Mesh& mesh) {
   CountingBuffer buffer;
   std::ostream out(&buffer);
-  omerr().disable();
-  OpenMesh::IO::write_mesh(mesh, out, ".ply", writer_options(mesh, ".ply"));
-  omerr().enable();
+  {
+    const internal::QuietOpenMesh quiet;
+    OpenMesh::IO::write_mesh(mesh, out, ".ply", writer_options(mesh, ".ply"));
+  }
   return buffer.count;
 }
 
@@ -100,11 +102,11 @@ void write_mesh(const Mesh& mesh, const fs::path& file) {
     // OpenMesh picks the writer by extension; keep it on the temporary name.
     fs::path named = tmp;
     named += ext;
-    omerr().disable();
-    omlog().disable();
-    const bool ok = OpenMesh::IO::write_mesh(mesh, named.string(), opt);
-    omerr().enable();
-    omlog().enable();
+    bool ok = false;
+    {
+      const internal::QuietOpenMesh quiet;
+      ok = OpenMesh::IO::write_mesh(mesh, named.string(), opt);
+    }
     if (!ok) {
       std::error_code ec;
       fs::remove(named, ec);
@@ -118,9 +120,10 @@ Mesh mesh_from_arrays(const Eigen::Ref<const Eigen::MatrixX3d>& V, const Eigen::
   Mesh mesh;
   std::vector<Mesh::VertexHandle> vh(V.rows());
   for (Eigen::Index i = 0; i < V.rows(); ++i) vh[i] = mesh.add_vertex(Mesh::Point(V(i, 0), V(i, 1), V(i, 2)));
-  omerr().disable();
-  for (Eigen::Index i = 0; i < F.rows(); ++i) mesh.add_face(vh[F(i, 0)], vh[F(i, 1)], vh[F(i, 2)]);
-  omerr().enable();
+  {
+    const internal::QuietOpenMesh quiet;  // refused faces are left out
+    for (Eigen::Index i = 0; i < F.rows(); ++i) mesh.add_face(vh[F(i, 0)], vh[F(i, 1)], vh[F(i, 2)]);
+  }
   mesh.update_face_normals();
   return mesh;
 }
@@ -170,13 +173,14 @@ double signed_volume(const Mesh& mesh) {
 void append_mesh(Mesh& a, const Mesh& b) {
   std::vector<Mesh::VertexHandle> map(b.n_vertices());
   for (auto v : b.vertices()) map[v.idx()] = a.add_vertex(b.point(v));
-  omerr().disable();
-  for (auto f : b.faces()) {
-    std::vector<Mesh::VertexHandle> fv;
-    for (auto v : b.fv_range(f)) fv.push_back(map[v.idx()]);
-    a.add_face(fv);
+  {
+    const internal::QuietOpenMesh quiet;  // refused faces are left out
+    for (auto f : b.faces()) {
+      std::vector<Mesh::VertexHandle> fv;
+      for (auto v : b.fv_range(f)) fv.push_back(map[v.idx()]);
+      a.add_face(fv);
+    }
   }
-  omerr().enable();
   a.update_face_normals();
 }
 

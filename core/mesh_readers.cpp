@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/io.hpp"
 
 namespace tf::detail {
@@ -18,14 +19,13 @@ Mesh mesh_from_triangles(const std::vector<Eigen::Vector3d>& V, const std::vecto
   std::vector<Mesh::VertexHandle> vh;
   vh.reserve(V.size());
   for (const auto& p : V) vh.push_back(mesh.add_vertex(to_om(p)));
-  omerr().disable();
+  const internal::QuietOpenMesh quiet;  // a refused face gets its own vertices below
   for (const auto& t : T) {
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
     if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) {
       mesh.add_face(mesh.add_vertex(to_om(V[t[0]])), mesh.add_vertex(to_om(V[t[1]])), mesh.add_vertex(to_om(V[t[2]])));
     }
   }
-  omerr().enable();
   return mesh;
 }
 

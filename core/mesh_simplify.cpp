@@ -1,9 +1,9 @@
 // Decimation within a distance bound (see mesh_simplify.hpp): OpenMesh's decimater modules driven by a
 // lazy selection loop, over slabs of the mesh in parallel.
 #include "tiltfield/core/mesh_simplify.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/triangle_bvh.hpp"
 
-#include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
 #include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
@@ -340,7 +340,7 @@ BoundedDecimation join(const Mesh& in, std::vector<Slab>& slabs) {
     if (!copy) global[size_t(source)] = w.idx();
     return w;
   };
-  omerr().disable();  // OpenMesh reports each refused face; they are handled below
+  const internal::QuietOpenMesh quiet;  // OpenMesh reports each refused face; they are handled below
   for (Slab& s : slabs) {
     for (auto f : s.mesh.faces()) {
       std::array<int, 3> src{};
@@ -352,7 +352,6 @@ BoundedDecimation join(const Mesh& in, std::vector<Slab>& slabs) {
     }
     s.mesh.clear();  // free each slab once copied
   }
-  omerr().enable();
   return out;
 }
 
@@ -386,12 +385,13 @@ BoundedDecimation decimate_within(const Mesh& in, const BoundedDecimateOptions& 
   const TriangleBvh surface({&in});
   std::vector<Slab> slabs(static_cast<size_t>(count));
   SlabProgress progress(options.progress, slabs.size());
-  omerr().disable();  // refused faces are handled in build_slab
-  parallel_each(slabs.size(), [&](size_t s) {
-    build_slab(in, slab_of, shared, int(s), slabs[s]);
-    decimate_slab(slabs[s], surface, options, progress.slab(s));
-  });
-  omerr().enable();
+  {
+    const internal::QuietOpenMesh quiet;  // refused faces are handled in build_slab
+    parallel_each(slabs.size(), [&](size_t s) {
+      build_slab(in, slab_of, shared, int(s), slabs[s]);
+      decimate_slab(slabs[s], surface, options, progress.slab(s));
+    });
+  }
   BoundedDecimation joined = join(in, slabs);
   joined.input_vertices = out.input_vertices;
   joined.input_faces = out.input_faces;

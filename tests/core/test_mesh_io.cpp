@@ -1,7 +1,15 @@
 #include <gtest/gtest.h>
 
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
 #include "test_support.hpp"
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/scene.hpp"
 
@@ -77,6 +85,46 @@ TEST(MeshIO, FailedWriteLeavesNoFile) {
   tf::test::TempDir dir;
   EXPECT_ANY_THROW(tf::write_mesh(unit_box(), dir / "no" / "such" / "folder.stl"));
   EXPECT_FALSE(std::filesystem::exists(dir / "no"));
+}
+
+// OpenMesh's message streams are process-wide: a guard that ends while another lives must not switch
+// them on, an exception must not leave them off, and guards on several threads must not lose count.
+TEST(MeshIO, OpenMeshMessagesComeBackAfterTheLastGuard) {
+  auto on = [] { return omerr().is_enabled() && omlog().is_enabled(); };
+  ASSERT_TRUE(on());
+  {
+    const tf::internal::QuietOpenMesh outer;
+    { const tf::internal::QuietOpenMesh inner; }
+    EXPECT_FALSE(omerr().is_enabled());
+    EXPECT_FALSE(omlog().is_enabled());
+  }
+  EXPECT_TRUE(on());
+  try {
+    const tf::internal::QuietOpenMesh quiet;
+    throw std::runtime_error("in between");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_TRUE(on());
+  std::atomic<int> on_while_guarded{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&] {
+      for (int k = 0; k < 2000; ++k) {
+        const tf::internal::QuietOpenMesh quiet;
+        if (omerr().is_enabled()) ++on_while_guarded;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(on_while_guarded.load(), 0);
+  EXPECT_TRUE(on());
+  // Writing a mesh inside a guard of the caller's own keeps the caller's guard in force.
+  tf::test::TempDir dir;
+  {
+    const tf::internal::QuietOpenMesh quiet;
+    tf::write_mesh(unit_box(), dir / "box.stl");
+    EXPECT_FALSE(omlog().is_enabled());
+  }
+  EXPECT_TRUE(on());
 }
 
 }  // namespace

@@ -1,12 +1,11 @@
 #include "scene_writer.hpp"
 
-#include <OpenMesh/Core/System/omstream.hh>
-
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/core/machine.hpp"
 
@@ -67,10 +66,7 @@ fs::path write_scene_folder(const SceneBundle& s, const fs::path& dir) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw InputError(dir.string(), 0, "-o", "cannot create the output folder");
   // OpenMesh's STL writer announces itself on its log stream; a generator's output is one summary line.
-  struct LogOff {
-    LogOff() { omlog().disable(); }
-    ~LogOff() { omlog().enable(); }
-  } log_off;
+  const internal::QuietOpenMesh quiet;
   try {
     write_mesh(s.design.mesh, dir / s.design.file);
     for (const auto& c : s.check_surfaces) write_mesh(c.mesh, dir / c.file);

@@ -18,7 +18,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <OpenMesh/Core/System/omstream.hh>
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
+
 
 #include "raycast.hpp"
 #include "tiltfield/dexel/verify.hpp"
@@ -316,7 +317,7 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
   Mesh mesh;
   std::vector<Mesh::VertexHandle> vh(V.size());
   for (size_t i = 0; i < V.size(); ++i) vh[i] = mesh.add_vertex(to_om(V[i]));
-  omerr().disable();  // OpenMesh reports each non-manifold face; they are handled below
+  const internal::QuietOpenMesh quiet;  // OpenMesh reports each non-manifold face; they are handled below
   for (const auto& f : F) {
     if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) continue;
     auto fh = mesh.add_face(vh[f[0]], vh[f[1]], vh[f[2]]);
@@ -326,7 +327,6 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
       mesh.add_face(mesh.add_vertex(to_om(V[f[0]])), mesh.add_vertex(to_om(V[f[1]])), mesh.add_vertex(to_om(V[f[2]])));
     }
   }
-  omerr().enable();
   mesh.update_face_normals();
   return mesh;
 }
