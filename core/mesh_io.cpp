@@ -8,8 +8,8 @@
 
 #include "mesh_readers.hpp"
 #include "tiltfield/core/error.hpp"
-#include "tiltfield/core/io.hpp"
 #include "tiltfield/core/internal/quiet_openmesh.hpp"
+#include "tiltfield/core/io.hpp"
 #include "tiltfield/core/mesh.hpp"
 
 namespace tf {

@@ -18,10 +18,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "tiltfield/core/internal/quiet_openmesh.hpp"
-
-
 #include "raycast.hpp"
+#include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/dexel/verify.hpp"
 
 namespace tf {
