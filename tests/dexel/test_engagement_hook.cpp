@@ -1,7 +1,7 @@
 // The simulation's engagement hook (VerifyOptions::engagement): called after each feed block that removed
 // material next to the tool's end pose, with the stock as it was before that block wherever the
-// engagement reads it (the rays near the end pose's cutting surface are swapped back from their journal
-// for the call), the block's poses, and a box holding what the block removed there. The reference for
+// engagement reads it (the rays near the end pose's cutting surface, read with the pieces the block
+// removed from them put back), the block's poses, and a box holding what the block removed there. The reference for
 // "before block k" is the same program cut off after block k - 1, simulated on its own.
 #include <gtest/gtest.h>
 
@@ -95,11 +95,17 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRem
   std::deque<Call> calls;  // not moved once made
   VerifyOptions o;
   o.resolution = 0.2;
-  o.engagement = [&](const Tool& tool, const TriDexel& stock, const ToolPose&, const ToolPose& end,
+  o.engagement = [&](const Tool& tool, const StockBefore& stock, const ToolPose&, const ToolPose& end,
                      const Eigen::AlignedBox3d& removed) {
-    Call& c = calls.emplace_back(Call{0, TriDexel(stock.lattice()), reads_of(tool, end, stock.lattice().h), removed});
+    const Lattice& L = stock.lattice();
+    Call& c = calls.emplace_back(Call{0, TriDexel(L), reads_of(tool, end, L.h), removed});
+    std::vector<Interval> ray;
     for (int d = 0; d < 3; ++d)
-      for (size_t k = 0; k < stock.grid(d).size(); ++k) c.stock.grid(d)[k].assign(stock.grid(d)[k].data(), stock.grid(d)[k].size());
+      for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
+        for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
+          stock.ray(d, iu, iv, ray);
+          c.stock.ray(d, iu, iv).assign(ray.data(), static_cast<uint32_t>(ray.size()));
+        }
     return Engagement{};
   };
   const VerifyResult r = verify_program(s, program, forward_xyz, o);

@@ -2,7 +2,7 @@
 // engagement, and the collision, gouge and removal bookkeeping. The work per tile and ray, in parallel
 // over tiles, is in simulate_tile.cpp.
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_for_each.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -218,8 +218,8 @@ void Simulator::select_tiles() {
 
 // Engagement is measured on the stock before this block removed anything (the in-process workpiece the
 // tool meets at the block's end), and only where the block removed material next to the tool's end pose:
-// the rays the cut changed there trade contents with their journal copies for the measurement (a swap of
-// storage, no copy), then back. A block that removed nothing there engaged nothing and costs nothing here.
+// there the cut kept the pieces it removed (removed_), and the measurement reads the rays with them put
+// back. A block that removed nothing there engaged nothing and costs nothing here.
 void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
   Eigen::AlignedBox3d removed;
   removed.setEmpty();
@@ -236,37 +236,31 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
     }
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
-  // Each thread's journal on its own (the rays of different journals are different rays); in parallel only
-  // where that pays for the tasks (a short block's journal holds a few thousand rays).
-  size_t journalled = 0;
-  for (const Accum& a : accum_) journalled += a.journal_n;
-  auto swap_one = [](Accum& a) {
-    for (size_t k = 0; k < a.journal_n; ++k) swap(*a.journal_rays[k], a.journal_old[k]);
-  };
-  auto swap_journal = [&] {
-    if (journalled > 16384) tbb::parallel_for_each(accum_.begin(), accum_.end(), swap_one);
-    else for (Accum& a : accum_) swap_one(a);
-  };
-  swap_journal();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
-  br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
+  br.engagement = opt_.engagement(tool, StockBefore(stock_, &removed_), pose_at(1.0 - back), pose_at(1.0),
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
-  swap_journal();
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The rays the engagement can read: those within a spacing (the reach of its nearest-ray lookups) of the
-// cutting surface at the block's end (ball or end face up to the flutes' top, a cylinder of the tool's
-// radius), per grid as a footprint across the rays.
+// The rays the engagement can read: those within 1.5 spacings (the reach of its nearest-ray lookups) of
+// the cutting surface at the block's end (ball or end face up to the flutes' top, a cylinder of the
+// tool's radius), per grid as a footprint across the rays; the cut keeps what it removes from them.
 void Simulator::engagement_reads(const Tool& tool, const ToolPose& end) {
   const Eigen::Vector3d a = end.axis.normalized(), top = end.tip + tool.flute_length * a;
   const Eigen::Vector3d ext =
       (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * tool.radius() + Eigen::Vector3d::Constant(1.5 * lattice_.h);
-  const Eigen::Vector3d lo = end.tip.cwiseMin(top) - ext - lattice_.origin, hi = end.tip.cwiseMax(top) + ext - lattice_.origin;
+  const Eigen::Vector3d lo = (end.tip.cwiseMin(top) - ext - lattice_.origin) * inv_h_,
+                        hi = (end.tip.cwiseMax(top) + ext - lattice_.origin) * inv_h_;
+  std::array<RemovedPieces::Footprint, 3> fp;
   for (int d = 0; d < 3; ++d) {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    reads_[d] = {static_cast<float>(lo[u]), static_cast<float>(hi[u]), static_cast<float>(lo[v]), static_cast<float>(hi[v])};
+    auto clamp = [](double x, int n) { return static_cast<int>(std::clamp(x, -1.0, double(n))); };
+    fp[d] = {clamp(std::ceil(lo[u]), lattice_.n[u]), clamp(std::floor(hi[u]), lattice_.n[u] - 1),
+             clamp(std::ceil(lo[v]), lattice_.n[v]), clamp(std::floor(hi[v]), lattice_.n[v] - 1)};
+    fp[d].iu0 = std::max(fp[d].iu0, 0);
+    fp[d].iv0 = std::max(fp[d].iv0, 0);
   }
+  removed_.start(fp, tbb::this_task_arena::max_concurrency());
 }
 
 Simulator::BlockTotals Simulator::merged_totals() {

@@ -1,6 +1,8 @@
 // The verifier's work per tile of rays (one task of the parallel block loop in simulate.cpp): where the
 // block's swept parts meet each ray, the exact union of their intervals subtracted from the material, and
 // the collision, gouge and removal records of every ray they meet.
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -52,29 +54,21 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
   slot = std::max(slot, depth);
 }
 
-// The ray's content before the block, copied the first time the block changes it (a crash removes from
-// the same ray again right after the cut, and is then the journal's last entry). Each journal slot keeps
-// its own storage, and so does the ray: nothing is allocated once the journal has grown.
-void journal(Dexel& ray, Accum& acc) {
-  if (acc.journal_n > 0 && acc.journal_rays[acc.journal_n - 1] == &ray) return;
-  if (acc.journal_n == acc.journal_old.size()) {
-    acc.journal_old.emplace_back();
-    acc.journal_rays.push_back(nullptr);
-  }
-  acc.journal_old[acc.journal_n].assign(ray.data(), ray.size());
-  acc.journal_rays[acc.journal_n++] = &ray;
-}
+}  // namespace
 
 // Takes the disjoint intervals cut[0..n) out of ray `ray` at `at` (the removed pieces into `pieces` when
 // not null); false when no material went. `cutting`: the cutting parts' union, whose removal bounds the
-// engagement (acc.removed_box), not a crash's.
-bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces, bool cutting,
-              Accum& acc) {
-  const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, pieces);
+// engagement (acc.removed_box), not a crash's. Where the engagement reads, the pieces also go to
+// removed_, which gives it the ray as it was.
+bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
+                         bool cutting, Accum& acc) {
+  const bool read = acc.journal_on && removed_.footprint(at.d).holds(at.iu, at.iv);
+  std::vector<Interval>* out = pieces;
+  if (read && !out) (out = &acc.journal_pieces)->clear();
+  const size_t first = out ? out->size() : 0;
+  const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, out);
   if (!(gone > 0)) return false;
-  // Only rays the engagement can read, near the tool's end pose, keep their content and bound the removal.
-  const auto& f = acc.reads[at.d];
-  if (acc.journal_on && at.u_mm >= f[0] && at.u_mm <= f[1] && at.v_mm >= f[2] && at.v_mm <= f[3]) {
+  if (read) {
     if (cutting) {
       // The removed material lies where the cut and the material before overlap.
       Accum::GridBox& b = acc.removed_box[at.d];
@@ -85,19 +79,17 @@ bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::v
       b.v0 = std::min(b.v0, at.v_mm);
       b.v1 = std::max(b.v1, at.v_mm);
     }
-    journal(ray, acc);
+    removed_.add(acc.writer, at.d, at.iu, at.iv, out->data() + first, out->size() - first);
   }
   ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
   acc.removed[at.d] += gone;
   return true;
 }
 
-}  // namespace
-
 void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
   acc.journal_on = journal_on_;
-  acc.reads = reads_;
+  acc.writer = tbb::this_task_arena::current_thread_index();
   acc.parts.clear();
   for (size_t i = 0; i < sweep_.parts.size(); ++i)
     if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
@@ -294,7 +286,7 @@ bool Simulator::process_ray(int d, int iu, int iv, bool rapid, Accum& acc) {
 
 // On a ray holding material: the cutting parts' union (acc.cut) removed, and the overlaps of a rapid's
 // cutting parts and of the non-cutting parts with the material recorded. True when the material changed.
-bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const {
+bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
   const int d = at.d;
   bool changed = false;
   if (rapid)

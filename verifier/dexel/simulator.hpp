@@ -16,6 +16,7 @@
 #include "ray_extents.hpp"
 #include "raycast.hpp"
 #include "sweep_rows.hpp"
+#include "tiltfield/dexel/stock_before.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tool_set.hpp"
 
@@ -56,23 +57,18 @@ struct Accum {
   std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
   std::vector<RowPart> row;
   // For the engagement, which is measured after the cut on the stock as it was before the block: the
-  // rays this thread changed, their contents before (journal_old[k] of journal_rays[k]) and, per grid, the
-  // box of the material the cutting parts removed (mm from the lattice origin, in the grid's u, v and
-  // ray axes; scalar fields, so that the per-ray update stays in registers).
+  // pieces the cut removed from rays the engagement can read go to Simulator::removed_ (as writer
+  // `writer`), and per grid the box of the material the cutting parts removed there (mm from the lattice
+  // origin, in the grid's u, v and ray axes; scalar fields, so that the per-ray update stays in registers).
   struct GridBox {
     static constexpr float kInf = std::numeric_limits<float>::infinity();
     float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
   };
   bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
-  // Per grid, the (u, v) footprint of the rays the engagement can read (mm from the lattice origin): only
-  // they are journalled and count for the removed box.
-  std::array<std::array<float, 4>, 3> reads{};
-  size_t journal_n = 0;
-  std::vector<Dexel*> journal_rays;
-  std::vector<Dexel> journal_old;
+  int writer = 0;           // this thread's index among the writers of Simulator::removed_
+  std::vector<Interval> journal_pieces;  // the pieces one subtraction removed from a ray that is read
   std::array<GridBox, 3> removed_box;
   void reset() {
-    journal_n = 0;
     removed_box = {};
     removed = {};
     for (auto& a : depth)
@@ -172,7 +168,9 @@ class Simulator {
   inline bool part_hit(const RowPart& rp, int iu, const Interval& r, const Accum& acc, Hit& h) const;
   inline bool cut_ray(const TileRays& t, int iu, int iv, bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
-  inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) const;
+  inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc);
+  inline bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
+                       bool cutting, Accum& acc);
   RayAt ray_at(int d, int iu, int iv) const {
     return {d, iu, iv, static_cast<float>(lattice_.h * iu), static_cast<float>(lattice_.h * iv)};
   }
@@ -198,8 +196,8 @@ class Simulator {
   BlockSweep sweep_;
   LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
   uint32_t block_ = 0;     // 1-based index of the block being simulated
-  bool journal_on_ = false;  // this block keeps the changed rays' contents (Accum::journal_on)
-  std::array<std::array<float, 4>, 3> reads_{};  // Accum::reads for this block
+  bool journal_on_ = false;  // this block keeps what it removed where the engagement reads (Accum::journal_on)
+  RemovedPieces removed_;   // that, per ray; the footprint is the rays the engagement can read
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 

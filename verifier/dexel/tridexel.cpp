@@ -102,6 +102,13 @@ double subtract_intervals(const Interval* a, size_t na, const Interval* b, size_
                           std::vector<Interval>* removed) {
   out.clear();
   double gone = 0.0;
+  // A removed stretch, joined to the last one where they touch (a sliver dropped next to a cut).
+  auto lose = [&](float lo, float hi) {
+    gone += double(hi) - double(lo);
+    if (!removed) return;
+    if (!removed->empty() && removed->back().hi == lo) removed->back().hi = hi;
+    else removed->push_back({lo, hi});
+  };
   size_t j = 0;
   for (size_t i = 0; i < na; ++i) {
     float lo = a[i].lo;
@@ -110,17 +117,14 @@ double subtract_intervals(const Interval* a, size_t na, const Interval* b, size_
     size_t k = j;
     while (lo < hi) {
       if (k >= nb || b[k].lo >= hi) {
-        if (hi - lo > kMinInterval) out.push_back({lo, hi}); else gone += hi - lo;
+        if (hi - lo > kMinInterval) out.push_back({lo, hi}); else lose(lo, hi);
         break;
       }
       if (b[k].lo > lo) {
-        if (b[k].lo - lo > kMinInterval) out.push_back({lo, b[k].lo}); else gone += b[k].lo - lo;
+        if (b[k].lo - lo > kMinInterval) out.push_back({lo, b[k].lo}); else lose(lo, b[k].lo);
       }
       const float cut_lo = std::max(lo, b[k].lo), cut_hi = std::min(hi, b[k].hi);
-      if (cut_hi > cut_lo) {
-        gone += double(cut_hi) - double(cut_lo);
-        if (removed) removed->push_back({cut_lo, cut_hi});
-      }
+      if (cut_hi > cut_lo) lose(cut_lo, cut_hi);
       lo = b[k].hi;
       if (b[k].hi <= hi) ++k;
       else break;

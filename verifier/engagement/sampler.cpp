@@ -6,8 +6,34 @@
 namespace tf::engagement {
 namespace {
 
-// Signed along-ray distance from coordinate t to the nearest material boundary of a ray: negative inside
-// material, positive outside, +inf for an empty ray.
+// Signed along-ray distance from coordinate t to the nearest material boundary of the union of two sorted
+// lists of disjoint intervals (a ray's material now and the pieces a block removed from it, which may
+// touch it but not overlap it): negative inside material, positive outside, +inf for no material.
+double along_ray_distance(const Interval* a, const Interval* ae, const Interval* b, const Interval* be, float t) {
+  // The union's parts in order, touching intervals joined; rays hold few intervals: a scan beats a search.
+  auto next = [&](Interval& part) {
+    if (a == ae && b == be) return false;
+    part = b == be || (a != ae && a->lo <= b->lo) ? *a++ : *b++;
+    for (;;) {
+      if (a != ae && a->lo <= part.hi) part.hi = std::max(part.hi, (a++)->hi);
+      else if (b != be && b->lo <= part.hi) part.hi = std::max(part.hi, (b++)->hi);
+      else return true;
+    }
+  };
+  double before = std::numeric_limits<double>::infinity();  // back to the last part ending before t
+  Interval part;
+  while (next(part)) {
+    if (part.hi < t) {
+      before = t - part.hi;
+      continue;
+    }
+    if (t >= part.lo) return -std::min(t - part.lo, part.hi - t);
+    return std::min<double>(before, part.lo - t);
+  }
+  return before;
+}
+
+// The same for one list, the common case (a ray the block did not change).
 double along_ray_distance(const Dexel& ray, float t) {
   // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
   const Interval* b = ray.begin();
@@ -23,7 +49,7 @@ double along_ray_distance(const Dexel& ray, float t) {
 
 }  // namespace
 
-double material_depth(const TriDexel& stock, const Eigen::Vector3d& p) {
+double material_depth(const StockBefore& stock, const Eigen::Vector3d& p) {
   const Lattice& L = stock.lattice();
   const double inv_h = 1.0 / L.h;
   const double inf = std::numeric_limits<double>::infinity();
@@ -38,7 +64,11 @@ double material_depth(const TriDexel& stock, const Eigen::Vector3d& p) {
   }
   double best = inf;
   for (int d = 0; d < 3; ++d) {
-    const double sd = along_ray_distance(stock.ray(d, iu[d], iv[d]), static_cast<float>(p[d] - L.origin[d]));
+    const Dexel& ray = stock.now().ray(d, iu[d], iv[d]);
+    const float t = static_cast<float>(p[d] - L.origin[d]);
+    const auto [pieces, n] = stock.removed(d, iu[d], iv[d]);
+    const double sd =
+        n == 0 ? along_ray_distance(ray, t) : along_ray_distance(ray.begin(), ray.end(), pieces, pieces + n, t);
     if (std::abs(sd) < std::abs(best)) best = sd;
   }
   return best;
@@ -58,7 +88,7 @@ SampleGrid::SampleGrid(const Profile& prof, double spacing, const EngagementOpti
   }
 }
 
-Sampler::Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region)
+Sampler::Sampler(const StockBefore& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region)
     : stock_(stock), region_(region) {
   const Eigen::Vector3d a = end.axis.normalized();
   Eigen::Vector3d f = (end.tip - before.tip) - (end.tip - before.tip).dot(a) * a;

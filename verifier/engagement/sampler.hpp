@@ -9,17 +9,18 @@
 #include <vector>
 
 #include "cutting_surface.hpp"
+#include "tiltfield/dexel/stock_before.hpp"
 #include "tiltfield/dexel/tridexel.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tiltfield/engagement/engagement.hpp"
 
 namespace tf::engagement {
 
-// Signed distance along the deciding ray from p to the nearest material boundary (negative inside), by
-// the nearest ray of each grid; the grid whose boundary is the closest decides (a ray crossing a boundary
-// steeply places it exactly, one running along it is off by up to half a spacing, and loses). +inf
-// outside the lattice.
-double material_depth(const TriDexel& stock, const Eigen::Vector3d& p);
+// Signed distance along the deciding ray from p to the nearest material boundary (negative inside) in the
+// stock before the block, by the nearest ray of each grid; the grid whose boundary is the closest decides
+// (a ray crossing a boundary steeply places it exactly, one running along it is off by up to half a
+// spacing, and loses). +inf outside the lattice.
+double material_depth(const StockBefore& stock, const Eigen::Vector3d& p);
 
 // How deep inside the tool a surface point's material test looks (mm): a block that only grazes a surface
 // cut before (a repeated pass) engages nothing.
@@ -64,7 +65,7 @@ class Sampler {
  public:
   // `region`: where the material the block removed lies, grown by the classification's reach; points
   // outside it are not engaged without a look at the stock.
-  Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region);
+  Sampler(const StockBefore& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region);
   RingFrame ring(const ProfilePoint& pp) const;
   // The point of ring f at the angle with cosine c and sine sn. Unless `measured`, a point that faces
   // away from its motion is only classified: its facing value (for the refinement) stays NaN.
@@ -90,7 +91,7 @@ class Sampler {
   const Frame& end_frame() const { return end_; }
 
  private:
-  const TriDexel& stock_;
+  const StockBefore& stock_;
   Eigen::AlignedBox3d region_;
   Frame end_, before_;
 };

@@ -111,7 +111,8 @@ TriDexel make_stock(const Stock& stock, const Lattice& lattice);
 TriDexel dexels_from_mesh(const Mesh& mesh, const Lattice& lattice);
 
 // r = a \ b for sorted disjoint interval lists; returns the length removed (mm). `removed`, when not
-// null, receives the removed pieces. `out` is cleared first.
+// null, receives the removed pieces, the slivers dropped under kMinInterval included (joined to a piece
+// they touch), so that r and the pieces make up a exactly. `out` is cleared first.
 double subtract_intervals(const Interval* a, size_t na, const Interval* b, size_t nb, std::vector<Interval>& out,
                           std::vector<Interval>* removed);
 // Total overlap length of two sorted disjoint lists, and the longest single overlap (mm).

@@ -1,0 +1,89 @@
+// tiltfield dexel: a tri-dexel stock read as it was before a change (one block's cut) without a copy of
+// the rays the change touched. The change keeps, per ray it touched inside a footprint, the pieces it
+// removed; the ray before the change is its intervals now together with those pieces.
+//
+// In: the stock after the change and the pieces (coordinates along the ray from the lattice origin, mm,
+// as in Interval). Out: per ray, its material before the change.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "tiltfield/dexel/tridexel.hpp"
+
+namespace tf {
+
+// The pieces one change removed from the rays of a TriDexel inside a footprint per grid. Each ray has
+// one writer; writers (threads) are told apart by an index below the count given to start() and append to
+// their own storage, so a change is recorded from several threads without locks. Entries of earlier
+// changes are told apart by a counter, not cleared, so that starting a change costs nothing per ray.
+class RemovedPieces {
+ public:
+  // Rays iu0..iu1 of rows iv0..iv1 of one grid (inclusive; empty when iu1 < iu0 or iv1 < iv0).
+  struct Footprint {
+    int iu0 = 0, iu1 = -1, iv0 = 0, iv1 = -1;
+    bool holds(int iu, int iv) const { return iu >= iu0 && iu <= iu1 && iv >= iv0 && iv <= iv1; }
+  };
+
+  // Starts a change: rays inside `footprint` may be recorded, by writers 0..writers-1.
+  void start(const std::array<Footprint, 3>& footprint, int writers);
+  const Footprint& footprint(int d) const { return fp_[size_t(d)]; }
+  // Adds pieces[0..n) (sorted, disjoint, taken from the ray's material now) to what ray (d, iu, iv) has
+  // lost in this change. The ray lies inside the footprint, and only writer w writes it in this change.
+  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n);
+  // What ray (d, iu, iv) lost in this change: sorted, disjoint; {nullptr, 0} when nothing (or outside).
+  std::pair<const Interval*, size_t> removed(int d, int iu, int iv) const {
+    const Footprint& f = fp_[size_t(d)];
+    if (!f.holds(iu, iv)) return {nullptr, 0};
+    const Entry& e = table_[size_t(d)][index(f, iu, iv)];
+    if (e.stamp != stamp_) return {nullptr, 0};
+    return {writers_[e.writer].pool.data() + e.offset, e.n};
+  }
+  // Rays recorded in this change.
+  size_t rays() const;
+
+ private:
+  struct Entry {
+    uint32_t stamp = 0, writer = 0, offset = 0, n = 0;
+  };
+  static size_t index(const Footprint& f, int iu, int iv) {
+    return size_t(iv - f.iv0) * size_t(f.iu1 - f.iu0 + 1) + size_t(iu - f.iu0);
+  }
+  std::array<Footprint, 3> fp_{};
+  std::array<std::vector<Entry>, 3> table_;
+  // Per writer, a cache line of its own (two threads appending to neighbouring vectors slowed the cut
+  // more than twofold): the pieces it recorded and the count of its rays.
+  struct alignas(64) Writer {
+    std::vector<Interval> pool;
+    size_t rays = 0;
+  };
+  std::vector<Writer> writers_;
+  uint32_t stamp_ = 0;
+};
+
+// A TriDexel as it was before a change: `now` with the pieces `removed` put back. Without pieces, the
+// stock itself.
+class StockBefore {
+ public:
+  explicit StockBefore(const TriDexel& now, const RemovedPieces* removed = nullptr) : now_(&now), removed_(removed) {}
+  const TriDexel& now() const { return *now_; }
+  const Lattice& lattice() const { return now_->lattice(); }
+  std::pair<const Interval*, size_t> removed(int d, int iu, int iv) const {
+    return removed_ ? removed_->removed(d, iu, iv) : std::pair<const Interval*, size_t>{nullptr, 0};
+  }
+  // Ray (d, iu, iv) as it was: sorted, disjoint intervals (a removed piece and the material it touched
+  // are one interval again).
+  void ray(int d, int iu, int iv, std::vector<Interval>& out) const;
+
+ private:
+  const TriDexel* now_;
+  const RemovedPieces* removed_;
+};
+
+// The union of two sorted lists of disjoint intervals whose intervals do not overlap each other's (they
+// may touch), with touching intervals joined: into `out` (cleared first).
+void join_disjoint(const Interval* a, size_t na, const Interval* b, size_t nb, std::vector<Interval>& out);
+
+}  // namespace tf

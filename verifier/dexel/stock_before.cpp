@@ -1,0 +1,68 @@
+// Removed pieces of one change per ray, and the stock read as it was before it (stock_before.hpp).
+#include "tiltfield/dexel/stock_before.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace tf {
+
+void RemovedPieces::start(const std::array<Footprint, 3>& footprint, int writers) {
+  if (++stamp_ == 0) {  // the counter wrapped: entries of 2^32 changes ago would read as current
+    for (auto& t : table_) std::fill(t.begin(), t.end(), Entry{});
+    stamp_ = 1;
+  }
+  fp_ = footprint;
+  for (int d = 0; d < 3; ++d) {
+    const Footprint& f = fp_[size_t(d)];
+    const size_t n = f.iu1 < f.iu0 || f.iv1 < f.iv0 ? 0 : size_t(f.iu1 - f.iu0 + 1) * size_t(f.iv1 - f.iv0 + 1);
+    if (table_[size_t(d)].size() < n) table_[size_t(d)].resize(n);
+  }
+  if (writers_.size() < size_t(std::max(1, writers))) writers_.resize(size_t(std::max(1, writers)));
+  for (Writer& w : writers_) w.pool.clear(), w.rays = 0;
+}
+
+void RemovedPieces::add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) {
+  const Footprint& f = fp_[size_t(d)];
+  if (w < 0 || size_t(w) >= writers_.size() || !f.holds(iu, iv))
+    throw std::logic_error("RemovedPieces::add: writer or ray outside the change");
+  if (n == 0) return;
+  std::vector<Interval>& pool = writers_[size_t(w)].pool;
+  Entry& e = table_[size_t(d)][index(f, iu, iv)];
+  if (e.stamp == stamp_ && e.n > 0) {
+    // Removed from again in this change (a crash after the cut): the pieces of both, in order.
+    const Interval* old = writers_[e.writer].pool.data() + e.offset;
+    std::vector<Interval> both;
+    std::merge(old, old + e.n, pieces, pieces + n, std::back_inserter(both),
+               [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+    e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size())};
+    pool.insert(pool.end(), both.begin(), both.end());
+    return;
+  }
+  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(n)};
+  pool.insert(pool.end(), pieces, pieces + n);
+  ++writers_[size_t(w)].rays;
+}
+
+size_t RemovedPieces::rays() const {
+  size_t n = 0;
+  for (const Writer& w : writers_) n += w.rays;
+  return n;
+}
+
+void join_disjoint(const Interval* a, size_t na, const Interval* b, size_t nb, std::vector<Interval>& out) {
+  out.clear();
+  size_t i = 0, j = 0;
+  while (i < na || j < nb) {
+    const Interval& x = j >= nb || (i < na && a[i].lo <= b[j].lo) ? a[i++] : b[j++];
+    if (!out.empty() && x.lo <= out.back().hi) out.back().hi = std::max(out.back().hi, x.hi);
+    else out.push_back(x);
+  }
+}
+
+void StockBefore::ray(int d, int iu, int iv, std::vector<Interval>& out) const {
+  const Dexel& r = now_->ray(d, iu, iv);
+  const auto [p, n] = removed(d, iu, iv);
+  join_disjoint(r.begin(), r.size(), p, n, out);
+}
+
+}  // namespace tf
