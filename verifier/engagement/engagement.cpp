@@ -59,6 +59,7 @@ struct RingResult {
 // every other ring reads as disengaged. Angles j from -na to 2 na - 1 wrap around.
 struct BlockSamples {
   int i0 = 0, i1 = -1, na = 0;
+  bool parallel = false;          // enough samples to classify that the work is spread over the threads
   std::vector<PointState> state;  // ring-major, rings i0..i1
   std::vector<uint8_t> eng;       // the same, engaged or not
   size_t index(int i, int j) const { return size_t(i - i0) * na + (j < 0 ? j + na : j >= na ? j - na : j); }
@@ -202,8 +203,9 @@ void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations
     for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, sampler.ring(g.ring[i]), evaluations);
   };
   const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
-  if (marked < kParallelSamples) rings_in(all);
-  else tbb::parallel_for(all, rings_in);
+  b.parallel = marked >= kParallelSamples;
+  if (b.parallel) tbb::parallel_for(all, rings_in);
+  else rings_in(all);
 }
 
 // The engaged area (mm^2) and the extent of the engaged surface: its heights z along the axis and its
@@ -244,51 +246,71 @@ Extent ring_bands(const SampleGrid& g, const BlockSamples& b, const std::vector<
   return x;
 }
 
-// Where the state changes between rings along a sample's meridian, the bands are off by the strip between
-// the band edge and the refined boundary: the strip's area, and the boundary into the extent.
-void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
-                         int evaluations, Extent& x) {
+// Where the state changes between ring i and ring i + 1 along a sample's meridian, the bands are off by
+// the strip between the band edge and the refined boundary: the strips' area, and the boundaries, into x.
+void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
+                     int evaluations, int i, Extent& x) {
   const double width = kRefineFraction * g.h / g.ds;
-  const std::vector<uint8_t> none(g.na, 0);
-  for (int i = std::max(0, b.i0 - 1); i <= std::min(b.i1, g.nr - 2); ++i) {
-    const uint8_t* below = i >= b.i0 ? &b.eng[b.index(i, 0)] : none.data();
-    const uint8_t* above = i + 1 <= b.i1 ? &b.eng[b.index(i + 1, 0)] : none.data();
-    for (int j = 0; j < g.na; ++j) {
-      const bool a = below[j] != 0, c = above[j] != 0;
-      if (a == c) continue;
-      double s0 = g.s_of(i), s1 = g.s_of(i + 1);
-      auto at = [&](double s) { return sampler.state(sampler.ring(prof.at(s)), g.cos_phi[j], g.sin_phi[j]); };
-      // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
-      auto end = [&](int k) {
-        const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
-        return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
-      };
-      PointState sa = end(i), sc = end(i + 1);
-      const double rim = prof.rim();
-      double sb = -1.0;
-      if (rim > s0 && rim < s1) {
-        // The facing measure jumps at the rim: a change of state across it is at the rim, otherwise the
-        // boundary lies on one side of it.
-        const double eps = 1e-9 * g.S;
-        const PointState below = at(rim - eps), above = at(rim + eps);
-        if (below.engaged != above.engaged) sb = rim;
-        else if (below.engaged == sa.engaged) s0 = rim + eps, sa = above;
-        else s1 = rim - eps, sc = below;
-      }
-      if (sb < 0.0)
-        sb = s0 + (s1 - s0) * engagement::refine_boundary(sa, sc, width * g.ds / (s1 - s0), evaluations,
-                                                          [&](double u) { return at(s0 + u * (s1 - s0)); });
-      const double edge = (i + 1) * g.ds;  // band edge between the rings
-      // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
-      const double lo = std::min(sb, edge), hi = std::max(sb, edge);
-      const double strip = prof.band_area(lo, hi) / g.na;
-      x.area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
-      const ProfilePoint p = prof.at(sb);
-      x.zmin = std::min(x.zmin, p.z);
-      x.zmax = std::max(x.zmax, p.z);
-      x.wmin = std::min(x.wmin, p.r * g.cos_phi[j]);
-      x.wmax = std::max(x.wmax, p.r * g.cos_phi[j]);
+  const uint8_t* below = i >= b.i0 ? &b.eng[b.index(i, 0)] : nullptr;
+  const uint8_t* above = i + 1 <= b.i1 ? &b.eng[b.index(i + 1, 0)] : nullptr;
+  for (int j = 0; j < g.na; ++j) {
+    const bool a = below && below[j] != 0, c = above && above[j] != 0;
+    if (a == c) continue;
+    double s0 = g.s_of(i), s1 = g.s_of(i + 1);
+    auto at = [&](double s) { return sampler.state(sampler.ring(prof.at(s)), g.cos_phi[j], g.sin_phi[j]); };
+    // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
+    auto end = [&](int k) {
+      const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
+      return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
+    };
+    PointState sa = end(i), sc = end(i + 1);
+    const double rim = prof.rim();
+    double sb = -1.0;
+    if (rim > s0 && rim < s1) {
+      // The facing measure jumps at the rim: a change of state across it is at the rim, otherwise the
+      // boundary lies on one side of it.
+      const double eps = 1e-9 * g.S;
+      const PointState under = at(rim - eps), over = at(rim + eps);
+      if (under.engaged != over.engaged) sb = rim;
+      else if (under.engaged == sa.engaged) s0 = rim + eps, sa = over;
+      else s1 = rim - eps, sc = under;
     }
+    if (sb < 0.0)
+      sb = s0 + (s1 - s0) * engagement::refine_boundary(sa, sc, width * g.ds / (s1 - s0), evaluations,
+                                                        [&](double u) { return at(s0 + u * (s1 - s0)); });
+    const double edge = (i + 1) * g.ds;  // band edge between the rings
+    // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
+    const double lo = std::min(sb, edge), hi = std::max(sb, edge);
+    const double strip = prof.band_area(lo, hi) / g.na;
+    x.area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
+    const ProfilePoint p = prof.at(sb);
+    x.zmin = std::min(x.zmin, p.z);
+    x.zmax = std::max(x.zmax, p.z);
+    x.wmin = std::min(x.wmin, p.r * g.cos_phi[j]);
+    x.wmax = std::max(x.wmax, p.r * g.cos_phi[j]);
+  }
+}
+
+// The meridian strips of every pair of neighbouring rings around the classified ones, into x: per pair
+// on its own (on the threads when the rings were), then added in order, so that the sum does not depend on
+// the threads. `parts`: a buffer.
+void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
+                         int evaluations, std::vector<Extent>& parts, Extent& x) {
+  const int first = std::max(0, b.i0 - 1), last = std::min(b.i1, g.nr - 2);
+  if (last < first) return;
+  parts.assign(size_t(last - first + 1), Extent{});
+  auto pairs_in = [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i != r.end(); ++i) meridian_strips(g, b, sampler, prof, evaluations, i, parts[size_t(i - first)]);
+  };
+  const tbb::blocked_range<int> all(first, last + 1, kRingGrain);
+  if (b.parallel) tbb::parallel_for(all, pairs_in);
+  else pairs_in(all);
+  for (const Extent& p : parts) {
+    x.area += p.area;
+    x.zmin = std::min(x.zmin, p.zmin);
+    x.zmax = std::max(x.zmax, p.zmax);
+    x.wmin = std::min(x.wmin, p.wmin);
+    x.wmax = std::max(x.wmax, p.wmax);
   }
 }
 
@@ -376,7 +398,7 @@ class Meter {
     classify_rings(g, sampler, evaluations, samples_, rings_);
     Extent x = ring_bands(g, samples_, rings_, profile_, opt_.keep_pairs, out);
     if (!(x.area > 0.0)) return out;
-    add_meridian_strips(g, samples_, sampler, profile_, evaluations, x);
+    add_meridian_strips(g, samples_, sampler, profile_, evaluations, strips_, x);
     out.area_mm2 = std::max(0.0, x.area);
     out.axial_depth_mm = x.zmax - x.zmin;
     out.radial_width_mm = x.wmax - x.wmin;
@@ -391,6 +413,7 @@ class Meter {
   std::unique_ptr<SampleGrid> grid_;
   BlockSamples samples_;
   std::vector<RingResult> rings_;
+  std::vector<Extent> strips_;
 };
 
 }  // namespace
