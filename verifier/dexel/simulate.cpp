@@ -158,7 +158,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.feed = b.feed;
   br.feed_mode = b.feed_mode;
   const bool engagement = opt_.engagement && !rapid && !tasks_.empty();
-  journal_on_ = engagement;
+  keep_pieces_ = engagement;
   if (engagement) engagement_reads(tools_.tool(b.tool), pose_at(1.0));
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });

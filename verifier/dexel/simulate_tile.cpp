@@ -62,9 +62,9 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 // removed_, which gives it the ray as it was.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
                          bool cutting, Accum& acc) {
-  const bool read = acc.journal_on && removed_.footprint(at.d).holds(at.iu, at.iv);
+  const bool read = acc.keep_pieces && removed_.footprint(at.d).holds(at.iu, at.iv);
   std::vector<Interval>* out = pieces;
-  if (read && !out) (out = &acc.journal_pieces)->clear();
+  if (read && !out) (out = &acc.read_pieces)->clear();
   const size_t first = out ? out->size() : 0;
   const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, out);
   if (!(gone > 0)) return false;
@@ -88,7 +88,7 @@ bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_
 
 void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
-  acc.journal_on = journal_on_;
+  acc.keep_pieces = keep_pieces_;
   acc.writer = tbb::this_task_arena::current_thread_index();
   acc.parts.clear();
   for (size_t i = 0; i < sweep_.parts.size(); ++i)

@@ -64,9 +64,9 @@ struct Accum {
     static constexpr float kInf = std::numeric_limits<float>::infinity();
     float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
   };
-  bool journal_on = false;  // set by process_tile (a thread's first task may come after the block's reset)
+  bool keep_pieces = false;  // set by process_tile (a thread's first task may come after the block's reset)
   int writer = 0;           // this thread's index among the writers of Simulator::removed_
-  std::vector<Interval> journal_pieces;  // the pieces one subtraction removed from a ray that is read
+  std::vector<Interval> read_pieces;  // the pieces one subtraction removed from a ray that is read
   std::array<GridBox, 3> removed_box;
   void reset() {
     removed_box = {};
@@ -196,7 +196,7 @@ class Simulator {
   BlockSweep sweep_;
   LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
   uint32_t block_ = 0;     // 1-based index of the block being simulated
-  bool journal_on_ = false;  // this block keeps what it removed where the engagement reads (Accum::journal_on)
+  bool keep_pieces_ = false;  // this block keeps what it removed where the engagement reads (Accum::keep_pieces)
   RemovedPieces removed_;   // that, per ray; the footprint is the rays the engagement can read
   tbb::enumerable_thread_specific<Accum> accum_;
 };

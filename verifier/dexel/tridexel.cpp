@@ -102,11 +102,12 @@ double subtract_intervals(const Interval* a, size_t na, const Interval* b, size_
                           std::vector<Interval>* removed) {
   out.clear();
   double gone = 0.0;
-  // A removed stretch, joined to the last one where they touch (a sliver dropped next to a cut).
+  // A removed stretch, joined to the last one of this call where they touch (a sliver dropped next to a cut).
+  const size_t first = removed ? removed->size() : 0;
   auto lose = [&](float lo, float hi) {
     gone += double(hi) - double(lo);
     if (!removed) return;
-    if (!removed->empty() && removed->back().hi == lo) removed->back().hi = hi;
+    if (removed->size() > first && removed->back().hi == lo) removed->back().hi = hi;
     else removed->push_back({lo, hi});
   };
   size_t j = 0;
