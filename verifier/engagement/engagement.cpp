@@ -60,6 +60,7 @@ struct RingResult {
 struct BlockSamples {
   int i0 = 0, i1 = -1, na = 0;
   bool parallel = false;          // enough samples to classify that the work is spread over the threads
+  std::vector<RingFrame> frame;   // rings i0..i1
   std::vector<PointState> state;  // ring-major, rings i0..i1
   std::vector<uint8_t> eng;       // the same, engaged or not
   size_t index(int i, int j) const { return size_t(i - i0) * na + (j < 0 ? j + na : j >= na ? j - na : j); }
@@ -195,12 +196,16 @@ void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations
                     std::vector<RingResult>& rings) {
   b.state.resize(size_t(b.i1 - b.i0 + 1) * g.na);
   b.eng.resize(b.state.size());
+  b.frame.resize(size_t(b.i1 - b.i0 + 1));
   size_t marked = 0;
-  for (int i = b.i0; i <= b.i1; ++i) marked += mark_in_region(g, sampler, sampler.ring(g.ring[i]), i, b);
+  for (int i = b.i0; i <= b.i1; ++i) {
+    b.frame[size_t(i - b.i0)] = sampler.ring(g.ring[i]);
+    marked += mark_in_region(g, sampler, b.frame[size_t(i - b.i0)], i, b);
+  }
   auto rings_in = [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, sampler.ring(g.ring[i]), i, b);
+    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, b.frame[size_t(i - b.i0)], i, b);
     // The arcs read only their own ring's samples.
-    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, sampler.ring(g.ring[i]), evaluations);
+    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, b.frame[size_t(i - b.i0)], evaluations);
   };
   const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
   b.parallel = marked >= kParallelSamples;
@@ -257,7 +262,8 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
     const bool a = below && below[j] != 0, c = above && above[j] != 0;
     if (a == c) continue;
     double s0 = g.s_of(i), s1 = g.s_of(i + 1);
-    auto at = [&](double s) { return sampler.state(sampler.ring(prof.at(s)), g.cos_phi[j], g.sin_phi[j]); };
+    const Sampler::Column col = sampler.column(g.cos_phi[j], g.sin_phi[j]);
+    auto at = [&](double s) { return sampler.state(col, prof.at(s)); };
     // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
     auto end = [&](int k) {
       const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};

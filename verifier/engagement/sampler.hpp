@@ -70,11 +70,32 @@ class Sampler {
   // The point of ring f at the angle with cosine c and sine sn. Unless `measured`, a point that faces
   // away from its motion is only classified: its facing value (for the refinement) stays NaN.
   [[gnu::always_inline]] PointState state(const RingFrame& f, double c, double sn, bool measured = true) const {
-    PointState st;
     const Eigen::Vector3d x = f.c0 + c * f.a1 + sn * f.a2;
-    if (!region_.contains(x)) return st;
-    const Eigen::Vector3d v = f.dc + c * f.d1 + sn * f.d2;
-    const Eigen::Vector3d nu = f.n0 + c * f.n1 + sn * f.n2;
+    if (!region_.contains(x)) return {};
+    return classify(x, f.dc + c * f.d1 + sn * f.d2, f.n0 + c * f.n1 + sn * f.n2, measured);
+  }
+  // One column of the cutting surface (the angle with cosine c and sine sn, along the profile): the angle's
+  // direction in the end frame and in the earlier one, so that a point of the column costs a few
+  // multiply-adds (the meridian refinement walks columns).
+  struct Column {
+    Eigen::Vector3d dir, before_dir;
+  };
+  Column column(double c, double sn) const { return {c * end_.e1 + sn * end_.e2, c * before_.e1 + sn * before_.e2}; }
+  // The point of column col at profile point pp, fully measured.
+  PointState state(const Column& col, const ProfilePoint& pp) const {
+    const Eigen::Vector3d x = end_.o + pp.r * col.dir + pp.z * end_.e3;
+    if (!region_.contains(x)) return {};
+    const Eigen::Vector3d earlier = before_.o + pp.r * col.before_dir + pp.z * before_.e3;
+    return classify(x, x - earlier, pp.nr * col.dir + pp.nz * end_.e3, true);
+  }
+  const Eigen::AlignedBox3d& region() const { return region_; }
+  const Frame& end_frame() const { return end_; }
+
+ private:
+  // A point x with motion v over the last step and outward normal nu (see PointState).
+  [[gnu::always_inline]] PointState classify(const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+                                             const Eigen::Vector3d& nu, bool measured) const {
+    PointState st;
     const double nv = nu.dot(v);
     if (!measured && nv <= 0.0) return st;  // faces away: the rear only rubs the wall it has cut
     const double vn = v.norm();
@@ -87,10 +108,7 @@ class Sampler {
     st.engaged = depth <= 0.0;
     return st;
   }
-  const Eigen::AlignedBox3d& region() const { return region_; }
-  const Frame& end_frame() const { return end_; }
 
- private:
   const StockBefore& stock_;
   Eigen::AlignedBox3d region_;
   Frame end_, before_;
