@@ -252,13 +252,12 @@ void Simulator::engagement_reads(const Tool& tool, const ToolPose& end) {
   const Eigen::Vector3d lo = (end.tip.cwiseMin(top) - ext - lattice_.origin) * inv_h_,
                         hi = (end.tip.cwiseMax(top) + ext - lattice_.origin) * inv_h_;
   std::array<RemovedPieces::Footprint, 3> fp;
+  // The lattice nodes inside [lo, hi] along axis k (an empty range when none).
+  auto first = [&](int k) { return static_cast<int>(std::clamp(std::ceil(lo[k]), 0.0, double(lattice_.n[k]))); };
+  auto last = [&](int k) { return static_cast<int>(std::clamp(std::floor(hi[k]), -1.0, double(lattice_.n[k] - 1))); };
   for (int d = 0; d < 3; ++d) {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    auto clamp = [](double x, int n) { return static_cast<int>(std::clamp(x, -1.0, double(n))); };
-    fp[d] = {clamp(std::ceil(lo[u]), lattice_.n[u]), clamp(std::floor(hi[u]), lattice_.n[u] - 1),
-             clamp(std::ceil(lo[v]), lattice_.n[v]), clamp(std::floor(hi[v]), lattice_.n[v] - 1)};
-    fp[d].iu0 = std::max(fp[d].iu0, 0);
-    fp[d].iv0 = std::max(fp[d].iv0, 0);
+    fp[d] = {first(u), last(u), first(v), last(v)};
   }
   removed_.start(fp, tbb::this_task_arena::max_concurrency());
 }

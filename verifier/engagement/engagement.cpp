@@ -64,6 +64,7 @@ struct BlockSamples {
   std::vector<PointState> state;  // ring-major, rings i0..i1
   std::vector<uint8_t> eng;       // the same, engaged or not
   size_t index(int i, int j) const { return size_t(i - i0) * na + (j < 0 ? j + na : j >= na ? j - na : j); }
+  const RingFrame& frame_of(int i) const { return frame[size_t(i - i0)]; }
   const PointState& at(int i, int j) const { return state[index(i, j)]; }
   bool st(int i, int j) const { return i >= i0 && i <= i1 && eng[index(i, j)] != 0; }
 };
@@ -200,12 +201,12 @@ void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations
   size_t marked = 0;
   for (int i = b.i0; i <= b.i1; ++i) {
     b.frame[size_t(i - b.i0)] = sampler.ring(g.ring[i]);
-    marked += mark_in_region(g, sampler, b.frame[size_t(i - b.i0)], i, b);
+    marked += mark_in_region(g, sampler, b.frame_of(i), i, b);
   }
   auto rings_in = [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, b.frame[size_t(i - b.i0)], i, b);
+    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, b.frame_of(i), i, b);
     // The arcs read only their own ring's samples.
-    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, b.frame[size_t(i - b.i0)], evaluations);
+    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, b.frame_of(i), evaluations);
   };
   const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
   b.parallel = marked >= kParallelSamples;
@@ -219,6 +220,11 @@ struct Extent {
   double area = 0.0;
   double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
   double wmin = zmin, wmax = -zmin;
+  void add(const Extent& o) {
+    area += o.area;
+    zmin = std::min(zmin, o.zmin), zmax = std::max(zmax, o.zmax);
+    wmin = std::min(wmin, o.wmin), wmax = std::max(wmax, o.wmax);
+  }
 };
 
 // Each classified ring's band times its engaged fraction, and the extent of its arcs; their pairs into
@@ -311,13 +317,7 @@ void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampl
   const tbb::blocked_range<int> all(first, last + 1, kRingGrain);
   if (b.parallel) tbb::parallel_for(all, pairs_in);
   else pairs_in(all);
-  for (const Extent& p : parts) {
-    x.area += p.area;
-    x.zmin = std::min(x.zmin, p.zmin);
-    x.zmax = std::max(x.zmax, p.zmax);
-    x.wmin = std::min(x.wmin, p.wmin);
-    x.wmax = std::max(x.wmax, p.wmax);
-  }
+  for (const Extent& p : parts) x.add(p);
 }
 
 // The smallest arc covering every engaged angle (out.entry_deg, out.exit_deg): the complement of the
