@@ -245,6 +245,32 @@ TEST(Engagement, BullEndSlot) {
   expect_within(b.removed_mm3, section * L, section * L, "removed volume");
 }
 
+// One evaluation per boundary along the meridians (the default) against eight: the ball, the bull end
+// (whose face and corner meet at a joint the state is not smooth across) and the tilted ball's areas.
+TEST(Engagement, MeridianStepsDoNotMoveTheArea) {
+  auto area = [](const Scene& s, const Program& p, const ForwardFn& fwd, int steps) {
+    VerifyOptions o;
+    o.resolution = 0.1;
+    EngagementOptions eo;
+    eo.meridian_steps = steps;
+    o.engagement = engagement_probe(eo);
+    return verify_program(s, p, fwd, o).report.per_block.back().engagement.area_mm2;
+  };
+  const Program p = slot_program(0.0, ap).program();
+  const Scene ball = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
+  const Scene bull = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BullCutter{R, 1.0}));
+  const ForwardFn leaning = [](const Joints& j) {
+    const Eigen::Vector3d axis(-0.5, 0.0, std::sqrt(0.75));
+    return ToolPose{Eigen::Vector3d(j.x, j.y, j.z + R) - R * axis, axis};
+  };
+  for (const auto& [s, fwd] : {std::pair<const Scene*, ForwardFn>{&ball, forward_xyz}, {&bull, forward_xyz}, {&ball, leaning}}) {
+    const double one = area(*s, p, fwd, 1), eight = area(*s, p, fwd, 8), none = area(*s, p, fwd, 0);
+    std::cout << "meridian steps 0 / 1 / 8: " << none << " / " << one << " / " << eight << "\n";
+    EXPECT_NEAR(one, eight, 2e-4 * eight);
+    EXPECT_NEAR(none, eight, 1e-3 * eight);
+  }
+}
+
 // The probe measures the tool in the spindle: full-width slots by a library's two tools, R 5 and R 2.
 TEST(Engagement, FollowsEachBlocksTool) {
   Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <variant>
@@ -36,9 +37,21 @@ class Profile {
     length_ = flat_ + arc_ + std::max(0.0, top_ - rc_);
   }
   double length() const { return length_; }
-  // Where the normal jumps along the profile: the rim of a flat end (face to flutes), or -1 for a ball or
-  // bull end, whose corner turns smoothly.
-  double rim() const { return rc_ == 0.0 && flat_ > 0.0 ? flat_ : -1.0; }
+  // Where one piece of the profile meets the next (arc length s): the end face's rim, the corner's ends.
+  // The state of the surface is not smooth across a joint: the normal jumps at a flat end's rim, and the
+  // facing value, constant over an end face, starts to turn at a bull corner (so an interpolation across a
+  // joint is not to be trusted).
+  struct Joint {
+    double s = -1.0;    // -1: none
+    bool jump = false;  // the normal jumps (a flat end's rim)
+  };
+  std::array<Joint, 2> joints() const {
+    std::array<Joint, 2> j{};
+    int n = 0;
+    if (flat_ > 0.0) j[n++] = {flat_, rc_ == 0.0};
+    if (rc_ > 0.0 && length_ > flat_ + arc_) j[n++] = {flat_ + arc_, false};
+    return j;
+  }
   ProfilePoint at(double s) const {
     s = std::clamp(s, 0.0, length_);
     if (s < flat_) return {s, 0.0, 0.0, -1.0};  // end face (flat and bull)

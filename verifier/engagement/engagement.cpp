@@ -276,16 +276,19 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
       return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
     };
     PointState sa = end(i), sc = end(i + 1);
-    const double rim = prof.rim();
     double sb = -1.0;
-    if (rim > s0 && rim < s1) {
-      // The facing measure jumps at the rim: a change of state across it is at the rim, otherwise the
-      // boundary lies on one side of it.
-      const double eps = 1e-9 * g.S;
-      const PointState under = at(rim - eps), over = at(rim + eps);
-      if (under.engaged != over.engaged) sb = rim;
-      else if (under.engaged == sa.engaged) s0 = rim + eps, sa = over;
-      else s1 = rim - eps, sc = under;
+    // The measures are not smooth across a joint of the profile: the state there bounds the bracket, and
+    // where the normal jumps (a flat end's rim) a change of state across it is at the rim.
+    for (const Profile::Joint& jt : prof.joints()) {
+      if (!(jt.s > s0 && jt.s < s1)) continue;
+      const double eps = jt.jump ? 1e-9 * g.S : 0.0;
+      const PointState under = at(jt.s - eps), over = jt.jump ? at(jt.s + eps) : under;
+      if (under.engaged != over.engaged) {
+        sb = jt.s;
+        break;
+      }
+      if (under.engaged == sa.engaged) s0 = jt.s + eps, sa = over;
+      else s1 = jt.s - eps, sc = under;
     }
     if (sb < 0.0)
       sb = s0 + (s1 - s0) * engagement::refine_boundary(sa, sc, width * g.ds / (s1 - s0), evaluations,
@@ -404,7 +407,7 @@ class Meter {
     classify_rings(g, sampler, evaluations, samples_, rings_);
     Extent x = ring_bands(g, samples_, rings_, profile_, opt_.keep_pairs, out);
     if (!(x.area > 0.0)) return out;
-    add_meridian_strips(g, samples_, sampler, profile_, evaluations, strips_, x);
+    add_meridian_strips(g, samples_, sampler, profile_, std::max(0, opt_.meridian_steps), strips_, x);
     out.area_mm2 = std::max(0.0, x.area);
     out.axial_depth_mm = x.zmax - x.zmin;
     out.radial_width_mm = x.wmax - x.wmin;

@@ -50,6 +50,12 @@ struct EngagementOptions {
   // that tells them apart (the facing value, or the depth in material), until the bracket is an eighth
   // of the lattice spacing (finer than the rays resolve).
   int refine_steps = 8;
+  // Evaluations per boundary between two rings along a meridian, at most; 0: the zero of the measure
+  // interpolated between the rings. The rings are at most a lattice spacing apart (unless max_rings
+  // caps them) and the state is smooth between the profile's joints, which are evaluated themselves, so
+  // one step at the interpolated zero, then the interpolation inside the narrowed bracket, is enough: on
+  // the slots, balls and bull end of tests/engagement the areas agree with eight steps to 0.01 %.
+  int meridian_steps = 1;
   // How far outside the box of the material a block removed a sample can still be engaged, beyond the
   // classification's reach of 1.5 lattice spacings: the sweep's bound (the swept parts hold the true tool
   // within it), mm.
