@@ -17,22 +17,36 @@
 namespace tf {
 namespace {
 
-// Per grid, the (u, v) range of the rays within 1.5 spacings of the cutting surface at `end` (the rays
-// the engagement reads).
+// The rays the engagement reads: those whose line passes within the tool's radius and 1.5 spacings of the
+// cutting part's axis segment (tip to the flutes' top) at `end`, inside the box of the cylinder of that
+// radius about the segment (all the cutting surface lies in the cylinder; a ray read is at most 0.71
+// spacings from a point of it).
 struct Footprint {
-  Eigen::AlignedBox3d box;
+  Eigen::Vector3d tip, top;
+  double radius, reach;
   bool holds(int d, const Lattice& L, int iu, int iv) const {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    const double pu = L.origin[u] + L.h * iu, pv = L.origin[v] + L.h * iv;
-    return pu >= box.min()[u] && pu <= box.max()[u] && pv >= box.min()[v] && pv <= box.max()[v];
+    Eigen::Vector3d p = L.origin;
+    p[u] += L.h * iu;
+    p[v] += L.h * iv;
+    // The box: a disc of radius r normal to unit axis a spans r sqrt(1 - a_k^2) along axis k.
+    const Eigen::Vector3d a = (top - tip).normalized();
+    for (int k : {u, v}) {
+      const double ext = radius * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k])) + (reach - radius);
+      if (p[k] < std::min(tip[k], top[k]) - ext || p[k] > std::max(tip[k], top[k]) + ext) return false;
+    }
+    // The line through p along axis d: its distance to a point of the segment is the distance across
+    // axis d, so the closest point of the segment is found in that plane.
+    Eigen::Vector3d s0 = tip - p, s1 = top - p;
+    s0[d] = 0.0, s1[d] = 0.0;
+    const Eigen::Vector3d e = s1 - s0;
+    const double t = e.squaredNorm() > 0 ? std::clamp(-s0.dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (s0 + t * e).norm() <= reach;
   }
 };
 
 Footprint reads_of(const Tool& tool, const ToolPose& end, double h) {
-  const Eigen::Vector3d a = end.axis.normalized(), top = end.tip + tool.flute_length * a;
-  const Eigen::Vector3d ext =
-      (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * tool.radius() + Eigen::Vector3d::Constant(1.5 * h);
-  return {Eigen::AlignedBox3d(end.tip.cwiseMin(top) - ext, end.tip.cwiseMax(top) + ext)};
+  return {end.tip, end.tip + tool.flute_length * end.axis.normalized(), tool.radius(), tool.radius() + 1.5 * h};
 }
 
 bool same_ray(const Dexel& a, const Dexel& b) {
@@ -73,19 +87,9 @@ bool removed_within(const TriDexel& a, const TriDexel& b, const Eigen::AlignedBo
   return true;
 }
 
-TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRemoval) {
-  const Scene s = test::box_scene({0, 0, 0}, {40, 30, 20}, test::ball_tool(3, 12, 3, 30, {{10, 30}}));
-  // A plunge, a slot, a cut across it, a move in air (removes nothing), a short move (under a spacing).
-  const test::Moves moves = test::Moves()
-                                .rapid({-5, 10, 18})
-                                .line({.x = 20}, 800)
-                                .line({.y = 25})
-                                .line({.x = 35, .y = 5, .z = 16})
-                                .line({.z = 30})
-                                .line({.x = 5, .y = 5})
-                                .line({.z = 16.5})
-                                .line({.x = 5.05});
-  const Program program = moves.program();
+// Runs `program` with a hook that keeps every stock it is given, then compares each with the program cut
+// off before that block.
+void expect_stock_before_each_block(const Scene& s, const Program& program, const ForwardFn& forward) {
   struct Call {
     int block;  // 1-based, from the end pose
     TriDexel stock;
@@ -108,7 +112,7 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRem
         }
     return Engagement{};
   };
-  const VerifyResult r = verify_program(s, program, forward_xyz, o);
+  const VerifyResult r = verify_program(s, program, forward, o);
   // The calls: the feed blocks that removed material, in order; the rapid and the move in air none.
   std::vector<int> removing;
   for (const BlockResult& b : r.report.per_block)
@@ -120,7 +124,7 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRem
     cut.blocks.resize(size_t(blocks));
     VerifyOptions plain;
     plain.resolution = o.resolution;
-    return verify_program(s, cut, forward_xyz, plain).stock;
+    return verify_program(s, cut, forward, plain).stock;
   };
   for (size_t k = 0; k < calls.size(); ++k) {
     const int block = removing[k];
@@ -139,6 +143,34 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRem
     EXPECT_FALSE(calls[k].removed.isEmpty());
     EXPECT_TRUE(removed_within(before, after, calls[k].removed, L.h, calls[k].reads)) << "block " << block;
   }
+}
+
+// A plunge, a slot, a cut across it, a move in air (removes nothing), a short move (under a spacing).
+Program hook_program() {
+  return test::Moves()
+      .rapid({-5, 10, 18})
+      .line({.x = 20}, 800)
+      .line({.y = 25})
+      .line({.x = 35, .y = 5, .z = 16})
+      .line({.z = 30})
+      .line({.x = 5, .y = 5})
+      .line({.z = 16.5})
+      .line({.x = 5.05})
+      .program();
+}
+
+TEST(EngagementHook, SeesTheStockBeforeEachBlockWhereItReadsAndABoxHoldingTheRemoval) {
+  const Scene s = test::box_scene({0, 0, 0}, {40, 30, 20}, test::ball_tool(3, 12, 3, 30, {{10, 30}}));
+  expect_stock_before_each_block(s, hook_program(), forward_xyz);
+}
+
+// The same with the axis leaning 30 deg (in x and y): the rays read are a slanted band across each grid,
+// not the box around it.
+TEST(EngagementHook, SeesTheStockBeforeEachBlockWithALeaningAxis) {
+  const Scene s = test::box_scene({0, 0, 0}, {40, 30, 20}, test::ball_tool(3, 12, 3, 30, {{10, 30}}));
+  const Eigen::Vector3d axis = Eigen::Vector3d(-0.35355, 0.35355, 0.86603).normalized();
+  const ForwardFn leaning = [axis](const Joints& j) { return ToolPose{Eigen::Vector3d(j.x, j.y, j.z), axis}; };
+  expect_stock_before_each_block(s, hook_program(), leaning);
 }
 
 }  // namespace
