@@ -11,6 +11,7 @@
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -20,6 +21,7 @@
 #include <stdexcept>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 namespace tf {
 namespace {
@@ -47,29 +49,53 @@ class ModSurfaceDistance : public dec::ModBaseT<Mesh> {
     static const std::string n = "SurfaceDistance";
     return n;
   }
-  void set_surface(const TriangleBvh* surface, double bound) {
+  // The input as a tree of its triangles and as a mesh (whose faces are walked), and per vertex of the
+  // mesh decimated the input vertex it is.
+  void set_surface(const TriangleBvh* surface, const Mesh* input, OpenMesh::VPropHandleT<int> source, double bound) {
     surface_ = surface;
+    input_ = input;
+    source_ = source;
     bound2_ = bound * bound;
   }
   float collapse_priority(const CollapseInfo& ci) override {
     Mesh& m = mesh();
+    // The walk starts on the input at the vertex the moved faces meet at.
+    walk_face_ = Mesh::FaceHandle();
+    for (auto f : input_->vf_range(Mesh::VertexHandle(m.property(source_, ci.v1)))) {
+      walk_face_ = f;
+      break;
+    }
+    // A moved edge (v0 to a neighbour w) is shared by two moved faces: its samples are tested once. They
+    // come out the same from either face (the third corner's weight is zero), so the verdict is too.
+    edges_done_.clear();
+    auto edge_done = [&](Mesh::VertexHandle w) {
+      if (std::find(edges_done_.begin(), edges_done_.end(), w) != edges_done_.end()) return true;
+      edges_done_.push_back(w);
+      return false;
+    };
     for (auto f : m.vf_range(ci.v0)) {
       if (f == ci.fl || f == ci.fr) continue;
-      // The face after the collapse: v0 moved onto v1; corner 0 is the moved one.
+      // The face after the collapse: v0 moved onto v1; corner `moved` is the moved one.
       std::array<Eigen::Vector3d, 3> p;
+      std::array<Mesh::VertexHandle, 3> fv;
       int k = 0, moved = 0;
       for (auto v : m.fv_range(f)) {
         if (v == ci.v0) moved = k;
+        fv[size_t(k)] = v;
         p[size_t(k++)] = to_eigen(v == ci.v0 ? ci.p1 : m.point(v));
       }
       const Eigen::Vector3d& a = p[size_t(moved)];
       const Eigen::Vector3d& b = p[size_t((moved + 1) % 3)];
       const Eigen::Vector3d& c = p[size_t((moved + 2) % 3)];
       // A barycentric grid of quarters with the moved corner's weight 1..3 quarters: the face's interior
-      // and its two moved edges (the third edge did not move).
-      for (int i = 1; i <= 3; ++i)
-        for (int j = 0; i + j <= 4; ++j)
+      // and its two moved edges (a-b: c's weight 0; a-c: b's weight 0; the third edge did not move).
+      const bool ab = !edge_done(fv[size_t((moved + 1) % 3)]), ac = !edge_done(fv[size_t((moved + 2) % 3)]);
+      // Nearest the meeting vertex first, so that the walk goes out step by step.
+      for (int i = 3; i >= 1; --i)
+        for (int j = 0; i + j <= 4; ++j) {
+          if ((j == 0 && !ac) || (i + j == 4 && !ab)) continue;
           if (!near((i * a + j * b + (4 - i - j) * c) / 4.0)) return ILLEGAL_COLLAPSE;
+        }
     }
     return LEGAL_COLLAPSE;
   }
@@ -79,8 +105,10 @@ class ModSurfaceDistance : public dec::ModBaseT<Mesh> {
     const auto& tris = surface_->triangles();
     const double limit = bound2_ * (1.0 + 1e-9);
     auto d2 = [&](int i) { return (closest_point_on_triangle(q, tris[size_t(i)]) - q).squaredNorm(); };
-    // Consecutive samples lie close together: the triangle that answered the last one often answers this.
+    // Consecutive samples lie close together: the triangle that answered the last one often answers this,
+    // or one a few steps from the face the walk reached.
     if (hint_ >= 0 && d2(hint_) < limit) return true;
+    if (walk(q, limit)) return true;
     // A yes/no query: the search stops at the first triangle within the bound (the minimum stays at
     // `limit` when there is none).
     const double found = surface_->minimum(
@@ -93,9 +121,42 @@ class ModSurfaceDistance : public dec::ModBaseT<Mesh> {
         limit, limit);
     return found < limit;
   }
+  // A greedy walk over the input's faces from walk_face_ toward q: each step moves to the neighbouring face
+  // nearest q while that comes nearer. True only when it reaches a face within `limit` (squared), which is
+  // then where the next walk starts; a walk that stalls (a crease, a gap) proves nothing.
+  bool walk(const Eigen::Vector3d& q, double limit) {
+    if (!walk_face_.is_valid()) return false;
+    auto d2 = [&](Mesh::FaceHandle f) {
+      Triangle t;
+      auto v = input_->cfv_begin(f);
+      t.a = to_eigen(input_->point(*v++));
+      t.b = to_eigen(input_->point(*v++));
+      t.c = to_eigen(input_->point(*v));
+      return (closest_point_on_triangle(q, t) - q).squaredNorm();
+    };
+    Mesh::FaceHandle f = walk_face_;
+    double best = d2(f);
+    for (int step = 0; best >= limit && step < kWalkSteps; ++step) {
+      Mesh::FaceHandle next;
+      for (auto g : input_->ff_range(f)) {
+        const double d = d2(g);
+        if (d < best) best = d, next = g;
+      }
+      if (!next.is_valid()) return false;
+      f = next;
+    }
+    if (best >= limit) return false;
+    walk_face_ = f;
+    return true;
+  }
+  static constexpr int kWalkSteps = 8;
   const TriangleBvh* surface_ = nullptr;
+  const Mesh* input_ = nullptr;
+  OpenMesh::VPropHandleT<int> source_;
+  Mesh::FaceHandle walk_face_;
   double bound2_ = 0.0;
   int hint_ = -1;
+  std::vector<Mesh::VertexHandle> edges_done_;  // the moved edges tested in this collapse, by their far end
 };
 
 // OpenMesh's decimater framework (modules, legality tests, collapse bookkeeping) with a lazy selection:
@@ -257,7 +318,7 @@ void build_slab(const Mesh& in, const std::vector<int>& slab_of, const std::vect
   m.update_face_normals();
 }
 
-void decimate_slab(Slab& slab, const TriangleBvh& surface, const BoundedDecimateOptions& o,
+void decimate_slab(Slab& slab, const Mesh& in, const TriangleBvh& surface, const BoundedDecimateOptions& o,
                    const std::function<void(double)>& tick) {
   LazyDecimater d(slab.mesh);
   Quadric::Handle quadric;
@@ -275,7 +336,7 @@ void decimate_slab(Slab& slab, const TriangleBvh& surface, const BoundedDecimate
   d.module(flipping).set_max_normal_deviation(o.max_normal_deviation_deg);
   d.module(aspect).set_aspect_ratio(float(o.max_aspect_ratio));
   d.module(hausdorff).set_tolerance(o.max_error_mm);
-  d.module(distance).set_surface(&surface, kSampleMargin * o.max_error_mm);
+  d.module(distance).set_surface(&surface, &in, slab.source, kSampleMargin * o.max_error_mm);
   if (!d.initialize()) throw std::logic_error("decimate_within: OpenMesh's decimater did not initialise");
   d.run(d.module(quadric), tick);
   slab.mesh.garbage_collection();
@@ -389,7 +450,7 @@ BoundedDecimation decimate_within(const Mesh& in, const BoundedDecimateOptions& 
     const internal::QuietOpenMesh quiet;  // refused faces are handled in build_slab
     parallel_each(slabs.size(), [&](size_t s) {
       build_slab(in, slab_of, shared, int(s), slabs[s]);
-      decimate_slab(slabs[s], surface, options, progress.slab(s));
+      decimate_slab(slabs[s], in, surface, options, progress.slab(s));
     });
   }
   BoundedDecimation joined = join(in, slabs);

@@ -7,7 +7,8 @@
 //  (c) LinuxCNC's own simultaneous 5-axis demo impeller-7bl-xyzac.ngc (4492 blocks, TCP, G93) on the
 //      scene tests/data/linuxcnc/impeller-7bl.json, at 0.05 and 0.1 mm, default options, with and
 //      without engagement; its sweep error bounds as counters.
-//  (d) arcs: a ring pocket as G3 arcs (swept exactly) and as 0.5 mm chords, time per mm of path.
+//  (d) arcs: a ring pocket as G3 arcs (swept exactly) and as 0.5 mm chords, time per mm of path;
+//  (e) the compact stock mesh: decimating the demo's stock within 0.01 mm.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include "tiltfield/gcode/gcode.hpp"
 #include "tiltfield/tilt/plan.hpp"
 #include "tiltfield/post/post.hpp"
+#include "tiltfield/core/mesh_simplify.hpp"
 #include "tiltfield/core/scene.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tiltfield/engagement/engagement.hpp"
@@ -272,6 +274,33 @@ void BM_LinuxcncImpeller(benchmark::State& state) {
   state.counters["peak_MB"] = peak_rss_mb();
 }
 BENCHMARK(BM_LinuxcncImpeller)->Args({5, 1})->Args({5, 0})->Args({10, 1})->Iterations(1)->Unit(benchmark::kSecond);
+
+// (e) The compact stock mesh of verify --stock-mesh / --html: LinuxCNC's demo simulated at the argument's
+// spacing (1/100 mm; not timed), its full dual-contoured stock mesh, then decimate_within at the default
+// bound of 0.01 mm (timed). Counters: the full and compact vertex counts.
+void BM_StockMeshDecimate(benchmark::State& state) {
+  const std::filesystem::path scene_file =
+      std::filesystem::path(TILTFIELD_SOURCE_DIR) / "tests" / "data" / "linuxcnc" / "impeller-7bl.json";
+  if (!std::filesystem::exists(kLinuxcncDemo)) {
+    state.SkipWithError("LinuxCNC's demo is missing (Debian package linuxcnc-uspace)");
+    return;
+  }
+  const tf::Scene scene = tf::load_scene(scene_file);
+  tf::VerifyOptions opt;
+  opt.resolution = state.range(0) / 100.0;
+  const tf::VerifyResult r =
+      tf::verify_program(scene, tf::read_gcode(kLinuxcncDemo, *scene.machine), tf::scene_forward(scene), opt);
+  const tf::Mesh full = tf::reconstruct_stock(r.stock, nullptr);
+  size_t vertices = 0;
+  for (auto _ : state) {
+    const tf::BoundedDecimation compact = tf::decimate_within(full);
+    vertices = compact.mesh.n_vertices();
+  }
+  state.counters["full_vertices"] = static_cast<double>(full.n_vertices());
+  state.counters["vertices"] = static_cast<double>(vertices);
+  state.counters["peak_MB"] = peak_rss_mb();
+}
+BENCHMARK(BM_StockMeshDecimate)->Arg(20)->Arg(10)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 
