@@ -235,15 +235,23 @@ constexpr const char* kLinuxcncDemo =
     "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/vismach/5axis/table-rotary-tilting/demos/"
     "impeller-7bl-xyzac.ngc";
 
+// The scene made for LinuxCNC's demo.
+std::filesystem::path linuxcnc_demo_scene() {
+  return std::filesystem::path(TILTFIELD_SOURCE_DIR) / "tests" / "data" / "linuxcnc" / "impeller-7bl.json";
+}
+
+// False, and the benchmark skipped, when the demo is not installed.
+bool have_linuxcnc_demo(benchmark::State& state) {
+  if (std::filesystem::exists(kLinuxcncDemo)) return true;
+  state.SkipWithError("LinuxCNC's demo is missing (Debian package linuxcnc-uspace)");
+  return false;
+}
+
 // Arguments: resolution in 1/100 mm, engagement on (1) or off (0). Whole verify as the command runs it:
 // scene and program read, stock built, simulated (wall_seconds); sim_seconds is the block loop.
 void BM_LinuxcncImpeller(benchmark::State& state) {
-  const std::filesystem::path scene_file =
-      std::filesystem::path(TILTFIELD_SOURCE_DIR) / "tests" / "data" / "linuxcnc" / "impeller-7bl.json";
-  if (!std::filesystem::exists(kLinuxcncDemo)) {
-    state.SkipWithError("LinuxCNC's demo is missing (Debian package linuxcnc-uspace)");
-    return;
-  }
+  const std::filesystem::path scene_file = linuxcnc_demo_scene();
+  if (!have_linuxcnc_demo(state)) return;
   tf::VerifyOptions opt;
   opt.resolution = state.range(0) / 100.0;
   double seconds = 0.0, wall = 0.0, engagement = 0.0, removed = 0.0, err = 0.0, holder_err = 0.0;
@@ -279,12 +287,8 @@ BENCHMARK(BM_LinuxcncImpeller)->Args({5, 1})->Args({5, 0})->Args({10, 1})->Itera
 // spacing (1/100 mm; not timed), its full dual-contoured stock mesh, then decimate_within at the default
 // bound of 0.01 mm (timed). Counters: the full and compact vertex counts.
 void BM_StockMeshDecimate(benchmark::State& state) {
-  const std::filesystem::path scene_file =
-      std::filesystem::path(TILTFIELD_SOURCE_DIR) / "tests" / "data" / "linuxcnc" / "impeller-7bl.json";
-  if (!std::filesystem::exists(kLinuxcncDemo)) {
-    state.SkipWithError("LinuxCNC's demo is missing (Debian package linuxcnc-uspace)");
-    return;
-  }
+  const std::filesystem::path scene_file = linuxcnc_demo_scene();
+  if (!have_linuxcnc_demo(state)) return;
   const tf::Scene scene = tf::load_scene(scene_file);
   tf::VerifyOptions opt;
   opt.resolution = state.range(0) / 100.0;
