@@ -101,7 +101,7 @@ TEST_F(VerifyCli, WritesReportBlocksAndStockMesh) {
 TEST_F(VerifyCli, HtmlReportAndCompactStockMesh) {
   write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
   const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
-                           (dir / "v.json").string() + " --resolution 0.25 --stock-mesh " + (dir / "s.ply").string();
+                           (dir / "v.json").string() + " --resolution 0.5 --stock-mesh " + (dir / "s.ply").string();
   CliRun r = tiltfield(base + " --html " + (dir / "r.html").string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   auto j = nlohmann::json::parse(std::ifstream(dir / "v.json"));
