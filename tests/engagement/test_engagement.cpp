@@ -49,6 +49,17 @@ void expect_within(double value, double expected, double scale, const char* what
 
 constexpr double R = 5.0, ap = 2.0, L = 20.0;
 
+// Joint values -> pose of a ball end of radius R leaning `deg` back in the x-z plane: the ball's lowest
+// point at the programmed X Y Z (its centre R above it, the tip R from the centre along the tilted axis).
+ForwardFn leaning_ball(double deg) {
+  const double lean = deg * kPi / 180.0;
+  return [lean](const Joints& j) {
+    const Eigen::Vector3d axis(-std::sin(lean), 0.0, std::cos(lean));
+    const Eigen::Vector3d centre(j.x, j.y, j.z + R);
+    return ToolPose{centre - R * axis, axis};
+  };
+}
+
 // Box 0..100 x -20..20 x 0..10; the tool enters from x = -10 at tip height 10 - depth and cuts to x = 50.
 test::Moves slot_program(double y, double depth) {
   return test::Moves().rapid({-10, y, 10.0 - depth}).line({.x = 30}, 600).line({.x = 50});
@@ -198,14 +209,7 @@ TEST(Engagement, TiltedBallKeepsTheAreaOfItsCap) {
   const double d = 2.0;
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
   const Program p = slot_program(0.0, d).program();
-  const double lean = 30.0 * kPi / 180.0;
-  // Joint values -> pose: tip at X Y Z (the ball's centre stays above it at R along the tilted axis, so
-  // lift the tip to keep the ball's lowest point at the programmed Z).
-  const ForwardFn tilted = [&](const Joints& j) {
-    const Eigen::Vector3d axis(-std::sin(lean), 0.0, std::cos(lean));
-    const Eigen::Vector3d centre(j.x, j.y, j.z + R);
-    return ToolPose{centre - R * axis, axis};
-  };
+  const ForwardFn tilted = leaning_ball(30.0);
   VerifyOptions o;
   o.resolution = 0.1;
   o.engagement = engagement_probe();
@@ -259,10 +263,7 @@ TEST(Engagement, MeridianStepsDoNotMoveTheArea) {
   const Program p = slot_program(0.0, ap).program();
   const Scene ball = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BallCutter{R}));
   const Scene bull = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(BullCutter{R, 1.0}));
-  const ForwardFn leaning = [](const Joints& j) {
-    const Eigen::Vector3d axis(-0.5, 0.0, std::sqrt(0.75));
-    return ToolPose{Eigen::Vector3d(j.x, j.y, j.z + R) - R * axis, axis};
-  };
+  const ForwardFn leaning = leaning_ball(30.0);
   for (const auto& [s, fwd] : {std::pair<const Scene*, ForwardFn>{&ball, forward_xyz}, {&bull, forward_xyz}, {&ball, leaning}}) {
     const double one = area(*s, p, fwd, 1), eight = area(*s, p, fwd, 8), none = area(*s, p, fwd, 0);
     std::cout << "meridian steps 0 / 1 / 8: " << none << " / " << one << " / " << eight << "\n";
