@@ -298,5 +298,29 @@ TEST(Engagement, FollowsEachBlocksTool) {
   EXPECT_EQ(r.per_block[7].tool, 2);
 }
 
+TEST(Engagement, OneProbeAcrossLatticeSpacings) {
+  // A probe keeps its sample grid per spacing: used by a fine run and then a coarse one (fewer rings), it
+  // must measure the coarse run as a fresh probe does (it once reset rings of the fine grid that the
+  // coarse one no longer had).
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const Program p = slot_program(0.0, ap).program();
+  VerifyOptions o;
+  o.engagement = engagement_probe();
+  o.resolution = 0.1;
+  const VerifyReport fine = verify_program(s, p, forward_xyz, o).report;
+  o.resolution = 1.0;
+  const VerifyReport reused = verify_program(s, p, forward_xyz, o).report;
+  o.engagement = engagement_probe();
+  const VerifyReport fresh = verify_program(s, p, forward_xyz, o).report;
+  ASSERT_EQ(reused.per_block.size(), fresh.per_block.size());
+  EXPECT_GT(fine.per_block.back().engagement.area_mm2, 0.0);
+  auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };  // NaN: not engaged
+  for (size_t i = 0; i < fresh.per_block.size(); ++i) {
+    EXPECT_EQ(reused.per_block[i].engagement.area_mm2, fresh.per_block[i].engagement.area_mm2) << "block " << i;
+    EXPECT_TRUE(same(reused.per_block[i].engagement.exit_deg, fresh.per_block[i].engagement.exit_deg)) << "block " << i;
+  }
+  EXPECT_GT(fresh.per_block.back().engagement.area_mm2, 0.0);
+}
+
 }  // namespace
 }  // namespace tf

@@ -21,26 +21,18 @@ void RemovedPieces::start(const std::array<Footprint, 3>& footprint, int writers
   for (Writer& w : writers_) w.pool.clear(), w.rays = 0;
 }
 
-void RemovedPieces::add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) {
-  const Footprint& f = fp_[size_t(d)];
-  if (w < 0 || size_t(w) >= writers_.size() || !f.holds(iu, iv))
-    throw std::logic_error("RemovedPieces::add: writer or ray outside the change");
-  if (n == 0) return;
+void RemovedPieces::outside_the_change() {
+  throw std::logic_error("RemovedPieces::add: writer or ray outside the change");
+}
+
+void RemovedPieces::add_again(int w, Entry& e, const Interval* pieces, size_t n) {
+  const Interval* old = writers_[e.writer].pool.data() + e.offset;
+  std::vector<Interval> both;
+  std::merge(old, old + e.n, pieces, pieces + n, std::back_inserter(both),
+             [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
   std::vector<Interval>& pool = writers_[size_t(w)].pool;
-  Entry& e = table_[size_t(d)][index(f, iu, iv)];
-  if (e.stamp == stamp_ && e.n > 0) {
-    // Removed from again in this change (a crash after the cut): the pieces of both, in order.
-    const Interval* old = writers_[e.writer].pool.data() + e.offset;
-    std::vector<Interval> both;
-    std::merge(old, old + e.n, pieces, pieces + n, std::back_inserter(both),
-               [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
-    e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size())};
-    pool.insert(pool.end(), both.begin(), both.end());
-    return;
-  }
-  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(n)};
-  pool.insert(pool.end(), pieces, pieces + n);
-  ++writers_[size_t(w)].rays;
+  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size())};
+  pool.insert(pool.end(), both.begin(), both.end());
 }
 
 size_t RemovedPieces::rays() const {

@@ -122,47 +122,51 @@ double refine_angle(const SampleGrid& g, const BlockSamples& b, const Sampler& s
 // Gaps shorter than the lattice spacing along the ring are below what the stock model resolves
 // (classification near a boundary the rays run along): the arcs on both sides are one.
 void close_short_gaps(std::vector<std::pair<double, double>>& arcs, double min_gap) {
-  std::vector<std::pair<double, double>> merged;
-  for (const auto& arc : arcs) {
-    if (!merged.empty() && arc.first - merged.back().second < min_gap) merged.back().second = arc.second;
-    else merged.push_back(arc);
+  size_t m = 0;  // in place: arcs[0..m) are merged
+  for (size_t k = 0; k < arcs.size(); ++k) {
+    if (m > 0 && arcs[k].first - arcs[m - 1].second < min_gap) arcs[m - 1].second = arcs[k].second;
+    else arcs[m++] = arcs[k];
   }
-  if (merged.size() > 1 && merged.front().first + 2.0 * kPi - merged.back().second < min_gap) {
-    merged.back().second = merged.front().second + 2.0 * kPi;
-    merged.erase(merged.begin());
+  arcs.resize(m);
+  if (arcs.size() > 1 && arcs.front().first + 2.0 * kPi - arcs.back().second < min_gap) {
+    arcs.back().second = arcs.front().second + 2.0 * kPi;
+    arcs.erase(arcs.begin());
   }
-  if (merged.size() == 1 && merged.front().second - merged.front().first >= 2.0 * kPi - min_gap)
-    merged.front() = {0.0, 2.0 * kPi};
-  arcs = std::move(merged);
+  if (arcs.size() == 1 && arcs.front().second - arcs.front().first >= 2.0 * kPi - min_gap)
+    arcs.front() = {0.0, 2.0 * kPi};
 }
 
-// The engaged arcs of ring i (f its frame), their ends refined between the samples.
-RingResult ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sampler& sampler, const RingFrame& f,
-                     int evaluations) {
-  RingResult rr;
+// The engaged arcs of ring i (f its frame), their ends refined between the samples, into rr (its storage
+// reused from block to block).
+void ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sampler& sampler, const RingFrame& f,
+               int evaluations, RingResult& rr) {
+  rr.arcs.clear();
+  rr.angle = 0.0;
+  const uint8_t* eng = &b.eng[b.index(i, 0)];
+  const int na = g.na;
+  auto on = [&](int j) { return eng[j >= na ? j - na : j] != 0; };  // j in [0, 2 na)
   int first_off = -1;
-  for (int j = 0; j < g.na; ++j)
-    if (!b.st(i, j)) {
+  for (int j = 0; j < na; ++j)
+    if (!eng[j]) {
       first_off = j;
       break;
     }
   if (first_off < 0) {  // the full turn
     rr.arcs.push_back({0.0, 2.0 * kPi});
     rr.angle = 2.0 * kPi;
-    return rr;
+    return;
   }
   // Walk once around from a disengaged sample, so that every arc is seen whole.
-  for (int k = 1; k <= g.na; ++k) {
+  for (int k = 1; k <= na; ++k) {
     const int j = first_off + k;
-    if (!b.st(i, j) || b.st(i, j - 1)) continue;
+    if (!on(j) || on(j - 1)) continue;
     int e = j;
-    while (b.st(i, e + 1)) ++e;
+    while (on(e + 1)) ++e;
     rr.arcs.push_back(
         {refine_angle(g, b, sampler, f, i, j - 1, evaluations), refine_angle(g, b, sampler, f, i, e, evaluations)});
   }
   close_short_gaps(rr.arcs, g.h / std::max(g.ring[i].r, 1e-9));
   for (const auto& [lo, hi] : rr.arcs) rr.angle += hi - lo;
-  return rr;
 }
 
 // Marks the samples of ring i (f its frame) whose positions lie in the region (b.eng), in one cheap pass,
@@ -206,7 +210,7 @@ void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations
   auto rings_in = [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, b.frame_of(i), i, b);
     // The arcs read only their own ring's samples.
-    for (int i = r.begin(); i != r.end(); ++i) rings[i] = ring_arcs(g, b, i, sampler, b.frame_of(i), evaluations);
+    for (int i = r.begin(); i != r.end(); ++i) ring_arcs(g, b, i, sampler, b.frame_of(i), evaluations, rings[i]);
   };
   const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
   b.parallel = marked >= kParallelSamples;
@@ -397,10 +401,11 @@ class Meter {
     if (!grid_ || grid_->h != h) {
       grid_ = std::make_unique<SampleGrid>(profile_, h, opt_);
       rings_.assign(grid_->nr, {});
+      samples_.i0 = 0, samples_.i1 = -1;  // the previous grid's rings are gone
     }
     const SampleGrid& g = *grid_;
     const Sampler sampler(stock, before, end, region);
-    for (int i = samples_.i0; i <= samples_.i1; ++i) rings_[i] = {};  // the previous block's
+    for (int i = samples_.i0; i <= samples_.i1; ++i) rings_[i].arcs.clear(), rings_[i].angle = 0.0;  // the previous block's
     active_rings(g, sampler, samples_);
     if (samples_.i1 < samples_.i0) return out;
     const int evaluations = std::max(1, opt_.refine_steps);

@@ -47,30 +47,32 @@ double along_ray_distance(const Dexel& ray, float t) {
   return best;
 }
 
+// Signed distance along ray (d, iu, iv) from coordinate t, the ray as it was before the change.
+[[gnu::always_inline]] inline double ray_distance(const StockBefore& stock, int d, int iu, int iv, float t) {
+  const Dexel& ray = stock.now().ray(d, iu, iv);
+  const auto [pieces, n] = stock.removed(d, iu, iv);
+  return n == 0 ? along_ray_distance(ray, t) : along_ray_distance(ray.begin(), ray.end(), pieces, pieces + n, t);
+}
+
 }  // namespace
 
 double material_depth(const StockBefore& stock, const Eigen::Vector3d& p) {
   const Lattice& L = stock.lattice();
   const double inv_h = 1.0 / L.h;
-  const double inf = std::numeric_limits<double>::infinity();
-  int iu[3], iv[3];
-  for (int d = 0; d < 3; ++d) {
-    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+  // The nearest lattice node along each axis: grid d's nearest ray is at the nodes of the other two.
+  int k[3];
+  for (int a = 0; a < 3; ++a) {
     // The range test comes first so that the conversion to int cannot overflow.
-    const double fu = (p[u] - L.origin[u]) * inv_h + 0.5, fv = (p[v] - L.origin[v]) * inv_h + 0.5;
-    if (!(fu >= 0.0 && fv >= 0.0 && fu < L.n[u] && fv < L.n[v])) return inf;  // outside the lattice: no material
-    iu[d] = static_cast<int>(fu);
-    iv[d] = static_cast<int>(fv);
+    const double f = (p[a] - L.origin[a]) * inv_h + 0.5;
+    if (!(f >= 0.0 && f < L.n[a])) return std::numeric_limits<double>::infinity();  // outside: no material
+    k[a] = static_cast<int>(f);
   }
-  double best = inf;
-  for (int d = 0; d < 3; ++d) {
-    const Dexel& ray = stock.now().ray(d, iu[d], iv[d]);
-    const float t = static_cast<float>(p[d] - L.origin[d]);
-    const auto [pieces, n] = stock.removed(d, iu[d], iv[d]);
-    const double sd =
-        n == 0 ? along_ray_distance(ray, t) : along_ray_distance(ray.begin(), ray.end(), pieces, pieces + n, t);
-    if (std::abs(sd) < std::abs(best)) best = sd;
-  }
+  // Written out per grid (u = d + 1, v = d + 2 mod 3), so that the axes are constants.
+  double best = ray_distance(stock, 0, k[1], k[2], static_cast<float>(p[0] - L.origin[0]));
+  const double y = ray_distance(stock, 1, k[2], k[0], static_cast<float>(p[1] - L.origin[1]));
+  if (std::abs(y) < std::abs(best)) best = y;
+  const double z = ray_distance(stock, 2, k[0], k[1], static_cast<float>(p[2] - L.origin[2]));
+  if (std::abs(z) < std::abs(best)) best = z;
   return best;
 }
 

@@ -32,7 +32,21 @@ class RemovedPieces {
   const Footprint& footprint(int d) const { return fp_[size_t(d)]; }
   // Adds pieces[0..n) (sorted, disjoint, taken from the ray's material now) to what ray (d, iu, iv) has
   // lost in this change. The ray lies inside the footprint, and only writer w writes it in this change.
-  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n);
+  // Inline: the cut calls it for every ray it changes where the engagement reads (thousands a block).
+  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) {
+    const Footprint& f = fp_[size_t(d)];
+    if (size_t(w) >= writers_.size() || !f.holds(iu, iv)) [[unlikely]]
+      outside_the_change();
+    if (n == 0) return;
+    Entry& e = table_[size_t(d)][index(f, iu, iv)];
+    if (e.stamp == stamp_ && e.n > 0) [[unlikely]]
+      return add_again(w, e, pieces, n);
+    Writer& wr = writers_[size_t(w)];
+    e = {stamp_, uint32_t(w), uint32_t(wr.pool.size()), uint32_t(n)};
+    if (n == 1) wr.pool.push_back(*pieces);  // the common case, without the range insert's overhead
+    else wr.pool.insert(wr.pool.end(), pieces, pieces + n);
+    ++wr.rays;
+  }
   // What ray (d, iu, iv) lost in this change: sorted, disjoint; {nullptr, 0} when nothing (or outside).
   std::pair<const Interval*, size_t> removed(int d, int iu, int iv) const {
     const Footprint& f = fp_[size_t(d)];
@@ -48,6 +62,9 @@ class RemovedPieces {
   struct Entry {
     uint32_t stamp = 0, writer = 0, offset = 0, n = 0;
   };
+  [[noreturn]] static void outside_the_change();
+  // A ray removed from a second time in one change (a crash after the cut): the pieces of both, in order.
+  void add_again(int w, Entry& e, const Interval* pieces, size_t n);
   static size_t index(const Footprint& f, int iu, int iv) {
     return size_t(iv - f.iv0) * size_t(f.iu1 - f.iu0 + 1) + size_t(iu - f.iu0);
   }
