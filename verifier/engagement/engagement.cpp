@@ -66,7 +66,6 @@ struct BlockSamples {
   size_t index(int i, int j) const { return size_t(i - i0) * na + (j < 0 ? j + na : j >= na ? j - na : j); }
   const RingFrame& frame_of(int i) const { return frame[size_t(i - i0)]; }
   const PointState& at(int i, int j) const { return state[index(i, j)]; }
-  bool st(int i, int j) const { return i >= i0 && i <= i1 && eng[index(i, j)] != 0; }
 };
 
 // The rings whose band (to the neighbouring rings, which their refinement may reach) meets the region.
