@@ -53,6 +53,7 @@ void cos_range(double a, double b, double& lo, double& hi) {
 struct RingResult {
   std::vector<std::pair<double, double>> arcs;
   double angle = 0.0;  // engaged radians in total
+  void clear() { arcs.clear(), angle = 0.0; }  // keeps the storage for the next block
 };
 
 // One block's samples: rings i0..i1 are classified (the only ones whose band can meet the region),
@@ -139,8 +140,7 @@ void close_short_gaps(std::vector<std::pair<double, double>>& arcs, double min_g
 // reused from block to block).
 void ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sampler& sampler, const RingFrame& f,
                int evaluations, RingResult& rr) {
-  rr.arcs.clear();
-  rr.angle = 0.0;
+  rr.clear();
   const uint8_t* eng = &b.eng[b.index(i, 0)];
   const int na = g.na;
   auto on = [&](int j) { return eng[j >= na ? j - na : j] != 0; };  // j in [0, 2 na)
@@ -404,7 +404,7 @@ class Meter {
     }
     const SampleGrid& g = *grid_;
     const Sampler sampler(stock, before, end, region);
-    for (int i = samples_.i0; i <= samples_.i1; ++i) rings_[i].arcs.clear(), rings_[i].angle = 0.0;  // the previous block's
+    for (int i = samples_.i0; i <= samples_.i1; ++i) rings_[i].clear();  // the previous block's
     active_rings(g, sampler, samples_);
     if (samples_.i1 < samples_.i0) return out;
     const int evaluations = std::max(1, opt_.refine_steps);

@@ -69,10 +69,10 @@ double material_depth(const StockBefore& stock, const Eigen::Vector3d& p) {
   }
   // Written out per grid (u = d + 1, v = d + 2 mod 3), so that the axes are constants.
   double best = ray_distance(stock, 0, k[1], k[2], static_cast<float>(p[0] - L.origin[0]));
-  const double y = ray_distance(stock, 1, k[2], k[0], static_cast<float>(p[1] - L.origin[1]));
-  if (std::abs(y) < std::abs(best)) best = y;
-  const double z = ray_distance(stock, 2, k[0], k[1], static_cast<float>(p[2] - L.origin[2]));
-  if (std::abs(z) < std::abs(best)) best = z;
+  const double along_y = ray_distance(stock, 1, k[2], k[0], static_cast<float>(p[1] - L.origin[1]));
+  if (std::abs(along_y) < std::abs(best)) best = along_y;
+  const double along_z = ray_distance(stock, 2, k[0], k[1], static_cast<float>(p[2] - L.origin[2]));
+  if (std::abs(along_z) < std::abs(best)) best = along_z;
   return best;
 }
 
