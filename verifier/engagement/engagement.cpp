@@ -74,10 +74,17 @@ void active_rings(const SampleGrid& g, const Sampler& sampler, BlockSamples& b) 
   const engagement::Frame& f = sampler.end_frame();
   // A circle of radius r about axis a spans r sqrt(1 - a_k^2) along axis k.
   const Eigen::Vector3d span = (Eigen::Vector3d::Ones() - f.e3.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  // Every point of the cutting surface at height z along the axis lies at z from the frame's origin along
+  // e3, and every point of the region within `reach` of `mid` there: a ring whose band lies wholly outside
+  // that slab has no point in the region, and its box need not be made (most rings of a long profile).
+  const Eigen::Vector3d mid_point = sampler.region().center() - f.o;
+  const double mid = mid_point.dot(f.e3), reach = 0.5 * sampler.region().sizes().dot(f.e3.cwiseAbs());
   b.i0 = g.nr;
   b.i1 = -1;
   b.na = g.na;
   for (int i = 0; i < g.nr; ++i) {
+    const double z0 = g.ring[std::max(0, i - 1)].z, z1 = g.ring[std::min(g.nr - 1, i + 1)].z;
+    if (std::max({z0, z1, g.ring[i].z}) < mid - reach || std::min({z0, z1, g.ring[i].z}) > mid + reach) continue;
     Eigen::AlignedBox3d box;
     for (const ProfilePoint& p : {g.ring[std::max(0, i - 1)], g.ring[std::min(g.nr - 1, i + 1)], g.ring[i]}) {
       const Eigen::Vector3d c = f.o + p.z * f.e3, e = p.r * span;
@@ -189,7 +196,7 @@ void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame&
   PointState* state = &b.state[b.index(i, 0)];
   uint8_t* eng = &b.eng[b.index(i, 0)];
   for (int j = 0; j < g.na; ++j) {
-    state[j] = eng[j] ? sampler.state(f, g.cos_phi[j], g.sin_phi[j], false) : PointState{};
+    state[j] = eng[j] ? sampler.state_in_region(f, g.cos_phi[j], g.sin_phi[j]) : PointState{};
     eng[j] = state[j].engaged;
   }
 }
@@ -276,7 +283,7 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
     // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
     auto end = [&](int k) {
       const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
-      return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? at(g.s_of(k)) : s;
+      return std::isnan(s.facing) && (k >= b.i0 && k <= b.i1) ? sampler.state(col, g.ring[k]) : s;
     };
     PointState sa = end(i), sc = end(i + 1);
     double sb = -1.0;

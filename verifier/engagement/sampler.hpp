@@ -74,6 +74,11 @@ class Sampler {
     if (!region_.contains(x)) return {};
     return classify(x, f.dc + c * f.d1 + sn * f.d2, f.n0 + c * f.n1 + sn * f.n2, measured);
   }
+  // state(f, c, sn, false) for a point already found inside the region (mark_in_region's test, the same
+  // arithmetic): the classification of a ring's marked samples, without testing the region twice.
+  [[gnu::always_inline]] PointState state_in_region(const RingFrame& f, double c, double sn) const {
+    return classify(f.c0 + c * f.a1 + sn * f.a2, f.dc + c * f.d1 + sn * f.d2, f.n0 + c * f.n1 + sn * f.n2, false);
+  }
   // One column of the cutting surface (the angle with cosine c and sine sn, along the profile): the angle's
   // direction in the end frame and in the earlier one, so that a point of the column costs a few
   // multiply-adds (the meridian refinement walks columns).
