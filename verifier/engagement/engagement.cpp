@@ -83,10 +83,10 @@ void active_rings(const SampleGrid& g, const Sampler& sampler, BlockSamples& b) 
   b.i1 = -1;
   b.na = g.na;
   for (int i = 0; i < g.nr; ++i) {
-    const double z0 = g.ring[std::max(0, i - 1)].z, z1 = g.ring[std::min(g.nr - 1, i + 1)].z;
-    if (std::max({z0, z1, g.ring[i].z}) < mid - reach || std::min({z0, z1, g.ring[i].z}) > mid + reach) continue;
+    const ProfilePoint &below = g.ring[std::max(0, i - 1)], &above = g.ring[std::min(g.nr - 1, i + 1)], &at = g.ring[i];
+    if (std::max({below.z, above.z, at.z}) < mid - reach || std::min({below.z, above.z, at.z}) > mid + reach) continue;
     Eigen::AlignedBox3d box;
-    for (const ProfilePoint& p : {g.ring[std::max(0, i - 1)], g.ring[std::min(g.nr - 1, i + 1)], g.ring[i]}) {
+    for (const ProfilePoint& p : {below, above, at}) {
       const Eigen::Vector3d c = f.o + p.z * f.e3, e = p.r * span;
       box.extend(c - e);
       box.extend(c + e);
