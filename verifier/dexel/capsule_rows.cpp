@@ -82,7 +82,7 @@ template <bool kMoving, bool kAcross, bool kSlanted>
   });
 }
 
-TF_ROW_CLONES
+TF_VECTOR_CLONES
 void capsule_rows(const SweptPart& p, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0, double* t1) {
   const int v = 3 - dir - u;
   RowConstants k;

@@ -106,7 +106,7 @@ struct Roots {
   t1 = hit ? hi + k.shift : -kInf;
 }
 
-TF_ROW_CLONES
+TF_VECTOR_CLONES
 void cylinder_row(const CylRow& row, int n, double* __restrict t0, double* __restrict t1) {
   // A local copy: its fields may be read under a select without a masked load (which stops the vectoriser).
   const CylRow k = row;

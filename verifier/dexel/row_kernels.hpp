@@ -1,15 +1,11 @@
 // tiltfield dexel (internal): what the batched row kernels (capsule_rows.cpp, cylinder_rows.cpp) share. They
 // compute one interval per lattice ray of a row with no branches per ray, so that the compiler vectorises
-// them; each is built for AVX-512, AVX2 and baseline x86-64 and the best is picked at load time (GCC
-// target clones; not under the sanitizers, whose runtime does not take them).
+// them; each is built for AVX-512, AVX2 and baseline x86-64 and the best is picked at load time
+// (TF_VECTOR_CLONES).
 #pragma once
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define TF_ROW_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define TF_ROW_CLONES
-#endif
+#include "tiltfield/core/internal/vector_clones.hpp"
 
 namespace tf::row_kernels {
 

@@ -57,7 +57,7 @@ template <int kCount>
   hi += 1e-9;
 }
 
-TF_ROW_CLONES
+TF_VECTOR_CLONES
 void shadow_batch(const Shadow& shadow, double cv0, double step, int n, double* lo, double* hi) {
   const Shadow s = shadow;  // a local copy: read under selects without masked loads (cylinder_rows.cpp)
   if (s.count == 1)

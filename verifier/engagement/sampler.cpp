@@ -83,7 +83,10 @@ SampleGrid::SampleGrid(const Profile& prof, double spacing, const EngagementOpti
   ds = S / nr;
   na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
   dphi = 2.0 * kPi / na;
-  for (int i = 0; i < nr; ++i) ring.push_back(prof.at(s_of(i)));
+  for (int i = 0; i < nr; ++i) {
+    ring.push_back(prof.at(s_of(i)));
+    band.push_back(prof.band_area(i * ds, (i + 1) * ds));
+  }
   for (int j = 0; j < na; ++j) {
     cos_phi.push_back(std::cos(phi_of(j)));
     sin_phi.push_back(std::sin(phi_of(j)));

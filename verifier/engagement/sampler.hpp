@@ -50,6 +50,7 @@ struct SampleGrid {
   int nr = 0, na = 0;
   double ds = 0.0, dphi = 0.0;
   std::vector<ProfilePoint> ring;        // the rings' profile points
+  std::vector<double> band;              // the rings' band areas over the full turn (mm^2), i ds to (i + 1) ds
   std::vector<double> cos_phi, sin_phi;  // of phi_of(j)
 };
 
