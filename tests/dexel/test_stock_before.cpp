@@ -1,6 +1,6 @@
 // The stock read as it was before a change: the pieces subtract_intervals reports removed make up, with
 // what it keeps, exactly the material before (slivers included), and RemovedPieces gives each ray back
-// its own pieces for the current change only.
+// its own pieces, or its material before (a short ray kept whole), for the current change only.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -73,28 +73,59 @@ TEST(StockBefore, RemovedPiecesAreThoseOfTheCurrentChangeInsideTheFootprint) {
   rp.add(0, 0, 3, 11, p0, 2);
   rp.add(1, 2, 3, 3, p1, 1);
   EXPECT_EQ(rp.rays(), 2u);
-  auto [r0, n0] = rp.removed(0, 3, 11);
-  ASSERT_EQ(n0, 2u);
-  EXPECT_EQ(r0[1].hi, 4.5f);
-  EXPECT_EQ(rp.removed(2, 3, 3).second, 1u);
-  EXPECT_EQ(rp.removed(0, 4, 11).second, 0u) << "a ray of the footprint the change did not touch";
-  EXPECT_EQ(rp.removed(0, 6, 11).second, 0u) << "outside the footprint";
-  EXPECT_EQ(rp.removed(1, 0, 0).second, 0u);
+  const RemovedPieces::Kept k0 = rp.kept(0, 3, 11);
+  ASSERT_EQ(k0.n, 2u);
+  EXPECT_FALSE(k0.whole);
+  EXPECT_EQ(k0.p[1].hi, 4.5f);
+  EXPECT_EQ(rp.kept(2, 3, 3).n, 1u);
+  EXPECT_EQ(rp.kept(0, 4, 11).n, 0u) << "a ray of the footprint the change did not touch";
+  EXPECT_EQ(rp.kept(0, 6, 11).n, 0u) << "outside the footprint";
+  EXPECT_EQ(rp.kept(1, 0, 0).n, 0u);
   EXPECT_THROW(rp.add(0, 1, 0, 0, p1, 1), std::logic_error);
   EXPECT_THROW(rp.add(2, 0, 3, 11, p1, 1), std::logic_error) << "writer 2 of 2";
   // Removed from again (a crash after the cut): both lots, in order.
   const Interval later[] = {{2.5f, 3.f}};
   rp.add(0, 0, 3, 11, later, 1);
-  auto [r1, n1] = rp.removed(0, 3, 11);
-  ASSERT_EQ(n1, 3u);
-  EXPECT_EQ(r1[1].lo, 2.5f);
+  const RemovedPieces::Kept k1 = rp.kept(0, 3, 11);
+  ASSERT_EQ(k1.n, 3u);
+  EXPECT_EQ(k1.p[1].lo, 2.5f);
   EXPECT_EQ(rp.rays(), 2u);
   // The next change sees none of it, even where the footprint moved over the same table slots.
   fp[0] = {3, 6, 11, 13};
   rp.start(fp, 2);
-  EXPECT_EQ(rp.removed(0, 3, 11).second, 0u);
-  EXPECT_EQ(rp.removed(0, 4, 12).second, 0u);
+  EXPECT_EQ(rp.kept(0, 3, 11).n, 0u);
+  EXPECT_EQ(rp.kept(0, 4, 12).n, 0u);
   EXPECT_EQ(rp.rays(), 0u);
+}
+
+TEST(StockBefore, AShortRayIsKeptWholeAndOnlyItsFirstMaterialCounts) {
+  RemovedPieces rp;
+  std::array<RemovedPieces::Footprint, 3> fp;
+  fp[1] = {0, 3, 0, 3};
+  rp.start(fp, 1);
+  const Interval before[] = {{0.f, 5.f}}, after_first[] = {{0.f, 2.f}};
+  rp.add_before(0, 1, 2, 2, before, 1);
+  rp.add_before(0, 1, 2, 2, after_first, 1);  // removed from again: the first record is the ray before
+  const RemovedPieces::Kept k = rp.kept(1, 2, 2);
+  ASSERT_EQ(k.n, 1u);
+  EXPECT_TRUE(k.whole);
+  EXPECT_EQ(k.p[0].hi, 5.f);
+  const Interval piece[] = {{1.f, 2.f}};
+  rp.add(0, 1, 2, 2, piece, 1);
+  EXPECT_EQ(rp.kept(1, 2, 2).p[0].hi, 5.f) << "pieces after a whole record add nothing";
+  // Pieces first (a long ray), then the ray short enough to be kept whole: the two joined.
+  const Interval gone[] = {{3.f, 4.f}}, rest[] = {{0.f, 1.f}, {4.f, 6.f}};
+  rp.add(0, 1, 3, 3, gone, 1);
+  rp.add_before(0, 1, 3, 3, rest, 2);
+  const RemovedPieces::Kept j = rp.kept(1, 3, 3);
+  ASSERT_EQ(j.n, 2u);
+  EXPECT_TRUE(j.whole);
+  EXPECT_EQ(j.p[1].lo, 3.f);
+  EXPECT_EQ(j.p[1].hi, 6.f);
+  rp.add_before(0, 1, 0, 0, before, 0);  // a ray without material: nothing to keep
+  EXPECT_EQ(rp.kept(1, 0, 0).n, 0u);
+  EXPECT_EQ(rp.rays(), 2u);
+  EXPECT_THROW(rp.add_before(0, 0, 0, 0, before, 1), std::logic_error) << "grid 0's footprint is empty";
 }
 
 TEST(StockBefore, ReadsEachRayWithItsPiecesPutBack) {
@@ -118,6 +149,12 @@ TEST(StockBefore, ReadsEachRayWithItsPiecesPutBack) {
   StockBefore(now).ray(2, 1, 1, ray);
   EXPECT_EQ(ray.size(), 2u);
   EXPECT_EQ(ray[0].hi, 1.f) << "without pieces: the stock itself";
+  // Kept whole: the record itself, whatever the ray holds now.
+  const Interval was[] = {{0.f, 4.f}};
+  rp.add_before(0, 2, 2, 2, was, 1);
+  StockBefore(now, &rp).ray(2, 2, 2, ray);
+  ASSERT_EQ(ray.size(), 1u);
+  EXPECT_EQ(ray[0].hi, 4.f);
 }
 
 }  // namespace

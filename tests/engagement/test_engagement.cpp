@@ -324,3 +324,28 @@ TEST(Engagement, OneProbeAcrossLatticeSpacings) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+// A finishing-like pass: a ball R3 only 0.2 mm deep, fed 37 deg off the lattice's axes. The engaged
+// surface is the front half of a thin spherical zone (pi R d, 1.9 mm^2) whose rim the rays cross at
+// every angle; its width is the zone's chord.
+TEST(Engagement, ShallowBallPassObliqueToTheLattice) {
+  const double rb = 3.0, d = 0.2, c = std::cos(37.0 / kDeg), sn = std::sin(37.0 / kDeg);
+  const Scene s = box_scene({-40, -40, 0}, {60, 60, 10}, make_tool(BallCutter{rb}));
+  const test::Moves g =
+      test::Moves().rapid({-30 * c, -30 * sn, 10.0 - d}).line({.x = 0.0, .y = 0.0}, 600).line({.x = 20 * c, .y = 20 * sn});
+  const Engagement e = run(s, g, 0.05).per_block.back().engagement;
+  const double area = kPi * rb * d, width = 2.0 * std::sqrt(2 * rb * d - d * d);
+  std::cout << "shallow ball: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2 << " (" << area
+            << ") ae " << e.radial_width_mm << " (" << width << ") ap " << e.axial_depth_mm << "\n";
+  EXPECT_NEAR(e.entry_deg, 0.0, 0.5);
+  EXPECT_NEAR(e.exit_deg, 180.0, 0.5);
+  expect_within(e.area_mm2, area, area, "area");
+  expect_within(e.radial_width_mm, width, width, "radial width");
+  expect_within(e.axial_depth_mm, d, d, "axial depth");
+}
+
+}  // namespace
+}  // namespace tf

@@ -18,6 +18,8 @@ namespace {
 
 // Rows met by at most this many parts gather each ray's hits directly instead of scattering them.
 constexpr size_t kFewRowParts = 3;
+// Rays of at most this many intervals are kept whole for the engagement (RemovedPieces::add_before).
+constexpr size_t kWholeRay = 4;
 
 // ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
 // from a mistyped coordinate) are clamped first, well inside int.
@@ -68,13 +70,16 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 
 // Takes the disjoint intervals cut[0..n) out of ray `ray` at `at` (the removed pieces into `pieces` when
 // not null); false when no material went. `cutting`: the cutting parts' union, whose removal bounds the
-// engagement (acc.removed_box), not a crash's. Where the engagement reads, the pieces also go to
-// removed_, which gives it the ray as it was.
+// engagement (acc.removed_box), not a crash's. Where the engagement reads, the ray before the change or
+// its removed pieces also go to removed_, which gives it the ray as it was.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
                          bool cutting, Accum& acc) {
   const bool read = acc.keep_pieces && removed_.footprint(at.d).holds(at.iu, at.iv);
+  // A short ray is kept whole (no more to copy than its pieces, and the engagement reads it without a
+  // merge); a long one by its pieces.
+  const bool whole = read && ray.size() <= kWholeRay;
   std::vector<Interval>* out = pieces;
-  if (read && !out) (out = &acc.read_pieces)->clear();
+  if (read && !whole && !out) (out = &acc.read_pieces)->clear();
   const size_t first = out ? out->size() : 0;
   const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, out);
   if (!(gone > 0)) return false;
@@ -89,7 +94,8 @@ bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_
       b.v0 = std::min(b.v0, at.v_mm);
       b.v1 = std::max(b.v1, at.v_mm);
     }
-    removed_.add(acc.writer, at.d, at.iu, at.iv, out->data() + first, out->size() - first);
+    if (whole) removed_.add_before(acc.writer, at.d, at.iu, at.iv, ray.begin(), ray.size());
+    else removed_.add(acc.writer, at.d, at.iu, at.iv, out->data() + first, out->size() - first);
   }
   ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
   acc.removed[at.d] += gone;

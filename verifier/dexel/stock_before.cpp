@@ -26,13 +26,24 @@ void RemovedPieces::outside_the_change() {
 }
 
 void RemovedPieces::add_again(int w, Entry& e, const Interval* pieces, size_t n) {
+  if (e.whole) return;  // the material before the first removal holds the second's pieces too
   const Interval* old = writers_[e.writer].pool.data() + e.offset;
   std::vector<Interval> both;
   std::merge(old, old + e.n, pieces, pieces + n, std::back_inserter(both),
              [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
   std::vector<Interval>& pool = writers_[size_t(w)].pool;
-  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size())};
+  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size()), 0u};
   pool.insert(pool.end(), both.begin(), both.end());
+}
+
+void RemovedPieces::add_before_again(int w, Entry& e, const Interval* before, size_t n) {
+  if (e.whole) return;  // the first record is the material before the change
+  // `before` is the ray after the first removal: with that removal's pieces, the ray before the change.
+  std::vector<Interval> all;
+  join_disjoint(before, n, writers_[e.writer].pool.data() + e.offset, e.n, all);
+  std::vector<Interval>& pool = writers_[size_t(w)].pool;
+  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(all.size()), 1u};
+  pool.insert(pool.end(), all.begin(), all.end());
 }
 
 size_t RemovedPieces::rays() const {
@@ -52,9 +63,10 @@ void join_disjoint(const Interval* a, size_t na, const Interval* b, size_t nb, s
 }
 
 void StockBefore::ray(int d, int iu, int iv, std::vector<Interval>& out) const {
+  const RemovedPieces::Kept k = kept(d, iu, iv);
+  if (k.whole) return join_disjoint(k.p, k.n, nullptr, 0, out);
   const Dexel& r = now_->ray(d, iu, iv);
-  const auto [p, n] = removed(d, iu, iv);
-  join_disjoint(r.begin(), r.size(), p, n, out);
+  join_disjoint(r.begin(), r.size(), k.p, k.n, out);
 }
 
 }  // namespace tf

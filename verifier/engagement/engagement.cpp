@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -143,6 +146,24 @@ void close_short_gaps(std::vector<std::pair<double, double>>& arcs, double min_g
   }
   if (arcs.size() == 1 && arcs.front().second - arcs.front().first >= 2.0 * kPi - min_gap)
     arcs.front() = {0.0, 2.0 * kPi};
+}
+
+// f(j), in increasing j < na, for every angle whose engaged flag differs between two rings' flags (0 or
+// 1; a null ring reads as all 0). Eight angles are compared at once: a ring pair changes state at a few
+// angles of sixty, and comparing them one by one was a sixth of the strips' cost on the raster.
+template <class F>
+void for_each_change(const uint8_t* below, const uint8_t* above, int na, F&& f) {
+  int j = 0;
+  if constexpr (std::endian::native == std::endian::little) {
+    for (; j + 8 <= na; j += 8) {
+      uint64_t x = 0, y = 0;
+      if (below) std::memcpy(&x, below + j, 8);
+      if (above) std::memcpy(&y, above + j, 8);
+      for (uint64_t diff = x ^ y; diff != 0; diff &= diff - 1) f(j + std::countr_zero(diff) / 8);
+    }
+  }
+  for (; j < na; ++j)
+    if ((below ? below[j] : 0) != (above ? above[j] : 0)) f(j);
 }
 
 // The engaged arcs of ring i (f its frame), their ends refined between the samples, into rr (its storage
@@ -287,9 +308,8 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
   const double width = kRefineFraction * g.h / g.ds;
   const uint8_t* below = i >= b.i0 ? &b.eng[b.index(i, 0)] : nullptr;
   const uint8_t* above = i + 1 <= b.i1 ? &b.eng[b.index(i + 1, 0)] : nullptr;
-  for (int j = 0; j < g.na; ++j) {
-    const bool a = below && below[j] != 0, c = above && above[j] != 0;
-    if (a == c) continue;
+  for_each_change(below, above, g.na, [&](int j) {
+    const bool a = below && below[j] != 0;
     double s0 = g.s_of(i), s1 = g.s_of(i + 1);
     const Sampler::Column col = sampler.column(g.cos_phi[j], g.sin_phi[j]);
     auto at = [&](double s) { return sampler.state(col, prof.at(s)); };
@@ -326,7 +346,7 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
     x.zmax = std::max(x.zmax, p.z);
     x.wmin = std::min(x.wmin, p.r * g.cos_phi[j]);
     x.wmax = std::max(x.wmax, p.r * g.cos_phi[j]);
-  }
+  });
 }
 
 // The meridian strips of every pair of neighbouring rings around the classified ones, into x: per pair

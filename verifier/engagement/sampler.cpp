@@ -33,11 +33,9 @@ double along_ray_distance(const Interval* a, const Interval* ae, const Interval*
   return before;
 }
 
-// The same for one list, the common case (a ray the block did not change).
-double along_ray_distance(const Dexel& ray, float t) {
+// The same for one list, the common case (a ray the block did not change, or one kept whole).
+double along_ray_distance(const Interval* b, const Interval* e, float t) {
   // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
-  const Interval* b = ray.begin();
-  const Interval* e = ray.end();
   const Interval* it = b;
   while (it != e && it->hi < t) ++it;  // rays hold few intervals: a scan beats a binary search
   if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
@@ -49,9 +47,11 @@ double along_ray_distance(const Dexel& ray, float t) {
 
 // Signed distance along ray (d, iu, iv) from coordinate t, the ray as it was before the change.
 [[gnu::always_inline]] inline double ray_distance(const StockBefore& stock, int d, int iu, int iv, float t) {
+  const RemovedPieces::Kept k = stock.kept(d, iu, iv);
+  if (k.whole) return along_ray_distance(k.p, k.p + k.n, t);
   const Dexel& ray = stock.now().ray(d, iu, iv);
-  const auto [pieces, n] = stock.removed(d, iu, iv);
-  return n == 0 ? along_ray_distance(ray, t) : along_ray_distance(ray.begin(), ray.end(), pieces, pieces + n, t);
+  return k.n == 0 ? along_ray_distance(ray.begin(), ray.end(), t)
+                  : along_ray_distance(ray.begin(), ray.end(), k.p, k.p + k.n, t);
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 // tiltfield dexel: a tri-dexel stock read as it was before a change (one block's cut) without a copy of
-// the rays the change touched. The change keeps, per ray it touched inside a footprint, the pieces it
-// removed; the ray before the change is its intervals now together with those pieces.
+// every ray the change touched. The change keeps, per ray it touched inside a footprint, either the ray's
+// material before it (a ray of few intervals: as cheap to copy as its pieces, and read without a merge)
+// or the pieces it removed (a long ray); the ray before the change is then its intervals now together
+// with those pieces.
 //
-// In: the stock after the change and the pieces (coordinates along the ray from the lattice origin, mm,
-// as in Interval). Out: per ray, its material before the change.
+// In: the stock after the change and what the change kept (coordinates along the ray from the lattice
+// origin, mm, as in Interval). Out: per ray, its material before the change.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -15,7 +17,7 @@
 
 namespace tf {
 
-// The pieces one change removed from the rays of a TriDexel inside a footprint per grid. Each ray has
+// What one change removed from the rays of a TriDexel inside a footprint per grid. Each ray has
 // one writer; writers (threads) are told apart by an index below the count given to start() and append to
 // their own storage, so a change is recorded from several threads without locks. Entries of earlier
 // changes are told apart by a counter, not cleared, so that starting a change costs nothing per ray.
@@ -33,38 +35,53 @@ class RemovedPieces {
   // Adds pieces[0..n) (sorted, disjoint, taken from the ray's material now) to what ray (d, iu, iv) has
   // lost in this change. The ray lies inside the footprint, and only writer w writes it in this change.
   // Inline: the cut calls it for every ray it changes where the engagement reads (thousands a block).
-  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) {
-    const Footprint& f = fp_[size_t(d)];
-    if (size_t(w) >= writers_.size() || !f.holds(iu, iv)) [[unlikely]]
-      outside_the_change();
-    if (n == 0) return;
-    Entry& e = table_[size_t(d)][index(f, iu, iv)];
-    if (e.stamp == stamp_ && e.n > 0) [[unlikely]]
-      return add_again(w, e, pieces, n);
-    Writer& wr = writers_[size_t(w)];
-    e = {stamp_, uint32_t(w), uint32_t(wr.pool.size()), uint32_t(n)};
-    if (n == 1) wr.pool.push_back(*pieces);  // the common case, without the range insert's overhead
-    else wr.pool.insert(wr.pool.end(), pieces, pieces + n);
-    ++wr.rays;
+  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) { record(w, d, iu, iv, pieces, n, false); }
+  // Records instead ray (d, iu, iv)'s whole material before this change, before[0..n) (sorted,
+  // disjoint), under the same conditions as add(). A ray without material lost none: nothing to record.
+  void add_before(int w, int d, int iu, int iv, const Interval* before, size_t n) {
+    record(w, d, iu, iv, before, n, true);
   }
-  // What ray (d, iu, iv) lost in this change: sorted, disjoint; {nullptr, 0} when nothing (or outside).
-  std::pair<const Interval*, size_t> removed(int d, int iu, int iv) const {
+  // What this change kept of ray (d, iu, iv): sorted, disjoint intervals, the ray's material before the
+  // change (`whole`) or the pieces it lost; n = 0 when the change did not touch it (or it is outside).
+  struct Kept {
+    const Interval* p = nullptr;
+    size_t n = 0;
+    bool whole = false;
+  };
+  Kept kept(int d, int iu, int iv) const {
     const Footprint& f = fp_[size_t(d)];
-    if (!f.holds(iu, iv)) return {nullptr, 0};
+    if (!f.holds(iu, iv)) return {};
     const Entry& e = table_[size_t(d)][index(f, iu, iv)];
-    if (e.stamp != stamp_) return {nullptr, 0};
-    return {writers_[e.writer].pool.data() + e.offset, e.n};
+    if (e.stamp != stamp_) return {};
+    return {writers_[e.writer].pool.data() + e.offset, e.n, e.whole != 0};
   }
   // Rays recorded in this change.
   size_t rays() const;
 
  private:
   struct Entry {
-    uint32_t stamp = 0, writer = 0, offset = 0, n = 0;
+    uint32_t stamp = 0, writer = 0, offset = 0;
+    uint32_t n : 31 = 0, whole : 1 = 0;
   };
+  void record(int w, int d, int iu, int iv, const Interval* p, size_t n, bool whole) {
+    const Footprint& f = fp_[size_t(d)];
+    if (size_t(w) >= writers_.size() || !f.holds(iu, iv)) [[unlikely]]
+      outside_the_change();
+    if (n == 0) return;
+    Entry& e = table_[size_t(d)][index(f, iu, iv)];
+    if (e.stamp == stamp_ && e.n > 0) [[unlikely]]
+      return whole ? add_before_again(w, e, p, n) : add_again(w, e, p, n);
+    Writer& wr = writers_[size_t(w)];
+    e = {stamp_, uint32_t(w), uint32_t(wr.pool.size()), uint32_t(n), whole ? 1u : 0u};
+    if (n == 1) wr.pool.push_back(*p);  // the common case, without the range insert's overhead
+    else wr.pool.insert(wr.pool.end(), p, p + n);
+    ++wr.rays;
+  }
   [[noreturn]] static void outside_the_change();
-  // A ray removed from a second time in one change (a crash after the cut): the pieces of both, in order.
+  // A ray removed from a second time in one change (a crash after the cut): the pieces of both, in order,
+  // or the material before the first.
   void add_again(int w, Entry& e, const Interval* pieces, size_t n);
+  void add_before_again(int w, Entry& e, const Interval* before, size_t n);
   static size_t index(const Footprint& f, int iu, int iv) {
     return size_t(iv - f.iv0) * size_t(f.iu1 - f.iu0 + 1) + size_t(iu - f.iu0);
   }
@@ -87,11 +104,11 @@ class StockBefore {
   explicit StockBefore(const TriDexel& now, const RemovedPieces* removed = nullptr) : now_(&now), removed_(removed) {}
   const TriDexel& now() const { return *now_; }
   const Lattice& lattice() const { return now_->lattice(); }
-  std::pair<const Interval*, size_t> removed(int d, int iu, int iv) const {
-    return removed_ ? removed_->removed(d, iu, iv) : std::pair<const Interval*, size_t>{nullptr, 0};
+  RemovedPieces::Kept kept(int d, int iu, int iv) const {
+    return removed_ ? removed_->kept(d, iu, iv) : RemovedPieces::Kept{};
   }
   // Ray (d, iu, iv) as it was: sorted, disjoint intervals (a removed piece and the material it touched
-  // are one interval again).
+  // are one interval again; touching intervals are joined).
   void ray(int d, int iu, int iv, std::vector<Interval>& out) const;
 
  private:
