@@ -218,6 +218,45 @@ TEST_F(VerifyCli, OutputsThatCannotBeWrittenAreRefusedBeforeTheSimulation) {
   }
 }
 
+// The engagement's sampling from the command line: rings closer together give more heights of pairs in
+// --engagement's CSV; out-of-range steps are exit 2 naming the option, with nothing written.
+TEST_F(VerifyCli, EngagementSamplingOptions) {
+  write(dir / "p.ngc", "G21 G90\nG0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
+  const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --resolution 0.25 --engagement " + (dir / "e.csv").string();
+  auto slot_heights = [&] {
+    std::ifstream csv(dir / "e.csv");
+    std::string row;
+    std::getline(csv, row);
+    std::vector<std::string> heights;  // of block 3, the slot (block,line,height_mm,entry_deg,exit_deg)
+    while (std::getline(csv, row)) {
+      std::stringstream cells(row);
+      std::vector<std::string> c;
+      for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+      if (c.size() == 5 && c[0] == "3") heights.push_back(c[2]);
+    }
+    std::sort(heights.begin(), heights.end());
+    return std::unique(heights.begin(), heights.end()) - heights.begin();
+  };
+  CliRun r = tiltfield(base, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto coarse = slot_heights();
+  r = tiltfield(base + " --engagement-axial-step 0.1 --engagement-angle-step 3", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto fine = slot_heights();
+  EXPECT_GE(coarse, 5) << "the default: rings about 0.31 mm apart over the ball's 3 mm";
+  EXPECT_GE(fine, 2 * coarse) << "rings 0.1 mm apart";
+  fs::remove(dir / "v.json");
+  for (const std::string bad : {"--engagement-angle-step 0", "--engagement-angle-step 90", "--engagement-axial-step -1",
+                                "--engagement-axial-step nan"}) {
+    r = tiltfield(base + " " + bad, dir);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir / "v.json")) << bad;
+  }
+}
+
 TEST_F(VerifyCli, SceneWithoutDesignSaysNoGougesWereComputed) {
   write(dir / "bare.json", R"({
     "stock": {"box": {"min": [0, 0, 0], "max": [40, 30, 10]}},

@@ -28,6 +28,7 @@ struct VerifyArgs {
   double schedule_mrr = 0.0;
   FeedScheduleOptions schedule;
   bool no_engagement = false;
+  EngagementOptions engagement;
   double resolution = 0.1;
   double tolerance = 0.01;
   double holder_tolerance = 0.05;
@@ -40,6 +41,10 @@ void run_verify(const VerifyArgs& a) {
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
+  if (!(a.engagement.angle_step_deg > 0.0 && a.engagement.angle_step_deg <= 45.0))
+    throw InputError("", 0, "--engagement-angle-step", "must be a number of degrees in (0, 45]");
+  if (!(a.engagement.axial_step_mm >= 0.0) || !std::isfinite(a.engagement.axial_step_mm))
+    throw InputError("", 0, "--engagement-axial-step", "must be a number of mm >= 0 (0: automatic)");
   if (!(a.mesh_tolerance >= 0.0) || !std::isfinite(a.mesh_tolerance))
     throw InputError("", 0, "--mesh-tolerance", "must be a number of mm >= 0 (0: the full mesh)");
   // Every output name is checked before the simulation, so that a mistyped one costs no minutes and
@@ -58,7 +63,7 @@ void run_verify(const VerifyArgs& a) {
   opt.sweep.holder_tolerance = a.holder_tolerance;
   opt.stop_at_first_collision = a.stop_at_first;
   if (!a.no_engagement) {
-    EngagementOptions eo;
+    EngagementOptions eo = a.engagement;
     eo.keep_pairs = !a.pairs.empty();
     opt.engagement = engagement_probe(eo);
   }
@@ -138,6 +143,12 @@ void add_verify_command(CLI::App& app) {
       ->check(CLI::Range(0, 4));
   cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");
   cmd->add_flag("--no-engagement", args.no_engagement, "skip the engagement measurement (angles, area, depths)");
+  cmd->add_option("--engagement-angle-step", args.engagement.angle_step_deg,
+                  "engagement samples around the tool axis this far apart, deg; an engaged arc narrower than it can be "
+                  "missed (default 6)");
+  cmd->add_option("--engagement-axial-step", args.engagement.axial_step_mm,
+                  "engagement rings (the heights of --engagement's pairs) this far apart along the tool's profile, mm; "
+                  "0: the arc between two angle samples at the tool's radius, at least the resolution (default 0)");
   cmd->add_option("--schedule-feed", args.schedule_mrr,
                   "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
   cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();

@@ -74,16 +74,19 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 // its removed pieces also go to removed_, which gives it the ray as it was.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
                          bool cutting, Accum& acc) {
-  const bool read = acc.keep_pieces && removed_.footprint(at.d).holds(at.iu, at.iv);
   // A short ray is kept whole (no more to copy than its pieces, and the engagement reads it without a
-  // merge); a long one by its pieces.
-  const bool whole = read && ray.size() <= kWholeRay;
+  // merge): ray still holds it after the subtraction, which writes acc.mat, so whether the engagement
+  // reads it is asked only of the rays that changed. A long one is kept by its pieces, which the
+  // subtraction must be asked for.
+  const bool whole = ray.size() <= kWholeRay;
+  RemovedPieces::Entry* slot = acc.keep_pieces && !whole ? removed_.slot(at.d, at.iu, at.iv) : nullptr;
   std::vector<Interval>* out = pieces;
-  if (read && !whole && !out) (out = &acc.read_pieces)->clear();
+  if (slot && !out) (out = &acc.read_pieces)->clear();
   const size_t first = out ? out->size() : 0;
   const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, out);
   if (!(gone > 0)) return false;
-  if (read) {
+  if (whole && acc.keep_pieces) slot = removed_.slot(at.d, at.iu, at.iv);
+  if (slot) {
     if (cutting) {
       // The removed material lies where the cut and the material before overlap.
       Accum::GridBox& b = acc.removed_box[at.d];
@@ -94,8 +97,8 @@ bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_
       b.v0 = std::min(b.v0, at.v_mm);
       b.v1 = std::max(b.v1, at.v_mm);
     }
-    if (whole) removed_.add_before(acc.writer, at.d, at.iu, at.iv, ray.begin(), ray.size());
-    else removed_.add(acc.writer, at.d, at.iu, at.iv, out->data() + first, out->size() - first);
+    if (whole) removed_.add_before(acc.writer, slot, ray.begin(), ray.size());
+    else removed_.add(acc.writer, slot, out->data() + first, out->size() - first);
   }
   ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
   acc.removed[at.d] += gone;

@@ -18,7 +18,7 @@ void RemovedPieces::start(const std::array<Footprint, 3>& footprint, int writers
     if (table_[size_t(d)].size() < n) table_[size_t(d)].resize(n);
   }
   if (writers_.size() < size_t(std::max(1, writers))) writers_.resize(size_t(std::max(1, writers)));
-  for (Writer& w : writers_) w.pool.clear(), w.rays = 0;
+  for (Writer& w : writers_) w.used = 0, w.rays = 0;
 }
 
 void RemovedPieces::outside_the_change() {
@@ -31,9 +31,9 @@ void RemovedPieces::add_again(int w, Entry& e, const Interval* pieces, size_t n)
   std::vector<Interval> both;
   std::merge(old, old + e.n, pieces, pieces + n, std::back_inserter(both),
              [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
-  std::vector<Interval>& pool = writers_[size_t(w)].pool;
-  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(both.size()), 0u};
-  pool.insert(pool.end(), both.begin(), both.end());
+  Writer& wr = writers_[size_t(w)];
+  e = {stamp_, uint32_t(w), uint32_t(wr.used), uint32_t(both.size()), 0u};
+  wr.append(both.data(), both.size());
 }
 
 void RemovedPieces::add_before_again(int w, Entry& e, const Interval* before, size_t n) {
@@ -41,9 +41,9 @@ void RemovedPieces::add_before_again(int w, Entry& e, const Interval* before, si
   // `before` is the ray after the first removal: with that removal's pieces, the ray before the change.
   std::vector<Interval> all;
   join_disjoint(before, n, writers_[e.writer].pool.data() + e.offset, e.n, all);
-  std::vector<Interval>& pool = writers_[size_t(w)].pool;
-  e = {stamp_, uint32_t(w), uint32_t(pool.size()), uint32_t(all.size()), 1u};
-  pool.insert(pool.end(), all.begin(), all.end());
+  Writer& wr = writers_[size_t(w)];
+  e = {stamp_, uint32_t(w), uint32_t(wr.used), uint32_t(all.size()), 1u};
+  wr.append(all.data(), all.size());
 }
 
 size_t RemovedPieces::rays() const {

@@ -76,6 +76,34 @@ class Profile {
     piece(flat_ + arc_, length_, [&](double s) { return 2.0 * kPi * R_ * s; });
     return a;
   }
+  // The band [s0, s1] (s1 > s0) over the full turn, weighted by each of the Lagrange polynomials through
+  // the nodes t[0..n) (t = 0 at s0, 1 at s1), into w[0..n), mm^2: sum_k w_k f_k is the band's area where
+  // the engaged fraction of the turn is the polynomial through f_k at t_k. Five-point Gauss-Legendre on
+  // each piece of the profile the band meets (r is linear or a short arc of a sine there, the
+  // polynomials at most cubic: exact to about 1e-12 of the band).
+  void band_weights(double s0, double s1, const double* t, int n, double* w) const {
+    static constexpr double kX[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                     0.9061798459386640};
+    static constexpr double kW[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                     0.4786286704993665, 0.2369268850561891};
+    for (int k = 0; k < n; ++k) w[k] = 0.0;
+    const double cuts[] = {s0, std::clamp(flat_, s0, s1), std::clamp(flat_ + arc_, s0, s1), s1};
+    for (int p = 0; p < 3; ++p) {
+      const double a = cuts[p], b = cuts[p + 1];
+      if (!(b > a)) continue;
+      const double mid = 0.5 * (a + b), half = 0.5 * (b - a);
+      for (int q = 0; q < 5; ++q) {
+        const double s = mid + kX[q] * half, u = (s - s0) / (s1 - s0), f = 2.0 * kPi * half * kW[q] * at(s).r;
+        for (int k = 0; k < n; ++k) {
+          double l = 1.0;
+          for (int m = 0; m < n; ++m)
+            if (m != k) l *= (u - t[m]) / (t[k] - t[m]);
+          w[k] += f * l;
+        }
+      }
+    }
+  }
+  double radius() const { return R_; }
 
  private:
   double top_, R_, rc_ = 0.0, flat_ = 0.0, arc_ = 0.0, length_ = 0.0;

@@ -33,14 +33,13 @@ using engagement::RingFrame;
 using engagement::SampleGrid;
 using engagement::Sampler;
 constexpr double kDeg = 180.0 / kPi;
-// Boundaries are refined until their bracket is this fraction of the lattice spacing: the rays do not
-// resolve the stock more finely, and further steps would only follow the classification's noise.
-constexpr double kRefineFraction = 0.125;
+// Boundaries are refined until their bracket is this fraction of the lattice spacing, and the boundary
+// is the zero interpolated inside it: the rays do not resolve the stock more finely, and further steps
+// would only follow the classification's noise (an eighth gave the same figures on every closed-form
+// case of tests/engagement, to the digits they show).
+constexpr double kRefineFraction = 0.25;
 // Rings a task classifies at once when the rings are spread over the threads.
 constexpr int kRingGrain = 4;
-// Below this many samples to classify a block is measured on one thread: waking the others costs more than
-// they save (on the 3-axis raster, measuring every block on two threads took half as long again as this).
-constexpr size_t kParallelSamples = 300;
 
 // Largest and smallest of cos over the arc [a, b] (radians, b >= a, b - a <= 2 pi).
 void cos_range(double a, double b, double& lo, double& hi) {
@@ -57,9 +56,28 @@ void cos_range(double a, double b, double& lo, double& hi) {
 // Per ring: the engaged arcs (radians, entry < exit, exit may pass 2 pi) found around the ring.
 struct RingResult {
   std::vector<std::pair<double, double>> arcs;
+  // The arcs as the lattice resolves them, to tell whether neighbouring rings hold the same pieces of the
+  // engaged region: arcs less than two lattice spacings apart (arc length) joined, arcs shorter than one
+  // left out.
+  std::vector<std::pair<double, double>> pieces;
   double angle = 0.0;  // engaged radians in total
-  void clear() { arcs.clear(), angle = 0.0; }  // keeps the storage for the next block
+  void clear() { arcs.clear(), pieces.clear(), angle = 0.0; }  // keeps the storage for the next block
 };
+
+// rr.pieces from rr.arcs on a ring of radius r, for lattice spacing h.
+void resolved_pieces(RingResult& rr, double r, double h) {
+  rr.pieces.clear();
+  const double join = 2.0 * h / std::max(r, 1e-9), least = h / std::max(r, 1e-9);
+  for (const auto& arc : rr.arcs) {
+    if (!rr.pieces.empty() && arc.first - rr.pieces.back().second < join) rr.pieces.back().second = arc.second;
+    else rr.pieces.push_back(arc);
+  }
+  if (rr.pieces.size() > 1 && rr.pieces.front().first + 2.0 * kPi - rr.pieces.back().second < join) {
+    rr.pieces.back().second = rr.pieces.front().second + 2.0 * kPi;
+    rr.pieces.erase(rr.pieces.begin());
+  }
+  std::erase_if(rr.pieces, [&](const std::pair<double, double>& p) { return p.second - p.first < least; });
+}
 
 // One block's samples: rings i0..i1 are classified (the only ones whose band can meet the region),
 // every other ring reads as disengaged. Angles j from -na to 2 na - 1 wrap around.
@@ -196,6 +214,7 @@ void ring_arcs(const SampleGrid& g, const BlockSamples& b, int i, const Sampler&
   }
   close_short_gaps(rr.arcs, g.h / std::max(g.ring[i].r, 1e-9));
   for (const auto& [lo, hi] : rr.arcs) rr.angle += hi - lo;
+  resolved_pieces(rr, g.ring[i].r, g.h);
 }
 
 // Marks the samples of ring i (f its frame) whose positions lie in the region (b.eng), in one cheap pass,
@@ -225,35 +244,40 @@ TF_VECTOR_CLONES int mark_in_region(const SampleGrid& g, const Sampler& sampler,
   return n;
 }
 
-// The samples of ring i (f its frame) that mark_in_region marked, classified; b.eng their states.
-void classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
+// The samples of ring i (f its frame) that mark_in_region marked, classified; b.eng their states. Returns
+// the count engaged.
+int classify_ring(const SampleGrid& g, const Sampler& sampler, const RingFrame& f, int i, BlockSamples& b) {
   PointState* state = &b.state[b.index(i, 0)];
   uint8_t* eng = &b.eng[b.index(i, 0)];
+  int engaged = 0;
   for (int j = 0; j < g.na; ++j) {
     state[j] = eng[j] ? sampler.state_in_region(f, g.cos_phi[j], g.sin_phi[j]) : PointState{};
     eng[j] = state[j].engaged;
+    engaged += eng[j];
   }
+  return engaged;
 }
 
-// The samples of rings i0..i1 and their arcs; the rings are spread over the threads when the samples to
-// classify are many.
+// The samples of rings i0..i1 and their arcs; the rings are spread over the threads when there are enough
+// of them for each thread to take a few.
 void classify_rings(const SampleGrid& g, const Sampler& sampler, int evaluations, BlockSamples& b,
                     std::vector<RingResult>& rings) {
   b.state.resize(size_t(b.i1 - b.i0 + 1) * g.na);
   b.eng.resize(b.state.size());
   b.frame.resize(size_t(b.i1 - b.i0 + 1));
-  size_t marked = 0;
-  for (int i = b.i0; i <= b.i1; ++i) {
-    b.frame[size_t(i - b.i0)] = sampler.ring(g.ring[i]);
-    marked += mark_in_region(g, sampler, b.frame_of(i), i, b);
-  }
   auto rings_in = [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) classify_ring(g, sampler, b.frame_of(i), i, b);
-    // The arcs read only their own ring's samples.
-    for (int i = r.begin(); i != r.end(); ++i) ring_arcs(g, b, i, sampler, b.frame_of(i), evaluations, rings[i]);
+    for (int i = r.begin(); i != r.end(); ++i) {
+      RingFrame& f = b.frame[size_t(i - b.i0)];
+      f = sampler.ring(g.ring[i]);
+      // The arcs read only their own ring's samples; a ring with none engaged has none.
+      if (mark_in_region(g, sampler, f, i, b) > 0 && classify_ring(g, sampler, f, i, b) > 0)
+        ring_arcs(g, b, i, sampler, f, evaluations, rings[i]);
+      else
+        std::fill_n(&b.state[b.index(i, 0)], g.na, PointState{}), std::fill_n(&b.eng[b.index(i, 0)], g.na, 0);
+    }
   };
+  b.parallel = b.i1 - b.i0 + 1 >= 2 * kRingGrain;
   const tbb::blocked_range<int> all(b.i0, b.i1 + 1, kRingGrain);
-  b.parallel = marked >= kParallelSamples;
   if (b.parallel) tbb::parallel_for(all, rings_in);
   else rings_in(all);
 }
@@ -271,15 +295,16 @@ struct Extent {
   }
 };
 
-// Each classified ring's band times its engaged fraction, and the extent of its arcs; their pairs into
-// `out` when kept.
-Extent ring_bands(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
-                  const Profile& prof, bool keep_pairs, Engagement& out) {
+// The extent of each classified ring's arcs, and the area of the profile's ends beyond the first and
+// last rings (their rings' engaged fractions of them); their pairs into `out` when kept.
+Extent ring_extents(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
+                    const Profile& prof, bool keep_pairs, Engagement& out) {
   Extent x;
   for (int i = b.i0; i <= b.i1; ++i) {
     const RingResult& rr = rings[i];
     if (rr.arcs.empty()) continue;
-    x.area += g.band[i] * rr.angle / (2.0 * kPi);
+    if (i == 0) x.area += g.below[i] * rr.angle / (2.0 * kPi);
+    if (i == g.nr - 1) x.area += g.above[i] * rr.angle / (2.0 * kPi);
     const double z = g.ring[i].z, r = g.ring[i].r;
     x.zmin = std::min(x.zmin, z);
     x.zmax = std::max(x.zmax, z);
@@ -301,10 +326,21 @@ Extent ring_bands(const SampleGrid& g, const BlockSamples& b, const std::vector<
   return x;
 }
 
+// The angle (radians) that a ring's engaged arcs cover of the cell [c0, c1] (c0 in [0, 2 pi), c1 - c0
+// below a turn).
+double cell_cover(const RingResult& rr, double c0, double c1) {
+  double cover = 0.0;
+  for (const auto& [lo, hi] : rr.arcs) {
+    const double a0 = std::fmod(lo, 2.0 * kPi), a1 = a0 + (hi - lo);
+    for (int m = -1; m <= 1; ++m) cover += std::max(0.0, std::min(a1 + 2.0 * kPi * m, c1) - std::max(a0 + 2.0 * kPi * m, c0));
+  }
+  return cover;
+}
+
 // Where the state changes between ring i and ring i + 1 along a sample's meridian, the bands are off by
 // the strip between the band edge and the refined boundary: the strips' area, and the boundaries, into x.
-void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
-                     int evaluations, int i, Extent& x) {
+void meridian_strips(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
+                     const Sampler& sampler, const Profile& prof, int evaluations, int i, Extent& x) {
   const double width = kRefineFraction * g.h / g.ds;
   const uint8_t* below = i >= b.i0 ? &b.eng[b.index(i, 0)] : nullptr;
   const uint8_t* above = i + 1 <= b.i1 ? &b.eng[b.index(i + 1, 0)] : nullptr;
@@ -337,10 +373,16 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
       sb = s0 + (s1 - s0) * engagement::refine_boundary(sa, sc, width * g.ds / (s1 - s0), evaluations,
                                                         [&](double u) { return at(s0 + u * (s1 - s0)); });
     const double edge = (i + 1) * g.ds;  // band edge between the rings
-    // Engaged below (a): the engaged band should end at sb, not at the edge; engaged above: start at sb.
-    const double lo = std::min(sb, edge), hi = std::max(sb, edge);
-    const double strip = prof.band_area(lo, hi) / g.na;
-    x.area += (a ? 1.0 : -1.0) * (sb > edge ? strip : -strip);
+    // The rings' fractions gave the engaged angle of ring i below the edge and of ring i + 1 above it: in
+    // the column's cell, the angle ring i covers beyond ring i + 1 should end at sb, not at the edge
+    // (engaged below, sb above the edge: more area), and the angle ring i + 1 covers beyond ring i start
+    // there. Weighting the strip by the arcs' cover of the cell, not the whole cell, keeps an arc narrower
+    // than a cell from moving a cell's worth of area.
+    const double cell0 = g.phi_of(j) - 0.5 * g.dphi, cell1 = cell0 + g.dphi;
+    const double gained = cell_cover(rings[size_t(i)], cell0, cell1) - cell_cover(rings[size_t(i + 1)], cell0, cell1);
+    const double strip = prof.band_area(std::min(sb, edge), std::max(sb, edge)) / (2.0 * kPi);
+    x.area += gained * (sb > edge ? strip : -strip);
+    (void)a;
     const ProfilePoint p = prof.at(sb);
     x.zmin = std::min(x.zmin, p.z);
     x.zmax = std::max(x.zmax, p.z);
@@ -349,16 +391,74 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& 
   });
 }
 
-// The meridian strips of every pair of neighbouring rings around the classified ones, into x: per pair
-// on its own (on the threads when the rings were), then added in order, so that the sum does not depend on
-// the threads. `parts`: a buffer.
-void add_meridian_strips(const SampleGrid& g, const BlockSamples& b, const Sampler& sampler, const Profile& prof,
-                         int evaluations, std::vector<Extent>& parts, Extent& x) {
+bool full_turn(const RingResult& rr) { return rr.angle >= 2.0 * kPi - 1e-12; }
+
+// Whether two arcs (radians, entry < exit, less than a turn) overlap somewhere around the circle.
+bool arcs_overlap(const std::pair<double, double>& p, const std::pair<double, double>& q) {
+  const double p0 = std::fmod(p.first, 2.0 * kPi), p1 = p0 + (p.second - p.first);
+  const double q0 = std::fmod(q.first, 2.0 * kPi), q1 = q0 + (q.second - q.first);
+  for (int m = -1; m <= 1; ++m)
+    if (p0 < q1 + 2.0 * kPi * m && q0 + 2.0 * kPi * m < p1) return true;
+  return false;
+}
+
+// Whether the engaged arcs of two neighbouring rings are the same pieces of the engaged region, as far as
+// the lattice resolves them: as many, in the same order around the tool, each overlapping its partner
+// (or both rings engaged all round, or neither engaged). Between such rings each piece is bounded by its
+// arcs' ends joined across, so its engaged angle is smooth in the arc length along the profile; an arc or
+// a gap below the lattice spacing (classification noise near a boundary the rays run along) does not
+// make them differ.
+bool same_pieces(const RingResult& a, const RingResult& b) {
+  if (a.arcs.empty() || b.arcs.empty()) return a.arcs.empty() && b.arcs.empty();
+  if (full_turn(a) || full_turn(b)) return full_turn(a) && full_turn(b);
+  const size_t k = a.pieces.size();
+  if (k != b.pieces.size() || k == 0) return false;
+  for (size_t shift = 0; shift < k; ++shift) {
+    bool all = true;
+    for (size_t j = 0; j < k && all; ++j) all = arcs_overlap(a.pieces[j], b.pieces[(j + shift) % k]);
+    if (all) return true;
+  }
+  return false;
+}
+
+// The engaged area between rings i and i + 1, and the boundaries found there, into x. Where both rings
+// hold the same pieces of the engaged region and no joint of the profile lies between them, the engaged
+// fraction of the turn is smooth in the arc length along the profile: it is integrated as the polynomial
+// through these rings and those neighbours that hold the same pieces too (cubic with both, quadratic with
+// one, linear with none), with no further evaluation. Elsewhere (a piece starts, ends, splits or joins
+// between the rings, or the profile bends at a joint) each ring's fraction covers its half of the band
+// and the meridian strips move its edge to the refined boundary of every column whose state changes.
+void pair_area(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
+               const Sampler& sampler, const Profile& prof, int evaluations, int i, Extent& x) {
+  auto f = [&](int k) { return rings[size_t(k)].angle / (2.0 * kPi); };
+  auto smooth = [&](int k) {  // pair k holds the same pieces, unbent by a joint
+    return k >= 0 && k + 1 < g.nr && !g.joint[size_t(k)] && same_pieces(rings[size_t(k)], rings[size_t(k + 1)]);
+  };
+  if (smooth(i)) {
+    const SampleGrid::PairWeights& w = g.weights[size_t(i)];
+    const bool left = smooth(i - 1), right = smooth(i + 1);
+    if (left && right) x.area += w.cubic[0] * f(i - 1) + w.cubic[1] * f(i) + w.cubic[2] * f(i + 1) + w.cubic[3] * f(i + 2);
+    else if (left) x.area += w.left[0] * f(i - 1) + w.left[1] * f(i) + w.left[2] * f(i + 1);
+    else if (right) x.area += w.right[0] * f(i) + w.right[1] * f(i + 1) + w.right[2] * f(i + 2);
+    else x.area += w.linear[0] * f(i) + w.linear[1] * f(i + 1);
+    return;
+  }
+  x.area += f(i) * g.above[size_t(i)] + f(i + 1) * g.below[size_t(i + 1)];
+  meridian_strips(g, b, rings, sampler, prof, evaluations, i, x);
+}
+
+// The area between every pair of neighbouring rings around the classified ones, into x: per pair on its
+// own (on the threads when the rings were), then added in order, so that the sum does not depend on the
+// threads. `parts`: a buffer.
+void add_pair_areas(const SampleGrid& g, const BlockSamples& b, const std::vector<RingResult>& rings,
+                    const Sampler& sampler, const Profile& prof, int evaluations, std::vector<Extent>& parts,
+                    Extent& x) {
   const int first = std::max(0, b.i0 - 1), last = std::min(b.i1, g.nr - 2);
   if (last < first) return;
   parts.assign(size_t(last - first + 1), Extent{});
   auto pairs_in = [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) meridian_strips(g, b, sampler, prof, evaluations, i, parts[size_t(i - first)]);
+    for (int i = r.begin(); i != r.end(); ++i)
+      pair_area(g, b, rings, sampler, prof, evaluations, i, parts[size_t(i - first)]);
   };
   const tbb::blocked_range<int> all(first, last + 1, kRingGrain);
   if (b.parallel) tbb::parallel_for(all, pairs_in);
@@ -449,9 +549,9 @@ class Meter {
     if (samples_.i1 < samples_.i0) return out;
     const int evaluations = std::max(1, opt_.refine_steps);
     classify_rings(g, sampler, evaluations, samples_, rings_);
-    Extent x = ring_bands(g, samples_, rings_, profile_, opt_.keep_pairs, out);
-    if (!(x.area > 0.0)) return out;
-    add_meridian_strips(g, samples_, sampler, profile_, std::max(0, opt_.meridian_steps), strips_, x);
+    Extent x = ring_extents(g, samples_, rings_, profile_, opt_.keep_pairs, out);
+    if (!std::isfinite(x.zmin)) return out;  // no ring engaged
+    add_pair_areas(g, samples_, rings_, sampler, profile_, evaluations, strips_, x);
     out.area_mm2 = std::max(0.0, x.area);
     out.axial_depth_mm = x.zmax - x.zmin;
     out.radial_width_mm = x.wmax - x.wmin;

@@ -78,14 +78,27 @@ double material_depth(const StockBefore& stock, const Eigen::Vector3d& p) {
 
 SampleGrid::SampleGrid(const Profile& prof, double spacing, const EngagementOptions& opt)
     : S(prof.length()), h(spacing) {
-  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : h;
-  nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
-  ds = S / nr;
   na = std::max(8, static_cast<int>(std::lround(360.0 / std::max(0.01, opt.angle_step_deg))));
   dphi = 2.0 * kPi / na;
+  const double ds_want = opt.axial_step_mm > 0 ? opt.axial_step_mm : std::max(h, prof.radius() * dphi);
+  nr = std::clamp(static_cast<int>(std::ceil(S / ds_want)), 1, std::max(1, opt.max_rings));
+  ds = S / nr;
   for (int i = 0; i < nr; ++i) {
     ring.push_back(prof.at(s_of(i)));
-    band.push_back(prof.band_area(i * ds, (i + 1) * ds));
+    below.push_back(prof.band_area(i * ds, s_of(i)));
+    above.push_back(prof.band_area(s_of(i), (i + 1) * ds));
+  }
+  for (int i = 0; i + 1 < nr; ++i) {
+    PairWeights w;
+    static constexpr double kLinear[2] = {0, 1}, kLeft[3] = {-1, 0, 1}, kRight[3] = {0, 1, 2}, kCubic[4] = {-1, 0, 1, 2};
+    prof.band_weights(s_of(i), s_of(i + 1), kLinear, 2, w.linear);
+    prof.band_weights(s_of(i), s_of(i + 1), kLeft, 3, w.left);
+    prof.band_weights(s_of(i), s_of(i + 1), kRight, 3, w.right);
+    prof.band_weights(s_of(i), s_of(i + 1), kCubic, 4, w.cubic);
+    weights.push_back(w);
+    bool inside = false;
+    for (const Profile::Joint& jt : prof.joints()) inside |= jt.s > s_of(i) && jt.s < s_of(i + 1);
+    joint.push_back(inside ? 1 : 0);
   }
   for (int j = 0; j < na; ++j) {
     cos_phi.push_back(std::cos(phi_of(j)));

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -40,6 +41,8 @@ struct PointState {
 
 // The sample grid on the cutting surface for one lattice spacing: nr rings at the middle of equal bands
 // of the profile (arc length s_of(i)), na angles phi_of(j) around each, and the tables every block shares.
+// The rings are about as far apart along the profile as the samples around the tool's rim (the area is
+// integrated to second order between them), but not closer than the lattice spacing.
 struct SampleGrid {
   SampleGrid(const Profile& prof, double spacing, const EngagementOptions& opt);
   double s_of(int i) const { return (i + 0.5) * ds; }
@@ -50,7 +53,18 @@ struct SampleGrid {
   int nr = 0, na = 0;
   double ds = 0.0, dphi = 0.0;
   std::vector<ProfilePoint> ring;        // the rings' profile points
-  std::vector<double> band;              // the rings' band areas over the full turn (mm^2), i ds to (i + 1) ds
+  // Per ring, the areas over the full turn (mm^2) of the profile from its band's lower edge i ds to the
+  // ring, and from the ring to the upper edge (i + 1) ds.
+  std::vector<double> below, above;
+  // Per pair of neighbouring rings i, i + 1: the weights of the rings' engaged fractions in the area of
+  // the band between them (Profile::band_weights) when the fraction is the polynomial through rings i and
+  // i + 1 (linear), i - 1 to i + 1 or i to i + 2 (quadratic), or i - 1 to i + 2 (cubic); and whether a
+  // joint of the profile lies between them.
+  struct PairWeights {
+    double linear[2], left[3], right[3], cubic[4];
+  };
+  std::vector<PairWeights> weights;
+  std::vector<uint8_t> joint;
   std::vector<double> cos_phi, sin_phi;  // of phi_of(j)
 };
 

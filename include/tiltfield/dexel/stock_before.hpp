@@ -7,6 +7,7 @@
 // In: the stock after the change and what the change kept (coordinates along the ray from the lattice
 // origin, mm, as in Interval). Out: per ray, its material before the change.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -34,13 +35,22 @@ class RemovedPieces {
   const Footprint& footprint(int d) const { return fp_[size_t(d)]; }
   // Adds pieces[0..n) (sorted, disjoint, taken from the ray's material now) to what ray (d, iu, iv) has
   // lost in this change. The ray lies inside the footprint, and only writer w writes it in this change.
-  // Inline: the cut calls it for every ray it changes where the engagement reads (thousands a block).
-  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) { record(w, d, iu, iv, pieces, n, false); }
+  void add(int w, int d, int iu, int iv, const Interval* pieces, size_t n) { record(w, checked(w, d, iu, iv), pieces, n, false); }
   // Records instead ray (d, iu, iv)'s whole material before this change, before[0..n) (sorted,
   // disjoint), under the same conditions as add(). A ray without material lost none: nothing to record.
   void add_before(int w, int d, int iu, int iv, const Interval* before, size_t n) {
-    record(w, d, iu, iv, before, n, true);
+    record(w, checked(w, d, iu, iv), before, n, true);
   }
+  // The same for a caller that asks once whether a ray lies inside the footprint and records it later
+  // (the cut asks of every ray it changes, thousands a block): slot() is the ray's record in this change,
+  // null outside the footprint; add() and add_before() on a slot check only the writer.
+  struct Entry;
+  Entry* slot(int d, int iu, int iv) {
+    const Footprint& f = fp_[size_t(d)];
+    return f.holds(iu, iv) ? &table_[size_t(d)][index(f, iu, iv)] : nullptr;
+  }
+  void add(int w, Entry* e, const Interval* pieces, size_t n) { record(w, checked(w, e), pieces, n, false); }
+  void add_before(int w, Entry* e, const Interval* before, size_t n) { record(w, checked(w, e), before, n, true); }
   // What this change kept of ray (d, iu, iv): sorted, disjoint intervals, the ray's material before the
   // change (`whole`) or the pieces it lost; n = 0 when the change did not touch it (or it is outside).
   struct Kept {
@@ -57,24 +67,31 @@ class RemovedPieces {
   }
   // Rays recorded in this change.
   size_t rays() const;
-
- private:
+  // A ray's record (opaque to callers): in this change when its stamp is the change's.
   struct Entry {
     uint32_t stamp = 0, writer = 0, offset = 0;
     uint32_t n : 31 = 0, whole : 1 = 0;
   };
-  void record(int w, int d, int iu, int iv, const Interval* p, size_t n, bool whole) {
-    const Footprint& f = fp_[size_t(d)];
-    if (size_t(w) >= writers_.size() || !f.holds(iu, iv)) [[unlikely]]
+
+ private:
+  Entry& checked(int w, int d, int iu, int iv) {
+    Entry* e = slot(d, iu, iv);
+    if (!e) [[unlikely]]
       outside_the_change();
+    return checked(w, e);
+  }
+  Entry& checked(int w, Entry* e) {
+    if (size_t(w) >= writers_.size() || !e) [[unlikely]]
+      outside_the_change();
+    return *e;
+  }
+  void record(int w, Entry& e, const Interval* p, size_t n, bool whole) {
     if (n == 0) return;
-    Entry& e = table_[size_t(d)][index(f, iu, iv)];
     if (e.stamp == stamp_ && e.n > 0) [[unlikely]]
       return whole ? add_before_again(w, e, p, n) : add_again(w, e, p, n);
     Writer& wr = writers_[size_t(w)];
-    e = {stamp_, uint32_t(w), uint32_t(wr.pool.size()), uint32_t(n), whole ? 1u : 0u};
-    if (n == 1) wr.pool.push_back(*p);  // the common case, without the range insert's overhead
-    else wr.pool.insert(wr.pool.end(), p, p + n);
+    e = {stamp_, uint32_t(w), uint32_t(wr.used), uint32_t(n), whole ? 1u : 0u};
+    wr.append(p, n);
     ++wr.rays;
   }
   [[noreturn]] static void outside_the_change();
@@ -90,8 +107,16 @@ class RemovedPieces {
   // Per writer, a cache line of its own (two threads appending to neighbouring vectors slowed the cut
   // more than twofold): the pieces it recorded and the count of its rays.
   struct alignas(64) Writer {
-    std::vector<Interval> pool;
-    size_t rays = 0;
+    std::vector<Interval> pool;  // pool[0..used): this change's records
+    size_t used = 0, rays = 0;
+    // The pool only grows (its storage is kept from change to change), so a record is a few copies.
+    void append(const Interval* p, size_t n) {
+      if (used + n > pool.size()) [[unlikely]]
+        pool.resize(std::max(2 * pool.size(), used + n + 1024));
+      Interval* dst = pool.data() + used;
+      for (size_t k = 0; k < n; ++k) dst[k] = p[k];
+      used += n;
+    }
   };
   std::vector<Writer> writers_;
   uint32_t stamp_ = 0;

@@ -43,19 +43,16 @@ struct EngagementOptions {
   // Sample spacing around the axis, deg. Boundaries between samples are refined to a fraction of the
   // lattice spacing, so the step only bounds what can be missed: an engaged arc narrower than it.
   double angle_step_deg = 6.0;
-  double axial_step_mm = 0.0;   // ring spacing along the profile before refinement; 0: the lattice spacing
-  int max_rings = 160;          // cap on the ring count (a long profile is sampled more coarsely; the
-                                // refinement still finds every boundary between rings)
-  // Evaluations per boundary between samples of opposite states, at most: each at the zero of the measure
-  // that tells them apart (the facing value, or the depth in material), until the bracket is an eighth
-  // of the lattice spacing (finer than the rays resolve).
+  // Ring spacing along the profile (the heights of the engagement pairs), mm; 0: the arc between two
+  // angle samples at the tool's radius, but not below the lattice spacing. Boundaries between rings are
+  // refined and the area integrated to second order or better between them, so the spacing only bounds
+  // what can be missed: an engaged band narrower than it.
+  double axial_step_mm = 0.0;
+  int max_rings = 160;          // cap on the ring count (a long profile is sampled more coarsely)
+  // Evaluations per boundary between samples of opposite states, around a ring or along a meridian, at
+  // most: each at the zero of the measure that tells them apart (the facing value, or the depth in
+  // material), until the bracket is an eighth of the lattice spacing (finer than the rays resolve).
   int refine_steps = 8;
-  // Evaluations per boundary between two rings along a meridian, at most; 0: the zero of the measure
-  // interpolated between the rings. The rings are at most a lattice spacing apart (unless max_rings
-  // caps them) and the state is smooth between the profile's joints, which are evaluated themselves, so
-  // one step at the interpolated zero, then the interpolation inside the narrowed bracket, is enough: on
-  // the slots, balls and bull end of tests/engagement the areas agree with eight steps to 0.01 %.
-  int meridian_steps = 1;
   // How far outside the box of the material a block removed a sample can still be engaged, beyond the
   // classification's reach of 1.5 lattice spacings: the sweep's bound (the swept parts hold the true tool
   // within it), mm.
