@@ -1,7 +1,7 @@
 // The simulation's engagement hook (VerifyOptions::engagement): called after each feed block that removed
 // material next to the tool's end pose, with the stock as it was before that block wherever the
-// engagement reads it (the rays near the end pose's cutting surface, read with the pieces the block
-// removed from them put back), the block's poses, and a box holding what the block removed there. The reference for
+// engagement reads it (the rays near the end pose's cutting surface, where the cut defers its changes
+// until the hook returns), the block's poses, and a box holding what the block removed there. The reference for
 // "before block k" is the same program cut off after block k - 1, simulated on its own.
 #include <gtest/gtest.h>
 
@@ -99,16 +99,15 @@ void expect_stock_before_each_block(const Scene& s, const Program& program, cons
   std::deque<Call> calls;  // not moved once made
   VerifyOptions o;
   o.resolution = 0.2;
-  o.engagement = [&](const Tool& tool, const StockBefore& stock, const ToolPose&, const ToolPose& end,
+  o.engagement = [&](const Tool& tool, const TriDexel& stock, const ToolPose&, const ToolPose& end,
                      const Eigen::AlignedBox3d& removed) {
     const Lattice& L = stock.lattice();
     Call& c = calls.emplace_back(Call{0, TriDexel(L), reads_of(tool, end, L.h), removed});
-    std::vector<Interval> ray;
     for (int d = 0; d < 3; ++d)
       for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
         for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
-          stock.ray(d, iu, iv, ray);
-          c.stock.ray(d, iu, iv).assign(ray.data(), static_cast<uint32_t>(ray.size()));
+          const Dexel& ray = stock.ray(d, iu, iv);
+          c.stock.ray(d, iu, iv).assign(ray.begin(), ray.size());
         }
     return Engagement{};
   };

@@ -2,7 +2,6 @@
 // engagement, and the collision, gouge and removal bookkeeping. The work per tile and ray, in parallel
 // over tiles, is in simulate_tile.cpp.
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -40,7 +39,10 @@ Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn
   inv_h_ = 1.0 / lattice_.h;
   ext_ = RayExtents(lattice_);
   ext_.refresh_all([&](int d, int iu, int iv) { return material_range(stock_.ray(d, iu, iv)); });
-  for (int d = 0; d < 3; ++d) stamp_[d].assign(size_t(ext_.tiles_u(d)) * ext_.tiles_v(d), 0);
+  for (int d = 0; d < 3; ++d) {
+    stamp_[d].assign(size_t(ext_.tiles_u(d)) * ext_.tiles_v(d), 0);
+    task_of_[d].assign(stamp_[d].size(), -1);
+  }
   if (options.record_last_block)
     for (int d = 0; d < 3; ++d) last_block_[d].assign(stock_.grid(d).size(), 0);
 }
@@ -89,6 +91,8 @@ VerifyResult Simulator::run() {
       break;
     }
   }
+  for (const Accum::Span& span : pending_) apply(span);  // the last block's deferred changes
+  pending_.clear();
   rep.blocks = static_cast<int>(rep.per_block.size());
   rep.stock_volume_end_mm3 = stock_.volume();
   rep.memory_bytes = stock_.memory_bytes();
@@ -153,15 +157,18 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.path_mm = feed_path_mm(b, from);
   br.minutes = block_minutes(b, br.path_mm);
   select_tiles();
+  const bool cuts = !tasks_.empty();
+  attach_pending();
   const bool rapid = b.motion == Motion::Rapid;
   br.rapid = rapid;
   br.feed = b.feed;
   br.feed_mode = b.feed_mode;
-  const bool engagement = opt_.engagement && !rapid && !tasks_.empty();
-  keep_pieces_ = engagement;
+  const bool engagement = opt_.engagement && !rapid && cuts;
+  defer_ = engagement;
   if (engagement) engagement_reads(tools_.tool(b.tool), pose_at(1.0));
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
+  collect_pending();
   if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
 
   const BlockTotals tot = merged_totals();
@@ -211,6 +218,7 @@ void Simulator::select_tiles() {
           uint32_t& s = stamp_[d][size_t(tv) * ext_.tiles_u(d) + tu];
           if (s == stamp_value_ || !relevant(static_cast<int>(i), d, tu, tv)) continue;
           s = stamp_value_;
+          task_of_[d][size_t(tv) * ext_.tiles_u(d) + tu] = static_cast<int>(tasks_.size());
           tasks_.push_back({d, tu, tv});
         }
     }
@@ -218,8 +226,8 @@ void Simulator::select_tiles() {
 
 // Engagement is measured on the stock before this block removed anything (the in-process workpiece the
 // tool meets at the block's end), and only where the block removed material next to the tool's end pose:
-// there the cut kept the pieces it removed (removed_), and the measurement reads the rays with them put
-// back. A block that removed nothing there engaged nothing and costs nothing here.
+// there the cut deferred its changes, so the measurement reads the stock itself. A block that removed
+// nothing there engaged nothing and costs nothing here.
 void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
   Eigen::AlignedBox3d removed;
   removed.setEmpty();
@@ -237,29 +245,63 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
   const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
-  br.engagement = opt_.engagement(tool, StockBefore(stock_, &removed_), pose_at(1.0 - back), pose_at(1.0),
+  br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The tasks for the tiles where the previous block deferred changes (pending_): the block's own task for
+// the tile, or a task that only makes them.
+void Simulator::attach_pending() {
+  for (size_t k = 0; k < pending_.size(); ++k) {
+    const Accum::Span& p = pending_[k];
+    const size_t tile = size_t(p.tv) * ext_.tiles_u(p.d) + p.tu;
+    if (stamp_[p.d][tile] != stamp_value_) {
+      stamp_[p.d][tile] = stamp_value_;
+      task_of_[p.d][tile] = static_cast<int>(tasks_.size());
+      tasks_.push_back({p.d, p.tu, p.tv, false});
+    }
+    tasks_[size_t(task_of_[p.d][tile])].pending = static_cast<int>(k);
+  }
+}
+
+// After the block's tasks: the previous block's changes are made, so its lists are emptied, and this
+// block's deferred spans become the next block's pending_.
+void Simulator::collect_pending() {
+  pending_.clear();
+  for (Accum& a : accum_) {
+    a.lists[(block_ + 1) & 1].clear();
+    pending_.insert(pending_.end(), a.spans.begin(), a.spans.end());
+  }
+}
+
+// Makes the changes a block deferred in one tile, and the extents of its rows and the tile follow.
+void Simulator::apply(const Accum::Span& span) {
+  const Accum::DeferredList& l = *span.list;
+  for (uint32_t k = span.ray0; k < span.ray1; ++k) l.rays[k].ray->assign(l.pool.data() + l.rays[k].offset, l.rays[k].n);
+  for (uint32_t k = span.row0; k < span.row1; ++k) {
+    const auto& [d, tu, iv] = l.rows[k];
+    ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
+  }
+  if (span.tile) ext_.refresh_tile(span.d, span.tu, span.tv);
+}
+
 // The rays the engagement can read: those within 1.5 spacings (the reach of its nearest-ray lookups) of
 // the cutting surface at the block's end (ball or end face up to the flutes' top, a cylinder of the
-// tool's radius), per grid as a footprint across the rays; the cut keeps what it removes from them.
+// tool's radius), per grid as a footprint across the rays; the cut defers its changes there.
 void Simulator::engagement_reads(const Tool& tool, const ToolPose& end) {
   const Eigen::Vector3d a = end.axis.normalized(), top = end.tip + tool.flute_length * a;
   const Eigen::Vector3d ext =
       (Eigen::Vector3d::Ones() - a.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt() * tool.radius() + Eigen::Vector3d::Constant(1.5 * lattice_.h);
   const Eigen::Vector3d lo = (end.tip.cwiseMin(top) - ext - lattice_.origin) * inv_h_,
                         hi = (end.tip.cwiseMax(top) + ext - lattice_.origin) * inv_h_;
-  std::array<RemovedPieces::Footprint, 3> fp;
   // The lattice nodes inside [lo, hi] along axis k (an empty range when none).
   auto first = [&](int k) { return static_cast<int>(std::clamp(std::ceil(lo[k]), 0.0, double(lattice_.n[k]))); };
   auto last = [&](int k) { return static_cast<int>(std::clamp(std::floor(hi[k]), -1.0, double(lattice_.n[k] - 1))); };
   for (int d = 0; d < 3; ++d) {
     const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
-    fp[d] = {first(u), last(u), first(v), last(v)};
+    reads_[size_t(d)] = {first(u), last(u), first(v), last(v)};
   }
-  removed_.start(fp, tbb::this_task_arena::max_concurrency());
 }
 
 Simulator::BlockTotals Simulator::merged_totals() {

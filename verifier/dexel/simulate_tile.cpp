@@ -1,8 +1,6 @@
 // The verifier's work per tile of rays (one task of the parallel block loop in simulate.cpp): where the
 // block's swept parts meet each ray, the exact union of their intervals subtracted from the material, and
 // the collision, gouge and removal records of every ray they meet.
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,8 +16,6 @@ namespace {
 
 // Rows met by at most this many parts gather each ray's hits directly instead of scattering them.
 constexpr size_t kFewRowParts = 3;
-// Rays of at most this many intervals are kept whole for the engagement (RemovedPieces::add_before).
-constexpr size_t kWholeRay = 4;
 
 // ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
 // from a mistyped coordinate) are clamped first, well inside int.
@@ -55,9 +51,9 @@ void merge_union(std::vector<Interval>& v) {
   v.resize(m);
 }
 
-float overlap_longest(const Interval& iv, const Dexel& ray) {
+float overlap_longest(const Interval& iv, std::pair<const Interval*, size_t> ray) {
   double longest = 0.0;
-  overlap_length(&iv, 1, ray.begin(), ray.size(), &longest);
+  overlap_length(&iv, 1, ray.first, ray.second, &longest);
   return static_cast<float>(longest);
 }
 
@@ -70,45 +66,41 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 
 // Takes the disjoint intervals cut[0..n) out of ray `ray` at `at` (the removed pieces into `pieces` when
 // not null); false when no material went. `cutting`: the cutting parts' union, whose removal bounds the
-// engagement (acc.removed_box), not a crash's. Where the engagement reads, the ray before the change or
-// its removed pieces also go to removed_, which gives it the ray as it was.
+// engagement (acc.removed_box), not a crash's. Where the engagement reads, the ray keeps its material
+// until the engagement has measured, and its new contents wait in acc.writing.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
                          bool cutting, Accum& acc) {
-  // A short ray is kept whole (no more to copy than its pieces, and the engagement reads it without a
-  // merge): ray still holds it after the subtraction, which writes acc.mat, so whether the engagement
-  // reads it is asked only of the rays that changed. A long one is kept by its pieces, which the
-  // subtraction must be asked for.
-  const bool whole = ray.size() <= kWholeRay;
-  RemovedPieces::Entry* slot = acc.keep_pieces && !whole ? removed_.slot(at.d, at.iu, at.iv) : nullptr;
-  std::vector<Interval>* out = pieces;
-  if (slot && !out) (out = &acc.read_pieces)->clear();
-  const size_t first = out ? out->size() : 0;
-  const double gone = subtract_intervals(ray.begin(), ray.size(), cut, n, acc.mat, out);
+  const bool defer = acc.defer && reads_[size_t(at.d)].holds(at.iu, at.iv);
+  const auto [before, count] = defer ? acc.current(ray) : std::pair<const Interval*, size_t>{ray.begin(), ray.size()};
+  const double gone = subtract_intervals(before, count, cut, n, acc.mat, pieces);
   if (!(gone > 0)) return false;
-  if (whole && acc.keep_pieces) slot = removed_.slot(at.d, at.iu, at.iv);
-  if (slot) {
-    if (cutting) {
-      // The removed material lies where the cut and the material before overlap.
-      Accum::GridBox& b = acc.removed_box[at.d];
-      b.t0 = std::min(b.t0, std::max(cut[0].lo, ray.begin()->lo));
-      b.t1 = std::max(b.t1, std::min(cut[n - 1].hi, (ray.end() - 1)->hi));
-      b.u0 = std::min(b.u0, at.u_mm);
-      b.u1 = std::max(b.u1, at.u_mm);
-      b.v0 = std::min(b.v0, at.v_mm);
-      b.v1 = std::max(b.v1, at.v_mm);
-    }
-    if (whole) removed_.add_before(acc.writer, slot, ray.begin(), ray.size());
-    else removed_.add(acc.writer, slot, out->data() + first, out->size() - first);
-  }
-  ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
   acc.removed[at.d] += gone;
+  if (!defer) {
+    ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+    return true;
+  }
+  if (cutting) {
+    // The removed material lies where the cut and the material before overlap.
+    Accum::GridBox& b = acc.removed_box[at.d];
+    b.t0 = std::min(b.t0, std::max(cut[0].lo, before->lo));
+    b.t1 = std::max(b.t1, std::min(cut[n - 1].hi, (before + count - 1)->hi));
+    b.u0 = std::min(b.u0, at.u_mm);
+    b.u1 = std::max(b.u1, at.u_mm);
+    b.v0 = std::min(b.v0, at.v_mm);
+    b.v1 = std::max(b.v1, at.v_mm);
+  }
+  Accum::DeferredList& l = *acc.writing;
+  l.rays.push_back({&ray, static_cast<uint32_t>(l.pool.size()), static_cast<uint32_t>(acc.mat.size())});
+  l.pool.insert(l.pool.end(), acc.mat.begin(), acc.mat.end());
   return true;
 }
 
 void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   const int d = task.d, u = Lattice::u_axis(d), v = Lattice::v_axis(d), tu = task.tu;
-  acc.keep_pieces = keep_pieces_;
-  acc.writer = tbb::this_task_arena::current_thread_index();
+  acc.defer = defer_;
+  acc.writing = &acc.lists[block_ & 1];
+  if (task.pending >= 0) apply(pending_[size_t(task.pending)]);
+  if (!task.cut) return;
   acc.parts.clear();
   for (size_t i = 0; i < sweep_.parts.size(); ++i)
     if (relevant(static_cast<int>(i), d, tu, task.tv)) acc.parts.push_back(static_cast<int>(i));
@@ -122,6 +114,7 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   row_extents(t, row_ext);
   part_shadows(t, row_ext, acc);
   bool changed = false;
+  const auto ray0 = static_cast<uint32_t>(acc.writing->rays.size()), row0 = static_cast<uint32_t>(acc.writing->rows.size());
   std::array<Interval, kTile> range;
   for (int iv = t.iv0; iv < t.iv_end; ++iv) {
     const Interval row = row_ext[iv - t.iv0];
@@ -131,10 +124,15 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
     part_intervals(t, iv, range, acc);
     if (cut_row(t, iv, first, last, range, rapid, acc)) {
       changed = true;
-      ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
+      // The extents follow the rays' contents: a deferring block's with them (Simulator::apply).
+      if (acc.defer) acc.writing->rows.push_back({d, tu, iv});
+      else ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
     }
   }
-  if (changed) ext_.refresh_tile(d, tu, task.tv);
+  if (acc.defer && (acc.writing->rays.size() > ray0 || acc.writing->rows.size() > row0))
+    acc.spans.push_back({acc.writing, d, tu, task.tv, ray0, static_cast<uint32_t>(acc.writing->rays.size()), row0,
+                         static_cast<uint32_t>(acc.writing->rows.size()), changed});
+  else if (changed) ext_.refresh_tile(d, tu, task.tv);
 }
 
 // Where along each row's rays a part must be to matter: the material, or an obstacle.
@@ -310,15 +308,16 @@ bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
   bool changed = false;
   if (rapid)
     for (const Hit& h : acc.hits)
-      if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, ray));
+      if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, {ray.begin(), ray.size()}));
   const bool reaches =
       !acc.cut.empty() && acc.cut.front().lo < (ray.end() - 1)->hi && acc.cut.back().hi > ray.begin()->lo;
   if (reaches && subtract(ray, at, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, true, acc))
     changed = true;
   bool crash = false;
+  const std::pair<const Interval*, size_t> left = acc.current(ray);  // the material the cut left
   for (const Hit& h : acc.hits) {
-    if (h.cutting || ray.empty()) continue;
-    const float depth = overlap_longest(h.iv, ray);
+    if (h.cutting || left.second == 0) continue;
+    const float depth = overlap_longest(h.iv, left);
     record(acc, d, h.component, HitWith::Stock, rapid, depth);
     crash |= depth > 0;
   }

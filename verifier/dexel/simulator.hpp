@@ -16,7 +16,6 @@
 #include "ray_extents.hpp"
 #include "raycast.hpp"
 #include "sweep_rows.hpp"
-#include "tiltfield/dexel/stock_before.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tool_set.hpp"
 
@@ -56,18 +55,46 @@ struct Accum {
   std::vector<double> shadow_lo, shadow_hi;  // per part and row of the tile: its shadow's stretch
   std::vector<std::pair<int, int>> rows;      // per part: the tile's rows where it can matter
   std::vector<RowPart> row;
-  // For the engagement, which is measured after the cut on the stock as it was before the block: the
-  // pieces the cut removed from rays the engagement can read go to Simulator::removed_ (as writer
-  // `writer`), and per grid the box of the material the cutting parts removed there (mm from the lattice
-  // origin, in the grid's u, v and ray axes; scalar fields, so that the per-ray update stays in registers).
+  // For the engagement, which is measured after the cut on the stock as it was before the block: the rays
+  // this thread changes where the engagement reads keep their material until it has measured. Their new
+  // contents wait in a DeferredList (in order: a ray cut twice in a block, by a crash after the cut, takes
+  // the last), with the rows whose extents they change; the next block's task for their tile makes them
+  // (Simulator::apply), so the writing stays on the threads. Lists alternate with the blocks' parity: a
+  // block writes one while its tasks make the other's changes. Per grid, the box of the material the
+  // cutting parts removed there (mm from the lattice origin, in the grid's u, v and ray axes; scalar
+  // fields, so that the per-ray update stays in registers).
   struct GridBox {
     static constexpr float kInf = std::numeric_limits<float>::infinity();
     float u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, t0 = kInf, t1 = -kInf;  // empty
   };
-  bool keep_pieces = false;  // set by process_tile (a thread's first task may come after the block's reset)
-  int writer = 0;           // this thread's index among the writers of Simulator::removed_
-  std::vector<Interval> read_pieces;  // the pieces one subtraction removed from a ray that is read
+  struct Deferred {
+    Dexel* ray;
+    uint32_t offset, n;  // its new intervals: pool[offset, offset + n)
+  };
+  struct DeferredList {
+    std::vector<Deferred> rays;
+    std::vector<Interval> pool;
+    std::vector<std::array<int, 3>> rows;  // grid, tile column, row
+    void clear() { rays.clear(), pool.clear(), rows.clear(); }
+  };
+  // One tile's deferred changes: rays[ray0, ray1) and rows[row0, row1) of `list`; `tile`: its extents change.
+  struct Span {
+    const DeferredList* list;
+    int d, tu, tv;
+    uint32_t ray0, ray1, row0, row1;
+    bool tile;
+  };
+  bool defer = false;         // set by process_tile (a thread's first task may come after the block's reset)
+  DeferredList* writing = nullptr;  // this block's list (process_tile)
+  std::array<DeferredList, 2> lists;
+  std::vector<Span> spans;  // this block's, per tile
   std::array<GridBox, 3> removed_box;
+  // The material of `ray` as this block has left it so far: its deferred contents when it has any.
+  std::pair<const Interval*, size_t> current(const Dexel& ray) const {
+    if (writing && !writing->rays.empty() && writing->rays.back().ray == &ray)
+      return {writing->pool.data() + writing->rays.back().offset, writing->rays.back().n};
+    return {ray.begin(), ray.size()};
+  }
   void reset() {
     removed_box = {};
     removed = {};
@@ -75,11 +102,16 @@ struct Accum {
       for (auto& b : a)
         for (auto& c : b) c = {0.f, 0.f};
     gouge = 0.0;
+    spans.clear();
   }
 };
 
+// A tile of the block: `cut` when the block's parts can meet it, `pending` (an index into the previous
+// block's deferred spans, -1 for none) when the previous block left changes there.
 struct Task {
   int d, tu, tv;
+  bool cut = true;
+  int pending = -1;
 };
 
 
@@ -147,6 +179,9 @@ class Simulator {
   void select_tiles();
   void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
   void engagement_reads(const Tool& tool, const ToolPose& end);
+  void attach_pending();
+  void collect_pending();
+  void apply(const Accum::Span& span);
   BlockTotals merged_totals();
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
@@ -196,8 +231,15 @@ class Simulator {
   BlockSweep sweep_;
   LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
   uint32_t block_ = 0;     // 1-based index of the block being simulated
-  bool keep_pieces_ = false;  // this block keeps what it removed where the engagement reads (Accum::keep_pieces)
-  RemovedPieces removed_;   // that, per ray; the footprint is the rays the engagement can read
+  // Rays iu0..iu1 of rows iv0..iv1 of a grid (inclusive; empty when iu1 < iu0 or iv1 < iv0).
+  struct Footprint {
+    int iu0 = 0, iu1 = -1, iv0 = 0, iv1 = -1;
+    bool holds(int iu, int iv) const { return iu >= iu0 && iu <= iu1 && iv >= iv0 && iv <= iv1; }
+  };
+  bool defer_ = false;  // this block defers its changes where the engagement reads (Accum::defer)
+  std::array<Footprint, 3> reads_;  // the rays the engagement can read, per grid
+  std::vector<Accum::Span> pending_;  // the changes the previous block deferred, per tile (Task::pending)
+  std::array<std::vector<int>, 3> task_of_;  // per tile stamped this block: its task
   tbb::enumerable_thread_specific<Accum> accum_;
 };
 

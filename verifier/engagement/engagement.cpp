@@ -520,7 +520,7 @@ class Meter {
  public:
   Meter(const Tool& tool, const EngagementOptions& options) : profile_(tool), opt_(options) {}
 
-  Engagement measure(const StockBefore& stock, const ToolPose& before, const ToolPose& end,
+  Engagement measure(const TriDexel& stock, const ToolPose& before, const ToolPose& end,
                      const Eigen::AlignedBox3d* removed) {
     const std::lock_guard<std::mutex> lock(mutex_);
     Engagement out;
@@ -572,12 +572,12 @@ class Meter {
 }  // namespace
 
 bool stock_contains(const TriDexel& stock, const Eigen::Vector3d& p) {
-  return engagement::material_depth(StockBefore(stock), p) <= 0.0;
+  return engagement::material_depth(stock, p) <= 0.0;
 }
 
 Engagement measure_engagement(const TriDexel& stock, const Tool& tool, const ToolPose& before, const ToolPose& end,
                               const EngagementOptions& opt, const Eigen::AlignedBox3d* removed) {
-  return Meter(tool, opt).measure(StockBefore(stock), before, end, removed);
+  return Meter(tool, opt).measure(stock, before, end, removed);
 }
 
 EngagementProbe engagement_probe(const EngagementOptions& options) {
@@ -596,7 +596,7 @@ EngagementProbe engagement_probe(const EngagementOptions& options) {
     }
   };
   auto meters = std::make_shared<Meters>();
-  return [meters, options](const Tool& tool, const StockBefore& stock, const ToolPose& before, const ToolPose& end,
+  return [meters, options](const Tool& tool, const TriDexel& stock, const ToolPose& before, const ToolPose& end,
                            const Eigen::AlignedBox3d& removed) {
     return meters->of(tool, options).measure(stock, before, end, &removed);
   };

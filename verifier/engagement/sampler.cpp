@@ -6,38 +6,21 @@
 namespace tf::engagement {
 namespace {
 
-// Signed along-ray distance from coordinate t to the nearest material boundary of the union of two sorted
-// lists of disjoint intervals (a ray's material now and the pieces a block removed from it, which may
-// touch it but not overlap it): negative inside material, positive outside, +inf for no material.
-double along_ray_distance(const Interval* a, const Interval* ae, const Interval* b, const Interval* be, float t) {
-  // The union's parts in order, touching intervals joined; rays hold few intervals: a scan beats a search.
-  auto next = [&](Interval& part) {
-    if (a == ae && b == be) return false;
-    part = b == be || (a != ae && a->lo <= b->lo) ? *a++ : *b++;
-    for (;;) {
-      if (a != ae && a->lo <= part.hi) part.hi = std::max(part.hi, (a++)->hi);
-      else if (b != be && b->lo <= part.hi) part.hi = std::max(part.hi, (b++)->hi);
-      else return true;
-    }
-  };
-  double before = std::numeric_limits<double>::infinity();  // back to the last part ending before t
-  Interval part;
-  while (next(part)) {
-    if (part.hi < t) {
-      before = t - part.hi;
-      continue;
-    }
-    if (t >= part.lo) return -std::min(t - part.lo, part.hi - t);
-    return std::min<double>(before, part.lo - t);
+// The first of the sorted, disjoint intervals [b, e) that ends at or after t. Most rays hold a few
+// intervals, where a scan is cheapest; a ray across a raster of grooves holds hundreds.
+const Interval* first_ending_after(const Interval* b, const Interval* e, float t) {
+  if (e - b <= 8) {
+    while (b != e && b->hi < t) ++b;
+    return b;
   }
-  return before;
+  return std::partition_point(b, e, [t](const Interval& iv) { return iv.hi < t; });
 }
 
-// The same for one list, the common case (a ray the block did not change, or one kept whole).
+// Signed along-ray distance from coordinate t to the nearest material boundary of a ray (sorted, disjoint
+// intervals): negative inside material, positive outside, +inf for no material.
 double along_ray_distance(const Interval* b, const Interval* e, float t) {
   // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
-  const Interval* it = b;
-  while (it != e && it->hi < t) ++it;  // rays hold few intervals: a scan beats a binary search
+  const Interval* it = first_ending_after(b, e, t);
   if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
   double best = std::numeric_limits<double>::infinity();
   if (it != e) best = it->lo - t;
@@ -45,18 +28,15 @@ double along_ray_distance(const Interval* b, const Interval* e, float t) {
   return best;
 }
 
-// Signed distance along ray (d, iu, iv) from coordinate t, the ray as it was before the change.
-[[gnu::always_inline]] inline double ray_distance(const StockBefore& stock, int d, int iu, int iv, float t) {
-  const RemovedPieces::Kept k = stock.kept(d, iu, iv);
-  if (k.whole) return along_ray_distance(k.p, k.p + k.n, t);
-  const Dexel& ray = stock.now().ray(d, iu, iv);
-  return k.n == 0 ? along_ray_distance(ray.begin(), ray.end(), t)
-                  : along_ray_distance(ray.begin(), ray.end(), k.p, k.p + k.n, t);
+// Signed distance along ray (d, iu, iv) from coordinate t.
+[[gnu::always_inline]] inline double ray_distance(const TriDexel& stock, int d, int iu, int iv, float t) {
+  const Dexel& ray = stock.ray(d, iu, iv);
+  return along_ray_distance(ray.begin(), ray.end(), t);
 }
 
 }  // namespace
 
-double material_depth(const StockBefore& stock, const Eigen::Vector3d& p) {
+double material_depth(const TriDexel& stock, const Eigen::Vector3d& p) {
   const Lattice& L = stock.lattice();
   const double inv_h = 1.0 / L.h;
   // The nearest lattice node along each axis: grid d's nearest ray is at the nodes of the other two.
@@ -106,7 +86,7 @@ SampleGrid::SampleGrid(const Profile& prof, double spacing, const EngagementOpti
   }
 }
 
-Sampler::Sampler(const StockBefore& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region)
+Sampler::Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region)
     : stock_(stock), region_(region) {
   const Eigen::Vector3d a = end.axis.normalized();
   Eigen::Vector3d f = (end.tip - before.tip) - (end.tip - before.tip).dot(a) * a;

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "cutting_surface.hpp"
-#include "tiltfield/dexel/stock_before.hpp"
 #include "tiltfield/dexel/tridexel.hpp"
 #include "tiltfield/dexel/verify.hpp"
 #include "tiltfield/engagement/engagement.hpp"
@@ -21,7 +20,7 @@ namespace tf::engagement {
 // stock before the block, by the nearest ray of each grid; the grid whose boundary is the closest decides
 // (a ray crossing a boundary steeply places it exactly, one running along it is off by up to half a
 // spacing, and loses). +inf outside the lattice.
-double material_depth(const StockBefore& stock, const Eigen::Vector3d& p);
+double material_depth(const TriDexel& stock, const Eigen::Vector3d& p);
 
 // How deep inside the tool a surface point's material test looks (mm): a block that only grazes a surface
 // cut before (a repeated pass) engages nothing.
@@ -80,7 +79,7 @@ class Sampler {
  public:
   // `region`: where the material the block removed lies, grown by the classification's reach; points
   // outside it are not engaged without a look at the stock.
-  Sampler(const StockBefore& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region);
+  Sampler(const TriDexel& stock, const ToolPose& before, const ToolPose& end, const Eigen::AlignedBox3d& region);
   RingFrame ring(const ProfilePoint& pp) const;
   // The point of ring f at the angle with cosine c and sine sn. Unless `measured`, a point that faces
   // away from its motion is only classified: its facing value (for the refinement) stays NaN.
@@ -129,7 +128,7 @@ class Sampler {
     return st;
   }
 
-  const StockBefore& stock_;
+  const TriDexel& stock_;
   Eigen::AlignedBox3d region_;
   Frame end_, before_;
 };

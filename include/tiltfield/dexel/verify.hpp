@@ -22,7 +22,6 @@
 #include "tiltfield/core/progress.hpp"
 #include "tiltfield/core/report.hpp"
 #include "tiltfield/core/scene.hpp"
-#include "tiltfield/dexel/stock_before.hpp"
 #include "tiltfield/dexel/sweep.hpp"
 #include "tiltfield/dexel/tridexel.hpp"
 
@@ -39,13 +38,14 @@ ToolPose forward_xyz(const Joints& j);
 ForwardFn scene_forward(const Scene& scene);
 ForwardFn scene_forward(const Scene& scene, const Tool& tool);
 
-// Measures a feed block's engagement at its end, for the tool in the spindle: `stock` reads as the stock
-// was before the block (its rays near the end pose's cutting surface, which the engagement reads), `before`
+// Measures a feed block's engagement at its end, for the tool in the spindle: `stock` is the stock as it
+// was before the block where the engagement reads (its rays near the end pose's cutting surface: the cut
+// defers its changes there until the probe returns; elsewhere they may be made already), `before`
 // the pose a short time before the end, `end` the end pose, and `removed` the box (part frame, mm)
 // holding all the material the block's cutting parts removed, outside which nothing can be engaged.
 // Called only for feed blocks that removed material. tiltfield_engagement's engagement_probe() makes one;
 // the simulation itself does not depend on it.
-using EngagementProbe = std::function<Engagement(const Tool& tool, const StockBefore& stock, const ToolPose& before,
+using EngagementProbe = std::function<Engagement(const Tool& tool, const TriDexel& stock, const ToolPose& before,
                                                  const ToolPose& end, const Eigen::AlignedBox3d& removed)>;
 
 struct VerifyOptions {
