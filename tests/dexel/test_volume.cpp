@@ -213,3 +213,40 @@ TEST(Volume, StockMeshAfterCutsIsClosedAndMatchesTheDexels) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+// A path cut as two long moves and as 450 short ones (0.1 mm, sloped, round a corner) leaves the same
+// stock: a short move starts where the previous left the ball, so the rays its sweep keeps inside the
+// ball's start are skipped (nothing is left there), and that must not change what is cut.
+TEST(Volume, ShortMovesCutWhatLongOnesCut) {
+  const Scene s = test::box_scene({0, 0, 0}, {40, 30, 20}, test::ball_tool(3, 12, 3, 30, {{10, 30}}));
+  const Eigen::Vector3d p0(-5, 10, 17.5), p1(20, 12, 16.5), p2(35, 25, 18.2);
+  auto to = [](const Eigen::Vector3d& p) { return test::Axes{.x = p.x(), .y = p.y(), .z = p.z()}; };
+  test::Moves long_moves, short_moves;
+  long_moves.rapid(to(p0)).line(to(p1), 1000).line(to(p2));
+  short_moves.rapid(to(p0));
+  for (int k = 1; k <= 250; ++k) short_moves.line(to(p0 + (p1 - p0) * (k / 250.0)), 1000);
+  for (int k = 1; k <= 200; ++k) short_moves.line(to(p1 + (p2 - p1) * (k / 200.0)));
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyResult a = verify_program(s, long_moves.program(), forward_xyz, o);
+  const VerifyResult b = verify_program(s, short_moves.program(), forward_xyz, o);
+  EXPECT_NEAR(b.report.removed_volume_mm3, a.report.removed_volume_mm3, 1e-6 * a.report.removed_volume_mm3);
+  const Lattice& L = a.stock.lattice();
+  double worst = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
+      for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
+        double la = 0.0, lb = 0.0;
+        for (const Interval& x : a.stock.ray(d, iu, iv)) la += double(x.hi) - x.lo;
+        for (const Interval& x : b.stock.ray(d, iu, iv)) lb += double(x.hi) - x.lo;
+        worst = std::max(worst, std::abs(la - lb));
+      }
+  EXPECT_LT(worst, 1e-4) << "mm of material on one ray";
+  EXPECT_GT(a.report.removed_volume_mm3, 500.0);
+}
+
+}  // namespace
+}  // namespace tf

@@ -65,7 +65,10 @@ VerifyResult Simulator::run() {
   const size_t nb = program_.blocks.size();
   for (size_t bi = 0; bi < nb; ++bi) {
     const Block& b = program_.blocks[bi];
+    // The block starts where the previous one left this tool (so its end pose's material is gone).
+    bool continuing = bi > 0 && program_.blocks[bi - 1].tool == b.tool;
     if (b.tcp != prev_tcp) {
+      continuing = false;
       if (b.tcp) {
         const ToolPose p = tools_.forward(b.tool)(from);  // joint position -> tip in the part frame
         from.x = p.tip.x();
@@ -81,7 +84,7 @@ VerifyResult Simulator::run() {
       }
       prev_tcp = b.tcp;
     }
-    BlockResult br = simulate_block(b, from, static_cast<int>(bi) + 1, rep);
+    BlockResult br = simulate_block(b, from, static_cast<int>(bi) + 1, continuing, rep);
     rep.per_block.push_back(br);
     rep.removed_volume_mm3 += br.removed_mm3;
     from = b.target;
@@ -142,7 +145,7 @@ Simulator::PartSpan Simulator::part_span(const SweptPart& p, int d) const {
           static_cast<float>(p.box.max()[d] - lattice_.origin[d])};
 }
 
-BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep) {
+BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int index, bool continuing, VerifyReport& rep) {
   BlockResult br;
   br.block = index;
   block_ = static_cast<uint32_t>(index);
@@ -151,6 +154,11 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
   sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid);
+  // A block that moves its cutting spheres along straight lines (one sub-step each) from where the
+  // previous block left them finds their start empty. Not with fixtures or check surfaces: the rays inside
+  // the start spheres still meet those, and every block reports its own collisions.
+  if (continuing && obstacles_.empty() && sweep_.substeps == 1)
+    for (SweptPart& p : sweep_.parts) p.start_empty = p.kind == ToolPart::Kind::Sphere && !p.arc && p.cutting;
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);

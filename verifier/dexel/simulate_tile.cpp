@@ -135,6 +135,24 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   else if (changed) ext_.refresh_tile(d, tu, task.tv);
 }
 
+// Narrows rays a..b of row iv to those on which sphere p, whose start is empty (SweptPart::start_empty),
+// can remove material; false when none is left. With c its start centre, d its translation, q a ray's
+// point and a = (q - c).d across the ray, a <= -R |d along the ray| skips the ray: the sphere at time s
+// lies |q - c(s)|^2 = |q - c|^2 - 2 s a + s^2 |d|^2 (across) from the ray, so its half chord is shorter
+// than the start's by at least s (-a) / R >= s |d along the ray|, as far as its centre has moved along
+// the ray: its chord lies in the start's, where nothing is left. A linear bound in the ray's index.
+bool Simulator::start_sphere_keeps(const SweptPart& p, const TileRays& t, int iv, int& a, int& b) const {
+  constexpr double kMargin = 1e-6;  // mm: rays this close to the bound are kept
+  const double du = p.d[t.u], limit = -p.radius * std::abs(p.d[t.d]) - kMargin;
+  const double rest = (lattice_.origin[t.v] + lattice_.h * iv - p.p0[t.v]) * p.d[t.v];
+  if (du == 0.0) return rest > limit;
+  // The ray's a is `limit` at node k (fractional); rays on the far side of it from d are skipped.
+  const double k = (p.p0[t.u] + (limit - rest) / du - lattice_.origin[t.u]) * inv_h_;
+  if (du > 0.0) a = std::max(a, floor_index(k) + 1);
+  else b = std::min(b, ceil_index(k) - 1);
+  return a <= b;
+}
+
 // Where along each row's rays a part must be to matter: the material, or an obstacle.
 void Simulator::row_extents(const TileRays& t, std::array<Interval, kTile>& row_ext) const {
   for (int iv = t.iv0; iv < t.iv_end; ++iv) {
@@ -176,6 +194,7 @@ std::pair<int, int> Simulator::row_parts(const TileRays& t, int iv, const Interv
     if (!(hi >= lo)) continue;
     a = std::max(a, ceil_index((lo - lattice_.origin[t.u]) * inv_h_));
     b = std::min(b, floor_index((hi - lattice_.origin[t.u]) * inv_h_));
+    if (sweep_.parts[size_t(pi)].start_empty && !start_sphere_keeps(sweep_.parts[size_t(pi)], t, iv, a, b)) continue;
     if (b < a) continue;
     acc.row.push_back({pi, a, b, static_cast<std::ptrdiff_t>(j * kTile) - t.iu0});
     first = std::min(first, a);

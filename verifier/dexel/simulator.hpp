@@ -174,7 +174,7 @@ class Simulator {
   // Per block (simulate.cpp).
   static Lattice make_lattice(const Scene& scene, double h);
   PartSpan part_span(const SweptPart& p, int d) const;
-  BlockResult simulate_block(const Block& b, const Joints& from, int index, VerifyReport& rep);
+  BlockResult simulate_block(const Block& b, const Joints& from, int index, bool continuing, VerifyReport& rep);
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
   void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
@@ -194,6 +194,7 @@ class Simulator {
   inline void row_extents(const TileRays& t, std::array<Interval, kTile>& row_ext) const;
   inline void part_shadows(const TileRays& t, const std::array<Interval, kTile>& row_ext, Accum& acc) const;
   inline std::pair<int, int> row_parts(const TileRays& t, int iv, const Interval& row, Accum& acc) const;
+  inline bool start_sphere_keeps(const SweptPart& p, const TileRays& t, int iv, int& a, int& b) const;
   inline void ray_ranges(const TileRays& t, int iv, int first, int last, std::array<Interval, kTile>& range) const;
   inline void part_intervals(const TileRays& t, int iv, const std::array<Interval, kTile>& range, Accum& acc) const;
   inline bool cut_row(const TileRays& t, int iv, int first, int last, const std::array<Interval, kTile>& range,

@@ -71,6 +71,10 @@ struct SweptPart {
   Eigen::AlignedBox3d box;                         // bounds of the swept part
   ToolComponent component = ToolComponent::Ball;
   bool cutting = true;
+  // A sphere that starts where the previous block left the tool (the simulation sets it): the material
+  // inside it is gone already, so a ray on which the sweep stays inside the start sphere has nothing to
+  // lose to it.
+  bool start_empty = false;
   // Arc sweeps (sweep_arc): the part carried, without turning, along a circular arc in the plane across
   // lattice axis arc_axis, its own axis along that one. The arc is a piece of at most a quarter turn
   // between two quadrant angles: centre (arc_cu, arc_cv) in the plane's coordinates u = arc_axis + 1,
