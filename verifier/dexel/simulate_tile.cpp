@@ -69,13 +69,12 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 // engagement (acc.removed_box), not a crash's. Where the engagement reads, the ray keeps its material
 // until the engagement has measured, and its new contents wait in acc.writing.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
-                         bool cutting, Accum& acc) {
-  const bool defer = acc.defer && reads_[size_t(at.d)].holds(at.iu, at.iv);
-  const auto [before, count] = defer ? acc.current(ray) : std::pair<const Interval*, size_t>{ray.begin(), ray.size()};
+                         bool cutting, Accum& acc, std::pair<const Interval*, size_t> material) {
+  const auto [before, count] = material.first ? material : std::pair<const Interval*, size_t>{ray.begin(), ray.size()};
   const double gone = subtract_intervals(before, count, cut, n, acc.mat, pieces);
   if (!(gone > 0)) return false;
   acc.removed[at.d] += gone;
-  if (!defer) {
+  if (!acc.defer || !reads_[size_t(at.d)].holds(at.iu, at.iv)) {
     ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
     return true;
   }
@@ -89,9 +88,7 @@ bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_
     b.v0 = std::min(b.v0, at.v_mm);
     b.v1 = std::max(b.v1, at.v_mm);
   }
-  Accum::DeferredList& l = *acc.writing;
-  l.rays.push_back({&ray, static_cast<uint32_t>(l.pool.size()), static_cast<uint32_t>(acc.mat.size())});
-  l.pool.insert(l.pool.end(), acc.mat.begin(), acc.mat.end());
+  acc.writing->add(ray, acc.mat.data(), acc.mat.size());
   return true;
 }
 
@@ -114,7 +111,7 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
   row_extents(t, row_ext);
   part_shadows(t, row_ext, acc);
   bool changed = false;
-  const auto ray0 = static_cast<uint32_t>(acc.writing->rays.size()), row0 = static_cast<uint32_t>(acc.writing->rows.size());
+  const auto ray0 = static_cast<uint32_t>(acc.writing->n_rays), row0 = static_cast<uint32_t>(acc.writing->rows.size());
   std::array<Interval, kTile> range;
   for (int iv = t.iv0; iv < t.iv_end; ++iv) {
     const Interval row = row_ext[iv - t.iv0];
@@ -129,8 +126,8 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
       else ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });
     }
   }
-  if (acc.defer && (acc.writing->rays.size() > ray0 || acc.writing->rows.size() > row0))
-    acc.spans.push_back({acc.writing, d, tu, task.tv, ray0, static_cast<uint32_t>(acc.writing->rays.size()), row0,
+  if (acc.defer && (acc.writing->n_rays > ray0 || acc.writing->rows.size() > row0))
+    acc.spans.push_back({acc.writing, d, tu, task.tv, ray0, static_cast<uint32_t>(acc.writing->n_rays), row0,
                          static_cast<uint32_t>(acc.writing->rows.size()), changed});
   else if (changed) ext_.refresh_tile(d, tu, task.tv);
 }
@@ -347,7 +344,7 @@ bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
     for (const Hit& h : acc.hits)
       if (!h.cutting) acc.cut.push_back(h.iv);
     merge_union(acc.cut);
-    if (subtract(ray, at, acc.cut.data(), acc.cut.size(), nullptr, false, acc)) changed = true;
+    if (subtract(ray, at, acc.cut.data(), acc.cut.size(), nullptr, false, acc, left)) changed = true;
   }
   return changed;
 }

@@ -72,10 +72,21 @@ struct Accum {
     uint32_t offset, n;  // its new intervals: pool[offset, offset + n)
   };
   struct DeferredList {
-    std::vector<Deferred> rays;
-    std::vector<Interval> pool;
+    std::vector<Deferred> rays;  // rays[0, n_rays): the rays changed, in order
+    std::vector<Interval> pool;  // pool[0, n_pool): their new intervals
+    size_t n_rays = 0, n_pool = 0;
     std::vector<std::array<int, 3>> rows;  // grid, tile column, row
-    void clear() { rays.clear(), pool.clear(), rows.clear(); }
+    // The storage only grows, kept from block to block, so an addition is a few copies.
+    void add(Dexel& ray, const Interval* p, size_t n) {
+      if (n_rays == rays.size()) [[unlikely]]
+        rays.resize(std::max<size_t>(256, 2 * rays.size()));
+      if (n_pool + n > pool.size()) [[unlikely]]
+        pool.resize(std::max(2 * pool.size(), n_pool + n + 1024));
+      rays[n_rays++] = {&ray, static_cast<uint32_t>(n_pool), static_cast<uint32_t>(n)};
+      for (size_t k = 0; k < n; ++k) pool[n_pool + k] = p[k];
+      n_pool += n;
+    }
+    void clear() { n_rays = n_pool = 0, rows.clear(); }
   };
   // One tile's deferred changes: rays[ray0, ray1) and rows[row0, row1) of `list`; `tile`: its extents change.
   struct Span {
@@ -91,8 +102,8 @@ struct Accum {
   std::array<GridBox, 3> removed_box;
   // The material of `ray` as this block has left it so far: its deferred contents when it has any.
   std::pair<const Interval*, size_t> current(const Dexel& ray) const {
-    if (writing && !writing->rays.empty() && writing->rays.back().ray == &ray)
-      return {writing->pool.data() + writing->rays.back().offset, writing->rays.back().n};
+    if (writing && writing->n_rays > 0 && writing->rays[writing->n_rays - 1].ray == &ray)
+      return {writing->pool.data() + writing->rays[writing->n_rays - 1].offset, writing->rays[writing->n_rays - 1].n};
     return {ray.begin(), ray.size()};
   }
   void reset() {
@@ -205,8 +216,9 @@ class Simulator {
   inline bool cut_ray(const TileRays& t, int iu, int iv, bool rapid, Accum& acc);
   inline bool process_ray(int d, int iu, int iv, bool rapid, Accum& acc);
   inline bool cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc);
+  // `material`: the ray's material, when not the ray itself (a second subtraction from a deferred ray).
   inline bool subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
-                       bool cutting, Accum& acc);
+                       bool cutting, Accum& acc, std::pair<const Interval*, size_t> material = {});
   RayAt ray_at(int d, int iu, int iv) const {
     return {d, iu, iv, static_cast<float>(lattice_.h * iu), static_cast<float>(lattice_.h * iv)};
   }
