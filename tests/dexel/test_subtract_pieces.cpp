@@ -71,5 +71,32 @@ TEST(SubtractIntervals, KeptAndRemovedPiecesMakeUpTheMaterialExactly) {
   EXPECT_EQ(slivers, 0) << "no kept piece is a sliver";
 }
 
+// Dexel::replace against the list put together: inline, heap in place and grown storage, at the front,
+// the middle and the end.
+TEST(Dexel, ReplaceKeepsTheOtherIntervals) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const std::vector<Interval> a = random_list(rng, trial % 7, 0.01f, 0.5f);  // 0 to 6 intervals
+    Dexel ray;
+    ray.assign(a.data(), static_cast<uint32_t>(a.size()));
+    if (trial % 3 == 0 && !a.empty()) ray.assign(a.data(), 1), ray.assign(a.data(), static_cast<uint32_t>(a.size()));
+    const uint32_t k0 = a.empty() ? 0 : uint32_t(rng() % (a.size() + 1));
+    const uint32_t k1 = k0 + (a.size() > k0 ? uint32_t(rng() % (a.size() - k0 + 1)) : 0);
+    // New intervals inside the gap the replaced ones leave: between a[k0 - 1] and a[k1].
+    const float lo = k0 > 0 ? a[k0 - 1].hi + 0.001f : -10.f, hi = k1 < a.size() ? a[k1].lo - 0.001f : 10.f;
+    std::vector<Interval> mid;
+    const int m = int(rng() % 4);
+    for (int k = 0; k < m; ++k) {
+      const float x0 = lo + (hi - lo) * (2 * k + 0.2f) / (2 * m), x1 = lo + (hi - lo) * (2 * k + 1.0f) / (2 * m);
+      mid.push_back({x0, x1});
+    }
+    std::vector<Interval> want(a.begin(), a.begin() + k0);
+    want.insert(want.end(), mid.begin(), mid.end());
+    want.insert(want.end(), a.begin() + k1, a.end());
+    ray.replace(k0, k1, mid.data(), static_cast<uint32_t>(mid.size()));
+    ASSERT_TRUE(same(std::vector<Interval>(ray.begin(), ray.end()), want)) << "trial " << trial;
+  }
+}
+
 }  // namespace
 }  // namespace tf

@@ -286,7 +286,10 @@ void Simulator::collect_pending() {
 // Makes the changes a block deferred in one tile, and the extents of its rows and the tile follow.
 void Simulator::apply(const Accum::Span& span) {
   const Accum::DeferredList& l = *span.list;
-  for (uint32_t k = span.ray0; k < span.ray1; ++k) l.rays[k].ray->assign(l.pool.data() + l.rays[k].offset, l.rays[k].n);
+  for (uint32_t k = span.ray0; k < span.ray1; ++k) {
+    const Accum::Deferred& c = l.rays[k];
+    c.ray->replace(c.k0, c.k1, l.pool.data() + c.offset, c.n);
+  }
   for (uint32_t k = span.row0; k < span.row1; ++k) {
     const auto& [d, tu, iv] = l.rows[k];
     ext_.refresh_row(d, tu, iv, [&](int i) { return material_range(stock_.ray(d, i, iv)); });

@@ -70,25 +70,42 @@ void record(Accum& acc, int d, uint8_t comp, HitWith with, bool rapid, float dep
 // until the engagement has measured, and its new contents wait in acc.writing.
 bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_t n, std::vector<Interval>* pieces,
                          bool cutting, Accum& acc, std::pair<const Interval*, size_t> material) {
-  const auto [before, count] = material.first ? material : std::pair<const Interval*, size_t>{ray.begin(), ray.size()};
+  // The crash after a deferred cut is given the material that cut left (not yet the ray's): its result
+  // replaces all of it.
+  const bool given = material.first && material.first != ray.begin();
+  const auto [all, total] = given ? material : std::pair<const Interval*, size_t>{ray.begin(), ray.size()};
+  // Only the intervals the cut spans can change: a ray across a raster of grooves holds hundreds, which
+  // are neither subtracted from nor copied.
+  const Interval* before = first_ending_after(all, all + total, cut[0].lo);
+  const Interval* after = before;
+  while (after != all + total && after->lo < cut[n - 1].hi) ++after;
+  const size_t count = size_t(after - before);
   const double gone = subtract_intervals(before, count, cut, n, acc.mat, pieces);
   if (!(gone > 0)) return false;
   acc.removed[at.d] += gone;
+  auto k0 = static_cast<uint32_t>(before - all), k1 = static_cast<uint32_t>(after - all);
+  if (given) {
+    acc.whole.assign(all, before);
+    acc.whole.insert(acc.whole.end(), acc.mat.begin(), acc.mat.end());
+    acc.whole.insert(acc.whole.end(), after, all + total);
+    acc.mat.swap(acc.whole);
+    k0 = 0, k1 = static_cast<uint32_t>(total);
+  }
   if (!acc.defer || !reads_[size_t(at.d)].holds(at.iu, at.iv)) {
-    ray.assign(acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
+    ray.replace(k0, k1, acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
     return true;
   }
   if (cutting) {
     // The removed material lies where the cut and the material before overlap.
     Accum::GridBox& b = acc.removed_box[at.d];
     b.t0 = std::min(b.t0, std::max(cut[0].lo, before->lo));
-    b.t1 = std::max(b.t1, std::min(cut[n - 1].hi, (before + count - 1)->hi));
+    b.t1 = std::max(b.t1, std::min(cut[n - 1].hi, (after - 1)->hi));
     b.u0 = std::min(b.u0, at.u_mm);
     b.u1 = std::max(b.u1, at.u_mm);
     b.v0 = std::min(b.v0, at.v_mm);
     b.v1 = std::max(b.v1, at.v_mm);
   }
-  acc.writing->add(ray, acc.mat.data(), acc.mat.size());
+  acc.writing->add(ray, k0, k1, acc.mat.data(), acc.mat.size());
   return true;
 }
 

@@ -69,7 +69,8 @@ struct Accum {
   };
   struct Deferred {
     Dexel* ray;
-    uint32_t offset, n;  // its new intervals: pool[offset, offset + n)
+    uint32_t k0, k1;     // its intervals [k0, k1) replaced (Dexel::replace) by
+    uint32_t offset, n;  // pool[offset, offset + n)
   };
   struct DeferredList {
     std::vector<Deferred> rays;  // rays[0, n_rays): the rays changed, in order
@@ -77,12 +78,12 @@ struct Accum {
     size_t n_rays = 0, n_pool = 0;
     std::vector<std::array<int, 3>> rows;  // grid, tile column, row
     // The storage only grows, kept from block to block, so an addition is a few copies.
-    void add(Dexel& ray, const Interval* p, size_t n) {
+    void add(Dexel& ray, uint32_t k0, uint32_t k1, const Interval* p, size_t n) {
       if (n_rays == rays.size()) [[unlikely]]
         rays.resize(std::max<size_t>(256, 2 * rays.size()));
       if (n_pool + n > pool.size()) [[unlikely]]
         pool.resize(std::max(2 * pool.size(), n_pool + n + 1024));
-      rays[n_rays++] = {&ray, static_cast<uint32_t>(n_pool), static_cast<uint32_t>(n)};
+      rays[n_rays++] = {&ray, k0, k1, static_cast<uint32_t>(n_pool), static_cast<uint32_t>(n)};
       for (size_t k = 0; k < n; ++k) pool[n_pool + k] = p[k];
       n_pool += n;
     }
@@ -100,11 +101,16 @@ struct Accum {
   std::array<DeferredList, 2> lists;
   std::vector<Span> spans;  // this block's, per tile
   std::array<GridBox, 3> removed_box;
-  // The material of `ray` as this block has left it so far: its deferred contents when it has any.
-  std::pair<const Interval*, size_t> current(const Dexel& ray) const {
-    if (writing && writing->n_rays > 0 && writing->rays[writing->n_rays - 1].ray == &ray)
-      return {writing->pool.data() + writing->rays[writing->n_rays - 1].offset, writing->rays[writing->n_rays - 1].n};
-    return {ray.begin(), ray.size()};
+  std::vector<Interval> scratch, whole;
+  // The material of `ray` as this block has left it so far: with its deferred change when it has one
+  // (put together in `scratch`).
+  std::pair<const Interval*, size_t> current(const Dexel& ray) {
+    if (!writing || writing->n_rays == 0 || writing->rays[writing->n_rays - 1].ray != &ray) return {ray.begin(), ray.size()};
+    const Deferred& c = writing->rays[writing->n_rays - 1];
+    scratch.assign(ray.begin(), ray.begin() + c.k0);
+    scratch.insert(scratch.end(), writing->pool.begin() + c.offset, writing->pool.begin() + c.offset + c.n);
+    scratch.insert(scratch.end(), ray.begin() + c.k1, ray.end());
+    return {scratch.data(), scratch.size()};
   }
   void reset() {
     removed_box = {};

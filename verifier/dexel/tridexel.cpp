@@ -55,6 +55,31 @@ void Dexel::assign(const Interval* iv, uint32_t n) {
   n_ = n;
 }
 
+void Dexel::replace(uint32_t k0, uint32_t k1, const Interval* iv, uint32_t n) {
+  const uint32_t size = n_ - (k1 - k0) + n;
+  if (cap_ >= size) {  // on the heap, room enough
+    std::memmove(heap_ + k0 + n, heap_ + k1, (n_ - k1) * sizeof(Interval));
+    std::memcpy(heap_ + k0, iv, n * sizeof(Interval));
+    n_ = size;
+    return;
+  }
+  const Interval* old = data();
+  if (size <= 1 && cap_ == 0) {  // stays inline
+    if (size == 1) inl_ = k0 > 0 ? old[0] : n > 0 ? iv[0] : old[k1];
+    n_ = size;
+    return;
+  }
+  const uint32_t cap = std::max<uint32_t>(size, 2 * cap_);
+  auto* mem = new Interval[cap];
+  std::memcpy(mem, old, k0 * sizeof(Interval));
+  std::memcpy(mem + k0, iv, n * sizeof(Interval));
+  std::memcpy(mem + k0 + n, old + k1, (n_ - k1) * sizeof(Interval));
+  release();
+  heap_ = mem;
+  cap_ = cap;
+  n_ = size;
+}
+
 Lattice lattice_for(const Eigen::AlignedBox3d& box, double h, int pad) {
   Lattice L;
   L.h = h;

@@ -6,16 +6,6 @@
 namespace tf::engagement {
 namespace {
 
-// The first of the sorted, disjoint intervals [b, e) that ends at or after t. Most rays hold a few
-// intervals, where a scan is cheapest; a ray across a raster of grooves holds hundreds.
-const Interval* first_ending_after(const Interval* b, const Interval* e, float t) {
-  if (e - b <= 8) {
-    while (b != e && b->hi < t) ++b;
-    return b;
-  }
-  return std::partition_point(b, e, [t](const Interval& iv) { return iv.hi < t; });
-}
-
 // Signed along-ray distance from coordinate t to the nearest material boundary of a ray (sorted, disjoint
 // intervals): negative inside material, positive outside, +inf for no material.
 double along_ray_distance(const Interval* b, const Interval* e, float t) {

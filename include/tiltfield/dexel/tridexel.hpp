@@ -5,6 +5,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <utility>
@@ -38,6 +39,9 @@ class Dexel {
   const Interval* end() const { return data() + n_; }
   // Replaces the intervals (sorted, disjoint). Reuses the heap block when large enough.
   void assign(const Interval* iv, uint32_t n);
+  // Replaces intervals [k0, k1) by iv[0..n) (which must not point into this ray), keeping the others: the
+  // result must be sorted and disjoint. Moves the tail in place when the storage holds the result.
+  void replace(uint32_t k0, uint32_t k1, const Interval* iv, uint32_t n);
   // Heap bytes held (for memory statistics).
   size_t heap_bytes() const { return cap_ * sizeof(Interval); }
   // Exchanges the contents, storage included (no allocation).
@@ -56,6 +60,16 @@ class Dexel {
   };
   uint32_t n_ = 0, cap_ = 0;
 };
+
+// The first of the sorted, disjoint intervals [b, e) that ends at or after t (e when none). Most rays hold a
+// few intervals, where a scan is cheapest; a ray across a raster of grooves holds hundreds.
+inline const Interval* first_ending_after(const Interval* b, const Interval* e, float t) {
+  if (e - b <= 8) {
+    while (b != e && b->hi < t) ++b;
+    return b;
+  }
+  return std::partition_point(b, e, [t](const Interval& iv) { return iv.hi < t; });
+}
 
 // Pieces shorter than this (mm) are dropped after a subtraction (numerical slivers).
 inline constexpr float kMinInterval = 1e-4f;
