@@ -49,17 +49,25 @@ void Dexel::assign(const Interval* iv, uint32_t n) {
     release();
     heap_ = mem;
     cap_ = cap;
-  } else {
+  } else if (n > 0) {
     std::memmove(heap_, iv, n * sizeof(Interval));
   }
   n_ = n;
 }
 
+namespace {
+// memcpy with a null source is undefined even for zero bytes; an empty
+// replacement may come as (nullptr, 0).
+void copy_intervals(Interval* to, const Interval* from, uint32_t n) {
+  if (n > 0) std::memcpy(to, from, n * sizeof(Interval));
+}
+}  // namespace
+
 void Dexel::replace(uint32_t k0, uint32_t k1, const Interval* iv, uint32_t n) {
   const uint32_t size = n_ - (k1 - k0) + n;
-  if (cap_ >= size) {  // on the heap, room enough
-    std::memmove(heap_ + k0 + n, heap_ + k1, (n_ - k1) * sizeof(Interval));
-    std::memcpy(heap_ + k0, iv, n * sizeof(Interval));
+  if (cap_ > 0 && cap_ >= size) {  // on the heap, room enough
+    if (n_ > k1) std::memmove(heap_ + k0 + n, heap_ + k1, (n_ - k1) * sizeof(Interval));
+    copy_intervals(heap_ + k0, iv, n);
     n_ = size;
     return;
   }
@@ -71,9 +79,9 @@ void Dexel::replace(uint32_t k0, uint32_t k1, const Interval* iv, uint32_t n) {
   }
   const uint32_t cap = std::max<uint32_t>(size, 2 * cap_);
   auto* mem = new Interval[cap];
-  std::memcpy(mem, old, k0 * sizeof(Interval));
-  std::memcpy(mem + k0, iv, n * sizeof(Interval));
-  std::memcpy(mem + k0 + n, old + k1, (n_ - k1) * sizeof(Interval));
+  copy_intervals(mem, old, k0);
+  copy_intervals(mem + k0, iv, n);
+  copy_intervals(mem + k0 + n, old + k1, n_ - k1);
   release();
   heap_ = mem;
   cap_ = cap;
