@@ -248,5 +248,50 @@ TEST(Volume, ShortMovesCutWhatLongOnesCut) {
   EXPECT_GT(a.report.removed_volume_mm3, 500.0);
 }
 
+// Short 5-axis moves of a bull end whose axis leans 3 degrees and swings around the vertical: each block's
+// rotation is below one sub-step, so the blocks after the first skip the rays their cutting spheres keep
+// inside where the previous block left them. A check surface far from the path (inside the stock's box, so
+// the lattice is the same) turns that skipping off; the stock must be the same either way.
+TEST(Volume, SwingingBullEndCutsTheSameWithoutSkippingItsStart) {
+  Tool t;
+  t.cutter = BullCutter{3, 1};
+  t.flute_length = 6;
+  t.shank_radius = 3;
+  t.length = 30;
+  const Scene plain = test::box_scene({0, 0, 0}, {30, 30, 10}, t);
+  Scene guarded = plain;
+  guarded.check_surfaces.push_back(test::box_mesh({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}));
+  const ForwardFn fwd = [](const Joints& j) {
+    const double a = j.a * kPi / 180.0, c = j.c * kPi / 180.0;
+    return ToolPose{Eigen::Vector3d(j.x, j.y, j.z),
+                    Eigen::Vector3d(std::sin(a) * std::cos(c), std::sin(a) * std::sin(c), std::cos(a))};
+  };
+  test::Moves m;
+  m.tcp().rapid({.x = 8, .y = 15, .z = 20, .a = 3, .c = 0}).line({.z = 8.5}, 300);
+  for (int k = 1; k <= 240; ++k) m.line({.x = 8 + 14.0 * k / 240, .y = 15 + 2.0 * std::sin(k / 40.0), .c = 0.75 * k});
+  VerifyOptions o;
+  o.resolution = 0.1;
+  o.sweep.tolerance = 0.05;
+  const VerifyResult a = verify_program(plain, m.program(), fwd, o);
+  const VerifyResult b = verify_program(guarded, m.program(), fwd, o);
+  int single = 0;
+  for (const BlockResult& br : a.report.per_block) single += br.substeps == 1;
+  ASSERT_GT(single, 200) << "the blocks must be short enough to skip";
+  const Lattice& L = a.stock.lattice();
+  ASSERT_EQ(L.n, b.stock.lattice().n);
+  double worst = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
+      for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
+        double la = 0.0, lb = 0.0;
+        for (const Interval& x : a.stock.ray(d, iu, iv)) la += double(x.hi) - x.lo;
+        for (const Interval& x : b.stock.ray(d, iu, iv)) lb += double(x.hi) - x.lo;
+        worst = std::max(worst, std::abs(la - lb));
+      }
+  EXPECT_LT(worst, 1e-5) << "mm of material on one ray";
+  EXPECT_GT(a.report.removed_volume_mm3, 100.0);
+}
+
+
 }  // namespace
 }  // namespace tf

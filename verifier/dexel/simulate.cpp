@@ -156,9 +156,11 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid);
   // A block that moves its cutting spheres along straight lines (one sub-step each) from where the
   // previous block left them finds their start empty. Not with fixtures or check surfaces: the rays inside
-  // the start spheres still meet those, and every block reports its own collisions.
+  // the start spheres still meet those, and every block reports its own collisions. Not a bull end's ring
+  // spheres: turned about the axis from where the previous block left them.
   if (continuing && obstacles_.empty() && sweep_.substeps == 1)
-    for (SweptPart& p : sweep_.parts) p.start_empty = p.kind == ToolPart::Kind::Sphere && !p.arc && p.cutting;
+    for (SweptPart& p : sweep_.parts)
+      p.start_empty = p.kind == ToolPart::Kind::Sphere && !p.arc && p.cutting && p.on_axis;
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);

@@ -126,6 +126,7 @@ Bound sweep_group(const Context& cx, const std::vector<Piece>& pieces, double to
     for (const Piece& p : pieces) {
       const Eigen::Vector3d c0 = pivot_at(p, q[0], ref), c4 = pivot_at(p, q[4], ref);
       cx.out.parts.push_back(sweep_part(p.centred, c0, held, ref, c4 - c0));
+      cx.out.parts.back().on_axis = p.offset == 0.0;
       cx.out.box.extend(cx.out.parts.back().box);
     }
   }

@@ -75,6 +75,9 @@ struct SweptPart {
   // inside it is gone already, so a ray on which the sweep stays inside the start sphere has nothing to
   // lose to it.
   bool start_empty = false;
+  // A sphere centred on the tool axis (not one of a bull end's ring spheres, whose places about the axis
+  // follow each sub-step's reference direction and so move from one block to the next as the axis turns).
+  bool on_axis = true;
   // Arc sweeps (sweep_arc): the part carried, without turning, along a circular arc in the plane across
   // lattice axis arc_axis, its own axis along that one. The arc is a piece of at most a quarter turn
   // between two quadrant angles: centre (arc_cu, arc_cv) in the plane's coordinates u = arc_axis + 1,
