@@ -172,6 +172,30 @@ TEST(Engagement, CrossingAnEarlierSlotGivesTwoPairs) {
   expect_within(e.area_mm2, area, area, "area of the two pairs");
 }
 
+TEST(Engagement, SlotAlongAShoulderSeesTheStepBetweenRings) {
+  // The half y < 0 is faced down to z = 8 first; then a slot along y = 0, 4 deep: 0..180 deg below the
+  // step (2 mm) and a quarter turn above it (2 mm). The step's height falls between two rings at the
+  // default spacing, where the engaged arc narrows at once rather than smoothly.
+  const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
+  const test::Moves g = test::Moves()
+                            .rapid({-10, -5, 20})
+                            .rapid({.z = 8})
+                            .line({.x = 110}, 600)
+                            .rapid({.z = 20})
+                            .rapid({.x = -10, .y = 0})
+                            .rapid({.z = 6})
+                            .line({.x = 30}, 600)
+                            .line({.x = 50});
+  const VerifyReport r = run(s, g);
+  const Engagement& e = r.per_block.back().engagement;
+  std::cout << "slot along a shoulder: entry " << e.entry_deg << " exit " << e.exit_deg << " area " << e.area_mm2
+            << " ap " << e.axial_depth_mm << "\n";
+  const double area = kPi * R * 2.0 + kPi / 2.0 * R * 2.0;
+  expect_within(e.area_mm2, area, area, "area (half a turn 2 mm high, a quarter turn 2 mm high)");
+  expect_within(e.axial_depth_mm, 4.0, 4.0, "axial depth");
+  expect_within(e.exit_deg - e.entry_deg, 180.0, 180.0, "engaged span");
+}
+
 TEST(Engagement, PlungeEngagesTheWholeEndFace) {
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
   const VerifyReport r = run(s, test::Moves().rapid({50, 0, 12}).line({.z = 8}, 100));

@@ -25,6 +25,7 @@ namespace tf {
 namespace {
 
 using engagement::BlockSamples;
+using engagement::cos_range;
 using engagement::Extent;
 using engagement::kPi;
 using engagement::kRefineFraction;
@@ -37,18 +38,6 @@ using engagement::RingResult;
 using engagement::SampleGrid;
 using engagement::Sampler;
 constexpr double kDeg = 180.0 / kPi;
-
-// Largest and smallest of cos over the arc [a, b] (radians, b >= a, b - a <= 2 pi).
-void cos_range(double a, double b, double& lo, double& hi) {
-  const double ca = std::cos(a), cb = std::cos(b);  // once each: cos may set errno, so it is not merged
-  lo = std::min(ca, cb);
-  hi = std::max(ca, cb);
-  const double k0 = std::ceil(a / kPi), k1 = std::floor(b / kPi);
-  for (double k = k0; k <= k1; ++k) {
-    if (std::fmod(std::abs(k), 2.0) == 0.0) hi = 1.0;
-    else lo = -1.0;
-  }
-}
 
 // The rings whose band (to the neighbouring rings, which their refinement may reach) meets the region.
 void active_rings(const SampleGrid& g, const Sampler& sampler, BlockSamples& b) {

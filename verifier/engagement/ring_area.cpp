@@ -12,6 +12,17 @@
 
 namespace tf::engagement {
 
+void cos_range(double a, double b, double& lo, double& hi) {
+  const double ca = std::cos(a), cb = std::cos(b);  // once each: cos may set errno, so it is not merged
+  lo = std::min(ca, cb);
+  hi = std::max(ca, cb);
+  const double k0 = std::ceil(a / kPi), k1 = std::floor(b / kPi);
+  for (double k = k0; k <= k1; ++k) {
+    if (std::fmod(std::abs(k), 2.0) == 0.0) hi = 1.0;
+    else lo = -1.0;
+  }
+}
+
 void resolved_pieces(RingResult& rr, double r, double h) {
   rr.pieces.clear();
   const double join = 2.0 * h / std::max(r, 1e-9), least = h / std::max(r, 1e-9);
@@ -55,6 +66,19 @@ double cell_cover(const RingResult& rr, double c0, double c1) {
     for (int m = -1; m <= 1; ++m) cover += std::max(0.0, std::min(a1 + 2.0 * kPi * m, c1) - std::max(a0 + 2.0 * kPi * m, c0));
   }
   return cover;
+}
+
+// The extent of cos over the part of the cell [c0, c1] that a ring's engaged arcs cover, into lo and hi
+// (unchanged where they cover none of it).
+void covered_cos_range(const RingResult& rr, double c0, double c1, double& lo, double& hi) {
+  for (const auto& [a0, a1] : rr.arcs)
+    for (int m = -1; m <= 1; ++m) {
+      const double x0 = std::max(a0 + 2.0 * kPi * m, c0), x1 = std::min(a1 + 2.0 * kPi * m, c1);
+      if (!(x0 < x1)) continue;
+      double l, h;
+      cos_range(x0, x1, l, h);
+      lo = std::min(lo, l), hi = std::max(hi, h);
+    }
 }
 
 // Where the state changes between ring i and ring i + 1 along a sample's meridian, the bands are off by
@@ -102,12 +126,15 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const std::vect
     const double gained = cell_cover(rings[size_t(i)], cell0, cell1) - cell_cover(rings[size_t(i + 1)], cell0, cell1);
     const double strip = prof.band_area(std::min(sb, edge), std::max(sb, edge)) / (2.0 * kPi);
     x.area += gained * (sb > edge ? strip : -strip);
-    (void)a;
     const ProfilePoint p = prof.at(sb);
     x.zmin = std::min(x.zmin, p.z);
     x.zmax = std::max(x.zmax, p.z);
-    x.wmin = std::min(x.wmin, p.r * g.cos_phi[j]);
-    x.wmax = std::max(x.wmax, p.r * g.cos_phi[j]);
+    // The boundary point reaches across the cell as far as the engaged ring's arcs do there (the sample's
+    // own angle alone would shorten a slot's width by cos(dphi / 2), its ends lying between samples).
+    double lo = g.cos_phi[j], hi = lo;
+    covered_cos_range(rings[size_t(a ? i : i + 1)], cell0, cell1, lo, hi);
+    x.wmin = std::min(x.wmin, p.r * lo);
+    x.wmax = std::max(x.wmax, p.r * hi);
   });
 }
 
@@ -122,20 +149,34 @@ bool arcs_overlap(const std::pair<double, double>& p, const std::pair<double, do
   return false;
 }
 
+// Angle from y to x, wrapped to [-pi, pi).
+double turn_between(double x, double y) {
+  const double d = std::fmod(x - y + kPi, 2.0 * kPi);
+  return (d < 0.0 ? d + 2.0 * kPi : d) - kPi;
+}
+
+// Whether piece q is piece p's partner on the neighbouring ring: overlapping, and neither end moved by more
+// than max_move (radians). An end that moves farther between two rings follows a boundary running around
+// the tool rather than along it (a step of the stock facing the axis): the engaged angle may jump there,
+// between the rings, and no polynomial through the rings' fractions would see where.
+bool partner(const std::pair<double, double>& p, const std::pair<double, double>& q, double max_move) {
+  return arcs_overlap(p, q) && std::abs(turn_between(p.first, q.first)) <= max_move &&
+         std::abs(turn_between(p.second, q.second)) <= max_move;
+}
+
 // Whether the engaged arcs of two neighbouring rings are the same pieces of the engaged region, as far as
-// the lattice resolves them: as many, in the same order around the tool, each overlapping its partner
-// (or both rings engaged all round, or neither engaged). Between such rings each piece is bounded by its
-// arcs' ends joined across, so its engaged angle is smooth in the arc length along the profile; an arc or
-// a gap below the lattice spacing (classification noise near a boundary the rays run along) does not
-// make them differ.
-bool same_pieces(const RingResult& a, const RingResult& b) {
+// the lattice resolves them: as many, in the same order around the tool, each its partner's (or both rings
+// engaged all round, or neither engaged). Between such rings each piece is bounded by its arcs' ends joined
+// across, so its engaged angle is smooth in the arc length along the profile; an arc or a gap below the
+// lattice spacing (classification noise near a boundary the rays run along) does not make them differ.
+bool same_pieces(const RingResult& a, const RingResult& b, double max_move) {
   if (a.arcs.empty() || b.arcs.empty()) return a.arcs.empty() && b.arcs.empty();
   if (full_turn(a) || full_turn(b)) return full_turn(a) && full_turn(b);
   const size_t k = a.pieces.size();
   if (k != b.pieces.size() || k == 0) return false;
   for (size_t shift = 0; shift < k; ++shift) {
     bool all = true;
-    for (size_t j = 0; j < k && all; ++j) all = arcs_overlap(a.pieces[j], b.pieces[(j + shift) % k]);
+    for (size_t j = 0; j < k && all; ++j) all = partner(a.pieces[j], b.pieces[(j + shift) % k], max_move);
     if (all) return true;
   }
   return false;
@@ -152,7 +193,8 @@ void pair_area(const SampleGrid& g, const BlockSamples& b, const std::vector<Rin
                const Sampler& sampler, const Profile& prof, int evaluations, int i, Extent& x) {
   auto f = [&](int k) { return rings[size_t(k)].angle / (2.0 * kPi); };
   auto smooth = [&](int k) {  // pair k holds the same pieces, unbent by a joint
-    return k >= 0 && k + 1 < g.nr && !g.joint[size_t(k)] && same_pieces(rings[size_t(k)], rings[size_t(k + 1)]);
+    return k >= 0 && k + 1 < g.nr && !g.joint[size_t(k)] &&
+           same_pieces(rings[size_t(k)], rings[size_t(k + 1)], kSmoothEndMove * g.dphi);
   };
   if (smooth(i)) {
     const SampleGrid::PairWeights& w = g.weights[size_t(i)];

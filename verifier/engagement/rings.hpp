@@ -17,6 +17,9 @@ namespace tf::engagement {
 // would only follow the classification's noise (an eighth gave the same figures on every closed-form
 // case of tests/engagement, to the digits they show).
 inline constexpr double kRefineFraction = 0.25;
+// Neighbouring rings' fractions are integrated as a polynomial only where every end of their engaged
+// pieces moves by at most this many angle steps from one ring to the next (ring_area.cpp, same_pieces).
+inline constexpr double kSmoothEndMove = 2.0;
 // Rings (or pairs of rings) a task takes at once when they are spread over the threads.
 inline constexpr int kRingGrain = 4;
 
@@ -30,6 +33,9 @@ struct RingResult {
   double angle = 0.0;  // engaged radians in total
   void clear() { arcs.clear(), pieces.clear(), angle = 0.0; }  // keeps the storage for the next block
 };
+
+// Largest and smallest of cos over the arc [a, b] (radians, b >= a, b - a <= 2 pi).
+void cos_range(double a, double b, double& lo, double& hi);
 
 // rr.pieces from rr.arcs on a ring of radius r, for lattice spacing h.
 void resolved_pieces(RingResult& rr, double r, double h);
