@@ -64,6 +64,15 @@ inline Tool ball_tool(double r, double flute, double shank_r, double length, std
   return t;
 }
 
+inline Tool bull_tool(double r, double corner, double flute, double shank_r, double length) {
+  Tool t;
+  t.cutter = BullCutter{r, corner};
+  t.flute_length = flute;
+  t.shank_radius = shank_r;
+  t.length = length;
+  return t;
+}
+
 // A scene with a box stock and the given tool; no design, no machine (3-axis).
 inline Scene box_scene(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Tool& tool) {
   Scene s;

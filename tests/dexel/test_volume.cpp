@@ -12,6 +12,21 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The largest difference in material length (mm) between the same ray of two stocks on one lattice.
+double worst_ray_difference(const TriDexel& a, const TriDexel& b) {
+  const Lattice& L = a.lattice();
+  double worst = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
+      for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
+        double la = 0.0, lb = 0.0;
+        for (const Interval& x : a.ray(d, iu, iv)) la += double(x.hi) - x.lo;
+        for (const Interval& x : b.ray(d, iu, iv)) lb += double(x.hi) - x.lo;
+        worst = std::max(worst, std::abs(la - lb));
+      }
+  return worst;
+}
+
 TEST(Volume, BoxAndCylinderStock) {
   Stock box;
   box.kind = Stock::Kind::Box;
@@ -113,12 +128,7 @@ TEST(Volume, BullEndPocketFloor) {
   // A bull tool plunged 3 mm into the top and moved 30 mm: the swept cross-section is the tool's
   // outline below the top face (a rectangle minus the two corner fillets) times the length, plus the
   // tool's solid of revolution below the top.
-  Tool t;
-  t.cutter = BullCutter{5, 1};
-  t.flute_length = 15;
-  t.shank_radius = 5;
-  t.length = 50;
-  const Scene s = test::box_scene({0, 0, 0}, {60, 40, 20}, t);
+  const Scene s = test::box_scene({0, 0, 0}, {60, 40, 20}, test::bull_tool(5, 1, 15, 5, 50));
   const Program p = test::Moves().rapid({15, 20, 30}).line({.z = 17}, 500).line({.x = 45}, 1000).program();
   VerifyOptions o;
   o.resolution = 0.1;
@@ -234,17 +244,7 @@ TEST(Volume, ShortMovesCutWhatLongOnesCut) {
   const VerifyResult a = verify_program(s, long_moves.program(), forward_xyz, o);
   const VerifyResult b = verify_program(s, short_moves.program(), forward_xyz, o);
   EXPECT_NEAR(b.report.removed_volume_mm3, a.report.removed_volume_mm3, 1e-6 * a.report.removed_volume_mm3);
-  const Lattice& L = a.stock.lattice();
-  double worst = 0.0;
-  for (int d = 0; d < 3; ++d)
-    for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
-      for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
-        double la = 0.0, lb = 0.0;
-        for (const Interval& x : a.stock.ray(d, iu, iv)) la += double(x.hi) - x.lo;
-        for (const Interval& x : b.stock.ray(d, iu, iv)) lb += double(x.hi) - x.lo;
-        worst = std::max(worst, std::abs(la - lb));
-      }
-  EXPECT_LT(worst, 1e-4) << "mm of material on one ray";
+  EXPECT_LT(worst_ray_difference(a.stock, b.stock), 1e-4) << "mm of material on one ray";
   EXPECT_GT(a.report.removed_volume_mm3, 500.0);
 }
 
@@ -253,12 +253,7 @@ TEST(Volume, ShortMovesCutWhatLongOnesCut) {
 // inside where the previous block left them. A check surface far from the path (inside the stock's box, so
 // the lattice is the same) turns that skipping off; the stock must be the same either way.
 TEST(Volume, SwingingBullEndCutsTheSameWithoutSkippingItsStart) {
-  Tool t;
-  t.cutter = BullCutter{3, 1};
-  t.flute_length = 6;
-  t.shank_radius = 3;
-  t.length = 30;
-  const Scene plain = test::box_scene({0, 0, 0}, {30, 30, 10}, t);
+  const Scene plain = test::box_scene({0, 0, 0}, {30, 30, 10}, test::bull_tool(3, 1, 6, 3, 30));
   Scene guarded = plain;
   guarded.check_surfaces.push_back(test::box_mesh({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}));
   const ForwardFn fwd = [](const Joints& j) {
@@ -277,18 +272,8 @@ TEST(Volume, SwingingBullEndCutsTheSameWithoutSkippingItsStart) {
   int single = 0;
   for (const BlockResult& br : a.report.per_block) single += br.substeps == 1;
   ASSERT_GT(single, 200) << "the blocks must be short enough to skip";
-  const Lattice& L = a.stock.lattice();
-  ASSERT_EQ(L.n, b.stock.lattice().n);
-  double worst = 0.0;
-  for (int d = 0; d < 3; ++d)
-    for (int iv = 0; iv < L.n[Lattice::v_axis(d)]; ++iv)
-      for (int iu = 0; iu < L.n[Lattice::u_axis(d)]; ++iu) {
-        double la = 0.0, lb = 0.0;
-        for (const Interval& x : a.stock.ray(d, iu, iv)) la += double(x.hi) - x.lo;
-        for (const Interval& x : b.stock.ray(d, iu, iv)) lb += double(x.hi) - x.lo;
-        worst = std::max(worst, std::abs(la - lb));
-      }
-  EXPECT_LT(worst, 1e-5) << "mm of material on one ray";
+  ASSERT_EQ(a.stock.lattice().n, b.stock.lattice().n);
+  EXPECT_LT(worst_ray_difference(a.stock, b.stock), 1e-5) << "mm of material on one ray";
   EXPECT_GT(a.report.removed_volume_mm3, 100.0);
 }
 
