@@ -248,6 +248,35 @@ TEST(Volume, ShortMovesCutWhatLongOnesCut) {
   EXPECT_GT(a.report.removed_volume_mm3, 500.0);
 }
 
+// A ball end 1 mm into a round bar while the bar turns four times about x (a 4th axis, A1440) and the
+// tool feeds 40 mm along it: a helical groove. One block must cut what the same motion cut in sixteen
+// quarter turns cuts; sampled only at its quarter points, the single block would look like a straight
+// move along the bar.
+TEST(Volume, FourTurnsOfATableInOneBlockCutTheHelix) {
+  Scene s;
+  s.stock.kind = Stock::Kind::Cylinder;
+  s.stock.cylinder = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), 10.0, 50.0};
+  s.tool = test::ball_tool(3, 4, 3, 30, {});
+  const ForwardFn table_a = [](const Joints& j) {
+    const Eigen::AngleAxisd part(-j.a * kPi / 180.0, Eigen::Vector3d::UnitX());
+    return ToolPose{part * Eigen::Vector3d(j.x, j.y, j.z), part * Eigen::Vector3d::UnitZ()};
+  };
+  test::Moves one, quarters;
+  one.rapid({.x = 5, .y = 0, .z = 20, .a = 0}).line({.z = 9}, 300).line({.x = 45, .a = 1440}, 1000);
+  quarters.rapid({.x = 5, .y = 0, .z = 20, .a = 0}).line({.z = 9}, 300);
+  for (int k = 1; k <= 16; ++k) quarters.line({.x = 5 + 40.0 * k / 16, .a = 90.0 * k}, 1000);
+  VerifyOptions o;
+  o.resolution = 0.1;
+  o.sweep.tolerance = 0.05;  // the flutes' four turns within max_substeps
+  const VerifyResult a = verify_program(s, one.program(), table_a, o);
+  const VerifyResult b = verify_program(s, quarters.program(), table_a, o);
+  EXPECT_GT(a.report.per_block.back().substeps, 16);
+  EXPECT_LE(a.report.sweep_error_mm, o.sweep.tolerance);
+  // The groove's cross-section is about the ball's cap 1 mm deep (4.7 mm^2) along a helix of about 255 mm.
+  EXPECT_GT(b.report.removed_volume_mm3, 600.0);
+  EXPECT_NEAR(a.report.removed_volume_mm3, b.report.removed_volume_mm3, 0.005 * b.report.removed_volume_mm3);
+}
+
 // Short 5-axis moves of a bull end whose axis leans 3 degrees and swings around the vertical: each block's
 // rotation is below one sub-step, so the blocks after the first skip the rays their cutting spheres keep
 // inside where the previous block left them. A check surface far from the path (inside the stock's box, so

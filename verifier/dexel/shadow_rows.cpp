@@ -97,6 +97,8 @@ Shadow make_shadow(const SweptPart& part, int dir, int u) {
   if (part.kind == ToolPart::Kind::Sphere || std::abs(part.axis[dir]) >= 1.0 - 1e-12) {
     s.count = 1;
     s.stadiums[0] = make_stadium(pu, pv, du, dv);
+    // A cylinder taken as along the ray: its top disc may still lie off its bottom across the ray.
+    if (part.kind == ToolPart::Kind::Cylinder) s.r += part.height * std::hypot(part.axis[u], part.axis[v]);
     return s;
   }
   // The parallelogram p0 + [0, 1] axis H + [0, 1] d, by its four edges.

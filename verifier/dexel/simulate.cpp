@@ -96,6 +96,11 @@ VerifyResult Simulator::run() {
   }
   for (const Accum::Span& span : pending_) apply(span);  // the last block's deferred changes
   pending_.clear();
+  // A block that needed more than max_substeps sub-steps for a part reports its bound, above the tolerance.
+  if (rep.sweep_error_mm > opt_.sweep.tolerance)
+    rep.warnings.push_back("the swept volume's bound " + std::to_string(rep.sweep_error_mm) + " mm exceeds --tolerance " +
+                           std::to_string(opt_.sweep.tolerance) + " mm: a block needed more than " +
+                           std::to_string(opt_.sweep.max_substeps) + " sub-steps for a tool part (split it)");
   rep.blocks = static_cast<int>(rep.per_block.size());
   rep.stock_volume_end_mm3 = stock_.volume();
   rep.memory_bytes = stock_.memory_bytes();
@@ -153,7 +158,8 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.tool = b.tool;
   br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
-  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid);
+  const double turn = std::max({std::abs(b.target.a - from.a), std::abs(b.target.b - from.b), std::abs(b.target.c - from.c)});
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid, turn);
   // A block that moves its cutting spheres along straight lines (one sub-step each) from where the
   // previous block left them finds their start empty. Not with fixtures or check surfaces: the rays inside
   // the start spheres still meet those, and every block reports its own collisions. Not a bull end's ring

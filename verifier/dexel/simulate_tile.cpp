@@ -301,9 +301,11 @@ bool Simulator::cut_row_direct(const TileRays& t, int iv, int first, int last, c
 // false when the part misses the ray or meets none of that range.
 bool Simulator::part_hit(const RowPart& rp, int iu, const Interval& r, const Accum& acc, Hit& h) const {
   const double t0 = acc.t0[rp.offset + iu], t1 = acc.t1[rp.offset + iu];
-  if (!(t1 > t0) || t1 < r.lo || t0 > r.hi) return false;
+  // Compared as stored: a chord shorter than a float's step would become an empty interval.
+  const float f0 = static_cast<float>(t0), f1 = static_cast<float>(t1);
+  if (!(f1 > f0) || t1 < r.lo || t0 > r.hi) return false;
   const SweptPart& p = sweep_.parts[rp.part];
-  h = {{static_cast<float>(t0), static_cast<float>(t1)}, static_cast<uint8_t>(p.component), p.cutting};
+  h = {{f0, f1}, static_cast<uint8_t>(p.component), p.cutting};
   return true;
 }
 

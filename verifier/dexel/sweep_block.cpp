@@ -102,6 +102,7 @@ struct Context {
   double theta;  // the block's total axis rotation, rad
   const SweepOptions& options;
   BlockSweep& out;
+  int least_n;  // sub-steps at least (a quarter turn of the rotary joints each)
 };
 
 // Sub-steps of a group of pieces: from the rotation estimate, grown until the measured bound holds. The
@@ -110,7 +111,7 @@ Bound sweep_group(const Context& cx, const std::vector<Piece>& pieces, double to
   double reach = 0.0;
   for (const Piece& p : pieces) reach = std::max(reach, p.reach);
   const int max_n = std::max(1, cx.options.max_substeps);
-  n = std::clamp(static_cast<int>(std::ceil(rotation_substeps(cx.theta, reach, tol))), 1, max_n);
+  n = std::clamp(std::max(cx.least_n, static_cast<int>(std::ceil(rotation_substeps(cx.theta, reach, tol)))), 1, max_n);
   Bound b;
   for (;;) {
     b = substep_bound(poses_for(cx.pose_at, n, cx.out), n, pieces);
@@ -203,7 +204,7 @@ void sweep_cylinder(const Context& cx, const ToolPart& part, bool covered_below,
 }  // namespace
 
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out, bool rapid) {
+                 BlockSweep& out, bool rapid, double rotary_turn_deg) {
   out.parts.clear();
   out.box.setEmpty();
   out.substeps = 1;
@@ -228,7 +229,9 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
     sweep_arc(arc, pose_at(0.0), parts, out);
     return;
   }
-  const Context cx{pose_at, theta, options, out};
+  const double turn = std::abs(rotary_turn_deg), most = std::max(1, options.max_substeps);
+  const double quarters = turn > 0.0 ? std::clamp(std::ceil(turn / 90.0 - 1e-9), 1.0, most) : 1.0;  // NaN: 1
+  const Context cx{pose_at, theta, options, out, static_cast<int>(quarters)};
   // Cutting parts first: they are the ones removing material.
   for (int pass = 0; pass < 2; ++pass)
     for (const ToolPart& part : parts) {

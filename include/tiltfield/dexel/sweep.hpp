@@ -122,9 +122,11 @@ struct BlockSweep {
 
 // Sub-steps and swept parts of one block. `parts` from tool_parts(). `out` is reused between blocks. In a
 // rapid (`rapid`) nothing cuts: every part is swept to `holder_tolerance` and its bound counts as the
-// holder's (BlockSweep::holder_error).
+// holder's (BlockSweep::holder_error). `rotary_turn_deg`: the most any rotary joint turns over the block
+// (deg); every sub-step turns at most a quarter turn of it, so that the poses a sub-step's bound samples
+// cannot line up across whole turns (a block turning a table four times would otherwise look straight).
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out, bool rapid = false);
+                 BlockSweep& out, bool rapid = false, double rotary_turn_deg = 0.0);
 
 // A block whose tool axis stays on one lattice axis while the tip runs on a circle in the plane across it
 // (a G17 arc with a vertical tool, and the like; no helix): the tip's circle in that plane. Found from the
