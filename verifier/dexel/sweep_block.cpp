@@ -21,6 +21,11 @@ constexpr double kStart = 0.85;  // share of the tolerance the first sub-step gu
 // from it.
 double rotation_substeps(double theta, double reach, double tol) { return theta * reach / (2.0 * kStart * tol); }
 constexpr double kAim = 0.9;    // share of the tolerance a refinement aims at
+// phi r + dev is sampled at a sub-step's ends and quarter times. For a steady turn phi is |t - 1/2| times
+// the sub-step's turn and dev a parabola 4 D t (1 - t); their sum peaks between the samples at D (1 + u^2),
+// u = phi_end r / (2 D), against the samples' largest max(D, D (u + 3/4), 2 D u): at most 17/16 of it
+// (u = 1/4). The sampled value times that is the bound.
+constexpr double kBetweenSamples = 17.0 / 16.0;
 
 double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
@@ -94,6 +99,7 @@ Bound substep_bound(const std::vector<ToolPose>& poses, int n, const std::vector
       }
     }
   }
+  b.value *= kBetweenSamples;
   return b;
 }
 
