@@ -155,8 +155,8 @@ double turn_between(double x, double y) {
   return (d < 0.0 ? d + 2.0 * kPi : d) - kPi;
 }
 
-// Whether piece q is piece p's partner on the neighbouring ring: overlapping, and neither end moved by more
-// than max_move (radians). An end that moves farther between two rings follows a boundary running around
+// Whether piece q is piece p's partner on the neighbouring ring: overlapping, and neither end turned by
+// more than max_move (radians). An end that moves farther between two rings follows a boundary running around
 // the tool rather than along it (a step of the stock facing the axis): the engaged angle may jump there,
 // between the rings, and no polynomial through the rings' fractions would see where.
 bool partner(const std::pair<double, double>& p, const std::pair<double, double>& q, double max_move) {
@@ -194,7 +194,8 @@ void pair_area(const SampleGrid& g, const BlockSamples& b, const std::vector<Rin
   auto f = [&](int k) { return rings[size_t(k)].angle / (2.0 * kPi); };
   auto smooth = [&](int k) {  // pair k holds the same pieces, unbent by a joint
     return k >= 0 && k + 1 < g.nr && !g.joint[size_t(k)] &&
-           same_pieces(rings[size_t(k)], rings[size_t(k + 1)], kSmoothEndMove * g.dphi);
+           same_pieces(rings[size_t(k)], rings[size_t(k + 1)],
+                       kSmoothEndMove * g.ds / std::max({g.ring[size_t(k)].r, g.ring[size_t(k + 1)].r, 1e-9}));
   };
   if (smooth(i)) {
     const SampleGrid::PairWeights& w = g.weights[size_t(i)];

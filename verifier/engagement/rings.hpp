@@ -18,7 +18,9 @@ namespace tf::engagement {
 // case of tests/engagement, to the digits they show).
 inline constexpr double kRefineFraction = 0.25;
 // Neighbouring rings' fractions are integrated as a polynomial only where every end of their engaged
-// pieces moves by at most this many angle steps from one ring to the next (ring_area.cpp, same_pieces).
+// pieces moves around the tool by at most this many ring spacings (arc length at the larger ring) from one
+// ring to the next (ring_area.cpp, same_pieces): a boundary running at least about 27 degrees off the
+// rings. Arc length, not angle: near a ball's tip the ends turn fast but move little.
 inline constexpr double kSmoothEndMove = 2.0;
 // Rings (or pairs of rings) a task takes at once when they are spread over the threads.
 inline constexpr int kRingGrain = 4;
