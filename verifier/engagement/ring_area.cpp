@@ -57,28 +57,34 @@ void for_each_change(const uint8_t* below, const uint8_t* above, int na, F&& f) 
     if ((below ? below[j] : 0) != (above ? above[j] : 0)) f(j);
 }
 
-// The angle (radians) that a ring's engaged arcs cover of the cell [c0, c1] (c0 in [0, 2 pi), c1 - c0
-// below a turn).
-double cell_cover(const RingResult& rr, double c0, double c1) {
-  double cover = 0.0;
+// f(x0, x1) for each part [x0, x1] of the cell [c0, c1] (c0 within a step of [0, 2 pi), c1 - c0 below a
+// turn) that one of a ring's engaged arcs covers.
+template <class F>
+void for_each_covered(const RingResult& rr, double c0, double c1, F&& f) {
   for (const auto& [lo, hi] : rr.arcs) {
     const double a0 = std::fmod(lo, 2.0 * kPi), a1 = a0 + (hi - lo);
-    for (int m = -1; m <= 1; ++m) cover += std::max(0.0, std::min(a1 + 2.0 * kPi * m, c1) - std::max(a0 + 2.0 * kPi * m, c0));
+    for (int m = -1; m <= 1; ++m) {
+      const double x0 = std::max(a0 + 2.0 * kPi * m, c0), x1 = std::min(a1 + 2.0 * kPi * m, c1);
+      if (x0 < x1) f(x0, x1);
+    }
   }
+}
+
+// The angle (radians) that a ring's engaged arcs cover of the cell [c0, c1].
+double cell_cover(const RingResult& rr, double c0, double c1) {
+  double cover = 0.0;
+  for_each_covered(rr, c0, c1, [&](double x0, double x1) { cover += x1 - x0; });
   return cover;
 }
 
 // The extent of cos over the part of the cell [c0, c1] that a ring's engaged arcs cover, into lo and hi
 // (unchanged where they cover none of it).
 void covered_cos_range(const RingResult& rr, double c0, double c1, double& lo, double& hi) {
-  for (const auto& [a0, a1] : rr.arcs)
-    for (int m = -1; m <= 1; ++m) {
-      const double x0 = std::max(a0 + 2.0 * kPi * m, c0), x1 = std::min(a1 + 2.0 * kPi * m, c1);
-      if (!(x0 < x1)) continue;
-      double l, h;
-      cos_range(x0, x1, l, h);
-      lo = std::min(lo, l), hi = std::max(hi, h);
-    }
+  for_each_covered(rr, c0, c1, [&](double x0, double x1) {
+    double l, h;
+    cos_range(x0, x1, l, h);
+    lo = std::min(lo, l), hi = std::max(hi, h);
+  });
 }
 
 // Where the state changes between ring i and ring i + 1 along a sample's meridian, the bands are off by
@@ -149,19 +155,13 @@ bool arcs_overlap(const std::pair<double, double>& p, const std::pair<double, do
   return false;
 }
 
-// Angle from y to x, wrapped to [-pi, pi).
-double turn_between(double x, double y) {
-  const double d = std::fmod(x - y + kPi, 2.0 * kPi);
-  return (d < 0.0 ? d + 2.0 * kPi : d) - kPi;
-}
-
 // Whether piece q is piece p's partner on the neighbouring ring: overlapping, and neither end turned by
 // more than max_move (radians). An end that moves farther between two rings follows a boundary running around
 // the tool rather than along it (a step of the stock facing the axis): the engaged angle may jump there,
 // between the rings, and no polynomial through the rings' fractions would see where.
 bool partner(const std::pair<double, double>& p, const std::pair<double, double>& q, double max_move) {
-  return arcs_overlap(p, q) && std::abs(turn_between(p.first, q.first)) <= max_move &&
-         std::abs(turn_between(p.second, q.second)) <= max_move;
+  return arcs_overlap(p, q) && std::abs(std::remainder(p.first - q.first, 2.0 * kPi)) <= max_move &&
+         std::abs(std::remainder(p.second - q.second, 2.0 * kPi)) <= max_move;
 }
 
 // Whether the engaged arcs of two neighbouring rings are the same pieces of the engaged region, as far as
