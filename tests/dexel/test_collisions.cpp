@@ -82,6 +82,37 @@ TEST(Collisions, TheSameWhenTheCutDefersItsChanges) {
       }
 }
 
+// Ball R 3, flutes to 12, shank R 3 to the gauge length 60, no holder.
+Tool long_tool() { return test::ball_tool(3, 12, 3, 60, {}); }
+
+// A feed up the tool's axis beside an overhang (a plate z 20 to 25, the tool 2 mm under its edge, from
+// below it): the shank meets the plate first, and the flutes, arriving later in the same block, cut all of
+// what it met.
+// The shank crashed before the flutes got there: a collision, about 2 mm deep (the overlap across the
+// plate's edge).
+TEST(Collisions, ShankLeadingTheFlutesIntoAnOverhang) {
+  const Scene s = test::box_scene({10, 0, 20}, {30, 20, 25}, long_tool());
+  const VerifyResult r = run(s, test::Moves().rapid({9, 10, -70}).line({.z = 20}, 500));
+  ASSERT_EQ(r.report.collisions.size(), 1u);
+  const Collision& c = r.report.collisions.front();
+  EXPECT_EQ(c.block, 2);
+  EXPECT_FALSE(c.rapid);
+  EXPECT_EQ(c.with, HitWith::Stock);
+  EXPECT_EQ(c.component, ToolComponent::Shank);
+  EXPECT_NEAR(c.depth_mm, 2.0, 0.25);
+  EXPECT_GT(r.report.removed_volume_mm3, 0.0);  // the flutes did cut the plate's edge
+}
+
+// The same feed the other way, down into the stock: the shank follows the flutes into the hole they cut
+// (as wide as the shank), so it meets nothing, however deep the plunge.
+TEST(Collisions, ShankFollowingTheFlutesMeetsNothing) {
+  const Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, long_tool());
+  const VerifyResult r = run(s, test::Moves().rapid({25, 25, 40}).line({.z = 2}, 500).line({.z = 40}));
+  EXPECT_TRUE(r.report.collisions.empty());
+  const double hole = std::numbers::pi * 9 * 25 + 2.0 / 3.0 * std::numbers::pi * 27;  // to the ball centre z = 5
+  EXPECT_NEAR(r.report.removed_volume_mm3, hole, 0.01 * hole);
+}
+
 TEST(Collisions, RapidThroughTheStock) {
   const Scene s = test::box_scene({0, 0, 0}, {50, 50, 30}, short_tool());
   const VerifyResult r = run(s, test::Moves().rapid({-10, 25, 60}).rapid({.z = 25}).rapid({.x = 60}).rapid({.z = 60}));

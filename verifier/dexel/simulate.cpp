@@ -187,7 +187,8 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   collect_pending();
   if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
 
-  const BlockTotals tot = merged_totals();
+  BlockTotals tot = merged_totals();
+  if (!rapid) add_ordered_depths(b, pose_at, turn, tot.depth);
   br.removed_mm3 = (tot.removed[0] + tot.removed[1] + tot.removed[2]) / 3.0 * lattice_.h * lattice_.h;
   report_collisions(tot.depth, b, index, pose_at, br, rep);
   if (tot.gouge > 0) {

@@ -30,27 +30,6 @@ int floor_index(double x) {
   return k > x ? k - 1 : k;
 }
 
-// Sorts and merges intervals in place into a disjoint union.
-void merge_union(std::vector<Interval>& v) {
-  // A ray meets a few parts: insertion sort beats std::sort's set-up at these sizes.
-  if (v.size() <= 16) {
-    for (size_t i = 1; i < v.size(); ++i) {
-      const Interval x = v[i];
-      size_t k = i;
-      for (; k > 0 && x.lo < v[k - 1].lo; --k) v[k] = v[k - 1];
-      v[k] = x;
-    }
-  } else {
-    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
-  }
-  size_t m = 0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
-    else v[m++] = v[i];
-  }
-  v.resize(m);
-}
-
 float overlap_longest(const Interval& iv, std::pair<const Interval*, size_t> ray) {
   double longest = 0.0;
   overlap_length(&iv, 1, ray.first, ray.second, &longest);
@@ -346,6 +325,7 @@ bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
       if (h.cutting) record(acc, d, h.component, HitWith::Stock, true, overlap_longest(h.iv, {ray.begin(), ray.size()}));
   const bool reaches =
       !acc.cut.empty() && acc.cut.front().lo < (ray.end() - 1)->hi && acc.cut.back().hi > ray.begin()->lo;
+  if (reaches && !rapid) note_masked(ray, at, acc);
   if (reaches && subtract(ray, at, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, true, acc))
     changed = true;
   bool crash = false;
@@ -366,6 +346,22 @@ bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
     if (subtract(ray, at, acc.cut.data(), acc.cut.size(), nullptr, false, acc, left)) changed = true;
   }
   return changed;
+}
+
+// A shank or holder whose interval overlaps material the cutting parts take away in this block: the
+// removal hides it from the check after the cut (cut_stock), though it may have got there first. The ray
+// and its material before the block are kept for add_ordered_depths.
+void Simulator::note_masked(const Dexel& ray, const RayAt& at, Accum& acc) const {
+  for (const Hit& h : acc.hits) {
+    if (h.cutting) continue;
+    for (const Interval& c : acc.cut) {
+      const Interval x{std::max(h.iv.lo, c.lo), std::min(h.iv.hi, c.hi)};
+      if (!(x.hi > x.lo) || overlap_longest(x, {ray.begin(), ray.size()}) <= opt_.collision_tolerance) continue;
+      acc.masked.push_back({at.d, at.iu, at.iv, static_cast<uint32_t>(acc.masked_pool.size()), ray.size()});
+      acc.masked_pool.insert(acc.masked_pool.end(), ray.begin(), ray.end());
+      return;
+    }
+  }
 }
 
 // Every part's overlap with the fixtures and check surfaces on ray (iu, iv) of grid d.

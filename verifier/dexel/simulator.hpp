@@ -4,6 +4,7 @@
 #pragma once
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -26,6 +27,27 @@ struct Hit {
   uint8_t component;
   bool cutting;
 };
+
+// Sorts and merges intervals in place into a disjoint union.
+inline void merge_union(std::vector<Interval>& v) {
+  // A ray meets a few parts: insertion sort beats std::sort's set-up at these sizes.
+  if (v.size() <= 16) {
+    for (size_t i = 1; i < v.size(); ++i) {
+      const Interval x = v[i];
+      size_t k = i;
+      for (; k > 0 && x.lo < v[k - 1].lo; --k) v[k] = v[k - 1];
+      v[k] = x;
+    }
+  } else {
+    std::sort(v.begin(), v.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+  }
+  size_t m = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (m > 0 && v[i].lo <= v[m - 1].hi) v[m - 1].hi = std::max(v[m - 1].hi, v[i].hi);
+    else v[m++] = v[i];
+  }
+  v.resize(m);
+}
 
 // A part meeting rays first..last of a tile row; its intervals are at t0/t1[offset + iu].
 struct RowPart {
@@ -101,6 +123,15 @@ struct Accum {
   std::array<DeferredList, 2> lists;
   std::vector<Span> spans;  // this block's, per tile
   std::array<GridBox, 3> removed_box;
+  // Rays of a feed block where a shank or holder met material that the block's cutting parts removed:
+  // whether it met it first is decided after the cut, in time order (Simulator::add_ordered_depths). The
+  // ray, and its material before the block in masked_pool[offset, offset + n).
+  struct Masked {
+    int d, iu, iv;
+    uint32_t offset, n;
+  };
+  std::vector<Masked> masked;
+  std::vector<Interval> masked_pool;
   std::vector<Interval> scratch, whole;
   // The material of `ray` as this block has left it so far: with its deferred change when it has one
   // (put together in `scratch`).
@@ -120,6 +151,8 @@ struct Accum {
         for (auto& c : b) c = {0.f, 0.f};
     gouge = 0.0;
     spans.clear();
+    masked.clear();
+    masked_pool.clear();
   }
 };
 
@@ -200,6 +233,8 @@ class Simulator {
   void collect_pending();
   void apply(const Accum::Span& span);
   BlockTotals merged_totals();
+  // Collisions in time order (ordered_collisions.cpp).
+  void add_ordered_depths(const Block& b, const PoseAt& pose_at, double turn, Depths& depth) const;
   void report_collisions(const Depths& depth, const Block& b, int index, const PoseAt& pose_at, BlockResult& br,
                          VerifyReport& rep) const;
   double feed_path_mm(const Block& b, const Joints& from) const;
@@ -228,6 +263,7 @@ class Simulator {
   RayAt ray_at(int d, int iu, int iv) const {
     return {d, iu, iv, static_cast<float>(lattice_.h * iu), static_cast<float>(lattice_.h * iv)};
   }
+  inline void note_masked(const Dexel& ray, const RayAt& at, Accum& acc) const;
   inline void record_obstacles(int d, int iu, int iv, bool rapid, Accum& acc) const;
   inline void record_gouge(int d, int iu, int iv, Accum& acc) const;
 
