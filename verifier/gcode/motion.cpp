@@ -8,7 +8,25 @@
 
 namespace tf::gcode {
 
+namespace {
+// The in-plane axes (u, v) of a plane and their centre-offset letters.
+struct PlaneAxes {
+  int u, v;
+  char lu, lv;
+};
+PlaneAxes plane_axes(int plane) {
+  if (plane == 18) return {2, 0, 'K', 'I'};
+  if (plane == 19) return {1, 2, 'J', 'K'};
+  return {0, 1, 'I', 'J'};
+}
+}  // namespace
+
 void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
+  if (motion == 20 || motion == 30) {  // an arc starts where the tool is in its plane
+    const PlaneAxes pa = plane_axes(st_.plane);
+    assume_position(pa.u);
+    assume_position(pa.v);
+  }
   const Axes start = st_.pos;
   if (g53) {
     // G53: the axis words are machine coordinates for this block (the tool length offset included, as
@@ -46,11 +64,27 @@ Axes Reader::move_axes(const Values& val) {
     if (!val.has(c)) continue;
     const int a = axis_index(c);
     const double v = length(c, *val[c]);
-    // An axis the program has not set yet counts incremental words from where it is taken to be.
+    if (st_.incremental) assume_position(a);
     st_.pos[a] = st_.incremental ? st_.pos[a] + v : v;
     st_.axes[a] = AxisState::Set;
   }
   return st_.pos;
+}
+
+// An axis the program has not positioned yet, where a block needs its position (an incremental word, an
+// arc's start in its plane): where the tool is taken to be (program 0, as RS274/NGC starts), from the
+// program's first block on, not the value the program gives it later (Reader::fill_unknown_axes).
+void Reader::assume_position(int axis) {
+  if (st_.axes[size_t(axis)] != AxisState::NotYet) return;
+  const double machine = st_.pos[size_t(axis)] + offset()[size_t(axis)];
+  for (size_t k = 0; k < program_.blocks.size(); ++k) {
+    if (axes_[k][size_t(axis)] != AxisState::NotYet) continue;
+    Joints& j = program_.blocks[k].target;
+    double* v[6] = {&j.x, &j.y, &j.z, &j.a, &j.b, &j.c};
+    *v[axis] = machine;
+    axes_[k][size_t(axis)] = AxisState::Set;
+  }
+  st_.axes[size_t(axis)] = AxisState::Set;
 }
 
 // With a tool library every move needs a tool of the library in the spindle.
@@ -92,18 +126,6 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   block_tlo_.push_back(st_.tlo);
 }
 
-namespace {
-// The in-plane axes (u, v) of a plane and their centre-offset letters.
-struct PlaneAxes {
-  int u, v;
-  char lu, lv;
-};
-PlaneAxes plane_axes(int plane) {
-  if (plane == 18) return {2, 0, 'K', 'I'};
-  if (plane == 19) return {1, 2, 'J', 'K'};
-  return {0, 1, 'I', 'J'};
-}
-}  // namespace
 
 // G2/G3 from `start` to `end`; with P n, n - 1 full turns come first (a helix shares its travel along the
 // plane's normal and the rotaries by angle), each a block of its own.
@@ -126,6 +148,9 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
     double sweep = std::fmod((ccw ? ae - as : as - ae) + 2.0 * two_pi, two_pi);
     if (sweep < 1e-9) sweep = two_pi;  // same start and end: a full circle
     const double total = sweep + two_pi * (turns - 1);
+    // Under G93 F is one over the whole arc's minutes: each turn takes its share of them.
+    const double feed = st_.feed;
+    if (st_.inverse_time) st_.feed = feed * total / two_pi;
     for (int k = 1; k < turns; ++k) {
       Axes p = start;
       const double f = two_pi * k / total;
@@ -133,6 +158,10 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
         if (a != pa.u && a != pa.v) p[a] = start[a] + f * (end[a] - start[a]);
       emit(m, p, line, &c);
     }
+    if (st_.inverse_time) st_.feed = feed * total / sweep;
+    emit(m, end, line, &c);
+    st_.feed = feed;
+    return;
   }
   emit(m, end, line, &c);
 }
@@ -166,7 +195,9 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     c[pa.v] = st_.arc_incremental ? start[pa.v] + dv : (ov ? dv : start[pa.v]);
     const double rs = std::hypot(start[pa.u] - c[pa.u], start[pa.v] - c[pa.v]);
     const double re = std::hypot(end[pa.u] - c[pa.u], end[pa.v] - c[pa.v]);
-    if (std::abs(rs - re) > std::max(options_.arc_tolerance, 1e-3 * rs))
+    // LinuxCNC's test: refused when the radii differ by more than the absolute tolerance and by more than
+    // 0.1 % of the end radius too.
+    if (std::abs(rs - re) > std::max(options_.arc_tolerance * (st_.inch ? 2.54 : 1.0), 1e-3 * re))
       throw InputError(file_, line, std::string(1, pa.lu), "start and end are not on one circle about the centre");
     if (rs < 1e-9) throw InputError(file_, line, std::string(1, pa.lu), "arc radius is zero");
   }

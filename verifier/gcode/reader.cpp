@@ -75,10 +75,48 @@ void Reader::warn(int line, const std::string& code, const std::string& what) {
   program_.warnings.push_back(file_ + ":" + std::to_string(line) + ": " + key);
 }
 
+namespace {
+
+// The modal group of a G or M code that may appear once per block (LinuxCNC refuses two of a group);
+// -1 for the others (the motion and non-modal groups are checked in Reader::block).
+int modal_group(char letter, int key) {
+  if (letter == 'M') return key == 30 || key == 40 || key == 50 ? 107 : -1;  // spindle
+  if (key == 170 || key == 180 || key == 190) return 2;
+  if (key == 200 || key == 210) return 6;
+  if (key == 900 || key == 910) return 3;
+  if (key == 901 || key == 911) return 4;
+  if (key == 930 || key == 940 || key == 950) return 5;
+  if (key == 980 || key == 990) return 10;
+  if (key == 400 || key == 410 || key == 420) return 7;
+  if (key == 430 || key == 431 || key == 432 || key == 434 || key == 490) return 8;
+  if (key >= 540 && key <= 593) return 12;
+  if (key == 610 || key == 611 || key == 640) return 13;
+  return -1;
+}
+
+void check_modal_groups(const std::vector<int>& gs, const std::vector<int>& ms, const std::string& file, int line) {
+  std::vector<std::pair<int, int>> seen;  // group, code key
+  auto check = [&](char letter, int key) {
+    const int g = modal_group(letter, key);
+    if (g < 0) return;
+    for (const auto& [group, other] : seen)
+      if (group == g)
+        throw InputError(file, line, code_name(letter, key),
+                         "two codes of one modal group in a block (" + code_name(letter, other) + " and " +
+                             code_name(letter, key) + ")");
+    seen.push_back({g, key});
+  };
+  for (int g : gs) check('G', g);
+  for (int m : ms) check('M', m);
+}
+
+}  // namespace
+
 void Reader::block(const std::vector<Word>& words, int line) {
   Values val;
   std::vector<int> gs, ms;
   sort_words(words, line, val, gs, ms);
+  check_modal_groups(gs, ms, file_, line);
   std::optional<int> motion, nonmodal;
   bool g53 = false, dwell = false;
   for (int g : gs) {
@@ -133,6 +171,9 @@ void Reader::block(const std::vector<Word>& words, int line) {
         motion_block(mode, g53, val, line);
       }
       st_.motion = mode;
+    } else if (motion && (*motion == 20 || *motion == 30) && !axis_words && !axes_taken) {
+      motion_block(*motion, g53, val, line);  // G2/G3 with a centre and no axis words: a full circle
+      st_.motion = *motion;
     } else {
       if (is_cycle(mode)) throw InputError(file_, line, code_name('G', mode), "canned cycle without axis words");
       st_.motion = mode;
@@ -181,7 +222,7 @@ void Reader::apply_units_and_feed_mode(const std::vector<int>& gs, int line) {
   for (int g : gs) {
     switch (g) {
       case 930: st_.inverse_time = true; break;
-      case 940: st_.inverse_time = false; break;
+      case 940: st_.inverse_time = false, st_.feed = 0.0; break;  // RS274/NGC: G94 clears the feed rate
       case 950: throw InputError(file_, line, "G95", "feed per revolution is not supported");
       case 200: st_.inch = true; break;
       case 210: st_.inch = false; break;
@@ -221,6 +262,8 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
   for (int g : gs) {
     if (g == 870 || g == 880)
       throw InputError(file_, line, code_name('G', g), "back boring and manual-retract cycles are not supported");
+    if (g == 50 || g == 51 || g == 52 || g == 53)
+      throw InputError(file_, line, code_name('G', g), "splines (G5, G5.1, G5.2, G5.3) are not supported");
     if (g == 330 || g == 331 || g == 760 || (g >= 382 && g <= 385))
       throw InputError(file_, line, code_name('G', g), "is not supported");
     if (!recognised(g)) warn(line, code_name('G', g), " unknown code ignored");

@@ -93,6 +93,7 @@ class Reader {
   // motion.cpp
   void motion_block(int motion, bool g53, const Values& val, int line);
   Axes move_axes(const Values& val);
+  void assume_position(int axis);
   void emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre = nullptr);
   void arc(int motion, const Axes& start, const Axes& end, const Values& val, int line);
   Eigen::Vector3d arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const;

@@ -37,10 +37,13 @@ struct GcodeOptions {
   bool block_delete = true;
   // Axis values before the first block. When absent, each axis starts at the first value the program
   // gives it (the machine is taken to be there already), so the first positioning move sweeps nothing
-  // it does not program.
+  // it does not program; an axis a block needs before that (an incremental word, an arc's start) is at
+  // program 0, where RS274/NGC starts.
   std::optional<Joints> start;
-  // Arc centres |start-centre| and |end-centre| may differ by this much (mm) before it is an error.
-  double arc_tolerance = 0.002;
+  // Arc centres |start-centre| and |end-centre| may differ by this much (mm; in G20 programs 2.54 times
+  // as much), or by 0.1 % of the radius, before it is an error: LinuxCNC's tolerances (2 sqrt 2 x 0.01 mm,
+  // 0.001 inch), so that arcs written to two decimals pass.
+  double arc_tolerance = 0.0283;
   // Work offsets by code ("G54" ... "G59.3"): X Y Z mm, A B C deg, added to the programmed coordinates
   // (G54 is in force from the start, as on LinuxCNC). A code the program selects that is absent here
   // counts as zero, with a warning naming it. Default: none.

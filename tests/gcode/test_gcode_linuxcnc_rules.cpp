@@ -1,0 +1,95 @@
+// RS274/NGC rules the reader follows as LinuxCNC does (each case checked against LinuxCNC's rs274): full
+// circles without axis words, axes a block needs before the program set them, inverse-time arcs of
+// several turns, G94 clearing the feed, the arc-centre tolerance, one code per modal group, splines.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "gcode_test_util.hpp"
+
+namespace tf {
+namespace {
+
+using test::expect_gcode_error;
+using test::parse_program;
+
+TEST(GcodeLinuxcncRules, FullCircleWithoutAxisWords) {
+  const Program p = parse_program("G21 G90\nG0 X0 Y10 Z5\nG2 F100 I5\nG3 I-5 P2\n");
+  ASSERT_EQ(p.blocks.size(), 4u);
+  EXPECT_EQ(p.blocks[1].motion, Motion::ArcCW);
+  EXPECT_DOUBLE_EQ(p.blocks[1].target.x, 0.0);
+  EXPECT_DOUBLE_EQ(p.blocks[1].target.y, 10.0);
+  EXPECT_DOUBLE_EQ(p.blocks[1].arc_center.x(), 5.0);
+  EXPECT_EQ(p.blocks[2].motion, Motion::ArcCCW);  // two full turns, one block each
+  EXPECT_EQ(p.blocks[3].motion, Motion::ArcCCW);
+  EXPECT_DOUBLE_EQ(p.blocks[3].arc_center.x(), -5.0);
+}
+
+TEST(GcodeLinuxcncRules, IncrementalWordsOnAnUnsetAxisStartAtZero) {
+  // LinuxCNC cuts a 10 mm square from X0 Y0.
+  const Program p = parse_program("G21 G91\nG1 F100 Z-2\nX10\nY10\nX-10\nY-10\n");
+  ASSERT_EQ(p.blocks.size(), 5u);
+  const double want[5][2] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}};
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_DOUBLE_EQ(p.blocks[size_t(k)].target.x, want[k][0]) << k;
+    EXPECT_DOUBLE_EQ(p.blocks[size_t(k)].target.y, want[k][1]) << k;
+    EXPECT_DOUBLE_EQ(p.blocks[size_t(k)].target.z, -2.0) << k;
+  }
+}
+
+TEST(GcodeLinuxcncRules, AnArcFromAnUnsetAxisStartsAtZero) {
+  // A half circle from X0 (where LinuxCNC starts) to X10 about X5, not a full one.
+  const Program p = parse_program("G21 G90\nG0 Y0 Z5\nG2 F100 X10 Y0 I5 J0\n");
+  ASSERT_EQ(p.blocks.size(), 2u);
+  EXPECT_DOUBLE_EQ(p.blocks[0].target.x, 0.0);
+  EXPECT_DOUBLE_EQ(p.blocks[1].target.x, 10.0);
+  EXPECT_DOUBLE_EQ(p.blocks[1].arc_center.x(), 5.0);
+  // Absolute axis words still place an unset axis where the program first puts it.
+  const Program q = parse_program("G21 G90\nG0 Y0 Z5\nG1 F100 X7\n");
+  EXPECT_DOUBLE_EQ(q.blocks[0].target.x, 7.0);
+}
+
+TEST(GcodeLinuxcncRules, InverseTimeArcOfSeveralTurnsTakesOneF) {
+  // G93: F1 is one minute for the whole arc, whatever its turns: the blocks' minutes (1 / F) add up to 1.
+  const Program p = parse_program("G21 G90 G17\nG0 X0 Y0 Z0\nG93 G2 X10 Y0 I5 J0 P3 F1\n");
+  ASSERT_EQ(p.blocks.size(), 4u);
+  double minutes = 0.0;
+  for (size_t k = 1; k < p.blocks.size(); ++k) minutes += 1.0 / p.blocks[k].feed;
+  EXPECT_NEAR(minutes, 1.0, 1e-12);
+  EXPECT_NEAR(p.blocks[1].feed, 2.5, 1e-12);  // a full turn: 2 pi of the 5 pi
+  EXPECT_NEAR(p.blocks[3].feed, 5.0, 1e-12);  // the last half turn
+}
+
+TEST(GcodeLinuxcncRules, G94ClearsTheFeed) {
+  // LinuxCNC: "Cannot do g1 with zero feed rate".
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG93 G1 X5 F2\nG94 G1 X10\n", 4, "F");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 X5 F100\nG94\nG1 X10\n", 5, "F");
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z0\nG1 X5 F100\nG94 G1 X10 F200\n").blocks.back().feed, 200.0);
+}
+
+TEST(GcodeLinuxcncRules, ArcCentreToleranceIsLinuxcncs) {
+  // A quarter circle written to two decimals (radii 1 and 1.0041): LinuxCNC runs it.
+  EXPECT_EQ(parse_program("G21\nG0 X3 Y3 Z0\nG3 F100 X2.71 Y3.71 I-1 J0\n").blocks.size(), 2u);
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z0\nG2 F100 X2.027 Y0 I1 J0\n").blocks.size(), 2u);
+  // 0.029 mm and 2.8 %: refused, as by LinuxCNC; 0.1 mm on a 100 mm radius (0.1 %) is not.
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG2 F100 X2.029 Y0 I1 J0\n", 3, "I");
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z0\nG2 F100 X200.1 Y0 I100 J0\n").blocks.size(), 2u);
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG2 F100 X200.2 Y0 I100 J0\n", 3, "I");
+}
+
+TEST(GcodeLinuxcncRules, OneCodePerModalGroup) {
+  expect_gcode_error("G90 G91 G0 X1 Y1 Z1\n", 1, "G91");
+  expect_gcode_error("G0 X1 Y1 Z1\nG17 G18\n", 2, "G18");
+  expect_gcode_error("G20 G21\n", 1, "G21");
+  expect_gcode_error("M3 M4 S1000\n", 1, "M4");
+  EXPECT_EQ(parse_program("G17 G21 G90 G94 G40 G49 G54 G64 G80\nG0 X1 Y1 Z1\n").blocks.size(), 1u);
+}
+
+TEST(GcodeLinuxcncRules, SplinesAreRefused) {
+  // Their axis words would otherwise run in the previous motion mode.
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG5 I0 J3 P0 Q-3 X1 Y1\n", 3, "G5");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG5.2 X1 Y1 P1\n", 3, "G5.2");
+}
+
+}  // namespace
+}  // namespace tf
