@@ -68,9 +68,18 @@ std::pair<size_t, size_t> find_f_word(const std::string& code, size_t from) {
   for (size_t k = from; k < code.size(); ++k) {
     if (code[k] != 'F' && code[k] != 'f') continue;
     size_t e = k + 1;
-    while (e < code.size() && code[e] == ' ') ++e;
+    while (e < code.size() && (code[e] == ' ' || code[e] == '\t')) ++e;
     const size_t num = e;
-    while (e < code.size() && (std::isdigit(static_cast<unsigned char>(code[e])) || code[e] == '.' || code[e] == '+' || code[e] == '-')) ++e;
+    // RS274/NGC ignores blanks inside a number too ("F12. 5" is F12.5): they belong to the word when more
+    // of the number follows them.
+    auto number_char = [&](size_t i) {
+      const bool sign = (code[i] == '+' || code[i] == '-') && e == num;  // a sign only leads
+      return std::isdigit(static_cast<unsigned char>(code[i])) || code[i] == '.' || sign;
+    };
+    for (size_t i = e; i < code.size(); ++i) {
+      if (number_char(i)) e = i + 1;
+      else if (code[i] != ' ' && code[i] != '\t') break;
+    }
     if (e > num) return {k, e};
   }
   return {std::string::npos, std::string::npos};
