@@ -88,6 +88,9 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   }
   if (j.contains("tcp_on_code")) m.tcp_on_code = string(j["tcp_on_code"], file, join(prefix, "tcp_on_code"));
   if (j.contains("tcp_off_code")) m.tcp_off_code = string(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
+  if (m.tcp_on_code.empty() != m.tcp_off_code.empty())
+    throw InputError(file, 0, join(prefix, m.tcp_on_code.empty() ? "tcp_on_code" : "tcp_off_code"),
+                     "tcp_on_code and tcp_off_code come together (a program must switch TCP off again)");
   m.max_feed = positive(number_or(j, "max_feed", m.max_feed, file, prefix), file, join(prefix, "max_feed"));
   m.rapid_feed = positive(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), file, join(prefix, "rapid_feed"));
   m.max_rotary_feed = positive(number_or(j, "max_rotary_feed", m.max_rotary_feed, file, prefix), file,

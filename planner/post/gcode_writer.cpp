@@ -57,7 +57,13 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
   out << "G21 G90 G17 G40 G49 G80 G94\n";
   out << "T" << options.tool_number << " M6\n";
   out << "S" << fixed(options.spindle_rpm, 1) << " M3\n";
-  if (tcp) out << codes.on << "\n";
+  if (tcp) {
+    out << codes.on << "\n";
+    // A TCP switched on by an M code tracks the point the tool length offset gives it (LinuxCNC's
+    // switchkins take it from G43, as its own boat demo writes): without one the controlled point is the
+    // spindle nose, and the tip would run a gauge length too deep. G43.4 carries its H.
+    if (codes.on.rfind("G43.4", 0) != 0) out << "G43 H" << options.tool_number << "\n";
+  }
 
   // Axis words as last written; empty = not written yet, so the first block that moves an axis names it.
   std::array<std::string, 6> last;

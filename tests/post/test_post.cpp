@@ -377,10 +377,34 @@ TEST(Post, TcpDialectWritesTipsWithTheTcpCode) {
       EXPECT_NE(text.find("\nG43.4 H1\n"), std::string::npos);
       EXPECT_NE(text.find("\nG49\nM5"), std::string::npos);
     } else {
-      EXPECT_NE(text.find("\nM128\n"), std::string::npos);
+      // The M code's TCP tracks the tip only with the tool length offset in force.
+      EXPECT_NE(text.find("\nM128\nG43 H1\n"), std::string::npos);
       EXPECT_NE(text.find("\nM129\nM5"), std::string::npos);
     }
     EXPECT_EQ(text.find("G93"), std::string::npos);
+  }
+}
+
+// A machine's own TCP codes (LinuxCNC's switchkins: M428, M429) come with G43 H, as LinuxCNC's boat demo
+// writes them: under G49 the controller would track the spindle nose and run the tip a gauge length deep.
+// The codes come in pairs.
+TEST(Post, MachineTcpCodeComesWithTheToolLengthOffset) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.tcp_on_code = "M428";
+  job.machine.tcp_off_code = "M429";
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Tcp;
+  const tf::Program prog = tf::post_program(impeller_like_path(10), job, opt);
+  std::ostringstream s;
+  tf::write_gcode(s, prog, job, opt);
+  EXPECT_NE(s.str().find("\nM428\nG43 H1\n"), std::string::npos) << s.str();
+  EXPECT_NE(s.str().find("\nM429\nM5"), std::string::npos);
+  try {
+    tf::parse_machine_json(nlohmann::json{{"name", "m"}, {"kinematics", "table-table-ac"}, {"tcp_on_code", "M428"}},
+                           "m.json", "");
+    ADD_FAILURE() << "tcp_on_code without tcp_off_code accepted";
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.field(), "tcp_off_code");
   }
 }
 
