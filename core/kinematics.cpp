@@ -63,15 +63,16 @@ double c_of_lean(KinematicsType k, const Eigen::Vector2d& w) {
   return 0.0;
 }
 
-// The value v + 360 k nearest to `near` that lies within `limit`, or NaN when none does.
+// The value v + 360 k nearest to `near` that lies within `limit`, or NaN when none does. The distance to
+// `near` is convex in k, so the best turn is the unconstrained one clamped to the turns inside the limit
+// (however many turns from 0 the limit lies).
 double unwind(double v, double near, const AxisLimit& limit) {
-  double best = std::numeric_limits<double>::quiet_NaN();
-  const double k0 = std::round((near - v) / 360.0);
-  for (int m = -3; m <= 3; ++m) {
-    const double cand = v + 360.0 * (k0 + m);
-    if (limit.contains(cand) && (std::isnan(best) || std::abs(cand - near) < std::abs(best - near))) best = cand;
-  }
-  return best;
+  double k = std::round((near - v) / 360.0);
+  const double k_lo = std::ceil((limit.min - v) / 360.0 - 1e-12), k_hi = std::floor((limit.max - v) / 360.0 + 1e-12);
+  if (k_lo > k_hi) return std::numeric_limits<double>::quiet_NaN();
+  k = std::clamp(k, k_lo, k_hi);  // infinite bounds leave k as it is
+  const double cand = v + 360.0 * k;
+  return limit.contains(cand) ? cand : std::numeric_limits<double>::quiet_NaN();
 }
 
 AxisLimit limit_of(const MachineSpec& m, char letter) {

@@ -3,6 +3,7 @@
 #include <ostream>
 #include <string>
 
+#include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/post/post.hpp"
 
@@ -30,6 +31,16 @@ TcpCodes tcp_codes(const PostJob& job, const PostOptions& options) {
   const TcpStyle style = options.tcp_style.value_or(job.machine.tcp_style);
   if (style == TcpStyle::M128) return {"M128", "M129"};
   return {"G43.4 H" + std::to_string(options.tool_number), "G49"};
+}
+
+// F with `decimals` places, or as many more (up to 8) as a small feed needs not to read 0, which a
+// controller refuses ("Cannot do G1 with zero feed rate").
+std::string feed_word(double feed, int decimals) {
+  std::string f = fixed(feed, decimals);
+  while (std::stod(f) == 0.0 && decimals < 8) f = fixed(feed, ++decimals);
+  if (!(std::stod(f) > 0.0))
+    throw InputError("", 0, "feed", "a feed of " + std::to_string(feed) + " is too small to write (it reads as F0)");
+  return f;
 }
 
 std::string describe_tool(const Tool& tool) {
@@ -97,7 +108,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
       last_feed.clear();
     }
     line += "G1" + words;
-    const std::string f = fixed(b.feed, mode == FeedMode::InverseTime ? 4 : 2);
+    const std::string f = feed_word(b.feed, mode == FeedMode::InverseTime ? 4 : 2);
     if (mode == FeedMode::InverseTime || f != last_feed) line += " F" + f;  // G93 wants F on every move
     last_feed = f;
     out << line << "\n";

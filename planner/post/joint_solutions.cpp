@@ -39,6 +39,19 @@ bool is_pole(const ToolPose& pose, double pole_tolerance_deg) {
   return Kinematics::pole_angle_deg(pose.axis) < pole_tolerance_deg || std::hypot(pose.axis.x(), pose.axis.y()) < 1e-12;
 }
 
+// The values v + 360 k inside `limit`, however far from 0 it lies: at most kMaxTurns of them, those nearest
+// to v (a limit of many turns offers more than the dynamic programme needs).
+constexpr int kMaxTurns = 16;
+std::vector<double> turns_within(double v, const AxisLimit& limit) {
+  const double k_lo = std::ceil((limit.min - v) / 360.0 - 1e-12), k_hi = std::floor((limit.max - v) / 360.0 + 1e-12);
+  std::vector<double> out;
+  if (!(k_lo <= k_hi)) return out;
+  const double first = std::max(k_lo, std::min(k_hi, 0.0) - kMaxTurns / 2), last = std::min(k_hi, first + kMaxTurns - 1);
+  for (double k = first; k <= last; ++k)
+    if (limit.contains(v + 360.0 * k)) out.push_back(v + 360.0 * k);
+  return out;
+}
+
 // The candidates of a non-pole row: both solutions, and for a C axis with limits every turn inside them.
 std::vector<Candidate> candidates(const ToolPose& pose, const Kinematics& kin, const AxisLimit* c_limit) {
   std::vector<Candidate> out;
@@ -50,10 +63,7 @@ std::vector<Candidate> candidates(const ToolPose& pose, const Kinematics& kin, c
       out.push_back({tilt_of(j, k), wrap180(j.c)});
       continue;
     }
-    for (int turn = -3; turn <= 3; ++turn) {
-      const double c = j.c + 360.0 * turn;
-      if (c_limit->contains(c)) out.push_back({tilt_of(j, k), c});
-    }
+    for (const double c : turns_within(j.c, *c_limit)) out.push_back({tilt_of(j, k), c});
   }
   return out;
 }
@@ -221,8 +231,8 @@ std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, c
       out.push_back(j);
       continue;
     }
-    for (int turn = -3; turn <= 3; ++turn)
-      if (auto t = kin.inverse_with_c(pose, j.c + 360.0 * turn, j)) out.push_back(*t);
+    for (const double c : turns_within(j.c, *c_limit))
+      if (auto t = kin.inverse_with_c(pose, c, j)) out.push_back(*t);
   }
   return out;
 }
@@ -263,9 +273,7 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
     for (const auto& [letter, lim] : m.limits) {
       double v = letter == 'X' ? j.x : letter == 'Y' ? j.y : letter == 'Z' ? j.z : j.rotary(letter);
       if (letter == 'C' || letter == t) {
-        bool ok = false;
-        for (int turn = -3; turn <= 3 && !ok; ++turn) ok = lim.contains(v + 360.0 * turn);
-        if (ok) continue;
+        if (!turns_within(v, lim).empty()) continue;
       } else if (lim.contains(v)) {
         continue;
       }

@@ -385,6 +385,32 @@ TEST(Post, TcpDialectWritesTipsWithTheTcpCode) {
   }
 }
 
+// A C axis whose limits lie turns away from 0 still offers the turn inside them (found in review: only
+// three turns either side were tried), and a tiny feed is written with the places it needs, never F0.
+TEST(Post, FarCLimitsAndTinyFeeds) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['C'] = {1450.0, 1800.0};
+  tf::OrientedPath path = impeller_like_path(10);
+  for (auto& r : path.rows) r.feed = 0.004;
+  tf::PostOptions opt;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  std::ostringstream s;
+  tf::write_gcode(s, prog, job, opt);
+  EXPECT_EQ(s.str().find("F0\n"), std::string::npos) << s.str();
+  EXPECT_EQ(s.str().find("F0.00\n"), std::string::npos);
+  // Every C the program writes lies inside the limits (the first retract moves Z only).
+  const std::regex c_word(R"(C(-?[0-9.]+))");
+  int written = 0;
+  const std::string text = s.str();
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), c_word); it != std::sregex_iterator(); ++it) {
+    const double c = std::stod((*it)[1].str());
+    EXPECT_GE(c, 1450.0 - 1e-4);
+    EXPECT_LE(c, 1800.0 + 1e-4);
+    ++written;
+  }
+  EXPECT_GT(written, 0);
+}
+
 // A machine's own TCP codes (LinuxCNC's switchkins: M428, M429) come with G43 H, as LinuxCNC's boat demo
 // writes them: under G49 the controller would track the spindle nose and run the tip a gauge length deep.
 // The codes come in pairs.

@@ -72,6 +72,20 @@ TEST(PostCli, UnreachableRowExitsTwoNamingTheLine) {
   EXPECT_EQ(std::count(p.result.output.begin(), p.result.output.end(), '\n'), 1);
 }
 
+// Options a controller or the method cannot use: exit 2 naming the option, no program written (found in
+// review: --spindle inf crashed the number format, 1e-9 wrote S0, T0 empties LinuxCNC's spindle).
+TEST(PostCli, UnusableOptionsExitTwoNamingTheOption) {
+  TempDir dir("cli-options");
+  const tf::OrientedPath path = impeller_like_path(10);
+  for (const std::string o : {"--spindle inf", "--spindle 1e-9", "--tip-tol inf", "--axis-tol inf", "--pole-tol 60",
+                               "--tool-number 0"}) {
+    auto p = post(dir, machine_file("table-table-ac").string(), path, o);
+    EXPECT_EQ(p.result.exit_code, 2) << o << ": " << p.result.output;
+    EXPECT_NE(p.result.output.find(o.substr(0, o.find(' '))), std::string::npos) << p.result.output;
+    EXPECT_FALSE(fs::exists(p.out)) << o;
+  }
+}
+
 TEST(PostCli, UnknownKinematicsExitsTwoNamingTheField) {
   TempDir dir("cli-kinematics");
   {

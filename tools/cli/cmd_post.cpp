@@ -28,7 +28,7 @@ struct PostArgs {
 };
 
 void positive_option(double v, const char* name) {
-  if (!(v > 0.0)) throw InputError("", 0, name, "must be positive");
+  if (!(v > 0.0) || !std::isfinite(v)) throw InputError("", 0, name, "must be a positive number");
 }
 
 // --max-mrr: simulates the posted program, read back from its own text so that exactly what is written
@@ -55,9 +55,13 @@ void run_post(PostArgs& a) {
   PostOptions& o = a.options;
   positive_option(o.tip_tolerance_mm, "--tip-tol");
   positive_option(o.axis_tolerance_deg, "--axis-tol");
-  if (!(o.pole_tolerance_deg >= 0.0)) throw InputError("", 0, "--pole-tol", "must not be negative");
+  // The pole cone's half-angle is the axis error accepted there: a few degrees at most make sense.
+  if (!(o.pole_tolerance_deg >= 0.0 && o.pole_tolerance_deg <= 10.0))
+    throw InputError("", 0, "--pole-tol", "must be between 0 and 10 degrees (the axis error allowed at the pole)");
   positive_option(o.spindle_rpm, "--spindle");
-  if (o.tool_number < 0) throw InputError("", 0, "--tool-number", "must not be negative");
+  if (o.spindle_rpm < 1.0) throw InputError("", 0, "--spindle", "must be at least 1 rpm");
+  // T0 M6 empties the spindle on LinuxCNC.
+  if (o.tool_number < 1) throw InputError("", 0, "--tool-number", "must be a tool number of 1 or more");
   if (a.link_gap_option && a.link_gap_option->count() > 0) {
     if (!(a.link_gap > 0.0) || !std::isfinite(a.link_gap))
       throw InputError("", 0, "--link-gap", "must be a positive number of mm");
