@@ -103,17 +103,28 @@ TEST(GcodeOffsets, ToolsTheLibraryLacksAreErrorsWhereTheyMove) {
   EXPECT_EQ(parse_program("T5 M6\nG43 H5\nG0 X0 Y0 Z10\n", GcodeOptions{}).blocks.front().tool, 5);
 }
 
-// G28: the rapid to the intermediate point is simulated; the axes sent home take the value the program
-// next gives them, and blocks that move while an axis stays home are dropped with a warning.
+// G28: the rapid to the intermediate point is simulated, then Z straight up to the reference height (the
+// highest Z the program commands: a traverse after "G91 G28 Z0" must not run at the next cutting depth,
+// found in review); the other axes sent home take the value the program next gives them, and blocks that
+// move while one of them stays home are dropped with a warning.
 TEST(GcodeOffsets, ReferenceReturns) {
   const Program p = parse_program("G0 X10 Y10 Z5\nG91 G28 Z20\nG90 G0 X50 Y50\nG0 Z8\nG28 X0 Y0\nG0 X1\nM30\n", GcodeOptions{});
-  ASSERT_EQ(p.blocks.size(), 5u);
+  ASSERT_EQ(p.blocks.size(), 6u);
   EXPECT_DOUBLE_EQ(p.blocks[1].target.z, 25);  // intermediate point, incremental
-  EXPECT_DOUBLE_EQ(p.blocks[2].target.z, 8);   // Z was home: it comes down where the program next puts it
-  EXPECT_DOUBLE_EQ(p.blocks[2].target.x, 50);
-  EXPECT_DOUBLE_EQ(p.blocks[4].target.x, 0);   // G28 X0 Y0's intermediate point
+  EXPECT_DOUBLE_EQ(p.blocks[2].target.z, 25);  // Z home: the highest Z of the program, X Y unchanged
+  EXPECT_DOUBLE_EQ(p.blocks[2].target.x, 10);
+  EXPECT_DOUBLE_EQ(p.blocks[3].target.z, 25);  // the traverse at the reference height
+  EXPECT_DOUBLE_EQ(p.blocks[3].target.x, 50);
+  EXPECT_DOUBLE_EQ(p.blocks[4].target.z, 8);   // then down where the program puts it
+  EXPECT_DOUBLE_EQ(p.blocks[5].target.x, 0);   // G28 X0 Y0's intermediate point
   EXPECT_TRUE(has_offset_warning(p, "G28 reference return"));
   EXPECT_TRUE(has_offset_warning(p, "1 motion blocks after the reference return")) << p.warnings.back();
+  // The reviewer's program: the traverse after the tool change height runs above the stock, not at Z5.
+  const Program q = parse_program("G0 X-5 Y5 Z15\nG0 Z5\nG1 F100 X5\nG91 G28 Z0\nG90 G0 X15 Y15\nG1 Z5\n", GcodeOptions{});
+  ASSERT_EQ(q.blocks.size(), 6u);
+  EXPECT_DOUBLE_EQ(q.blocks[3].target.z, 15);  // straight up from (5, 5, 5)
+  EXPECT_DOUBLE_EQ(q.blocks[3].target.x, 5);
+  EXPECT_DOUBLE_EQ(q.blocks[4].target.z, 15);
 }
 
 TEST(GcodeOffsets, G10AndG92NeedTheirWords) {

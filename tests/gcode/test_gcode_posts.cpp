@@ -18,7 +18,10 @@ TEST(GcodePosts, AFanucStyleHeaderAndFooterReadWithoutWarnings) {
       "%\nO1234 (PART 7)\nN5 G17 G40 G49 G80 G90 G94 G21\nN10 G91 G28 Z0.\nN15 G90\nN20 T1 M06\n"
       "N25 G00 G54 X10. Y20. S3000 M03\nN30 G43 H1 Z50. M08\nN35 G04 P1.5\nN40 G01 Z-1. F200.\nM01\n"
       "N45 G00 Z50. M09\nN50 G91 G28 Z0.\nN55 G28 X0. Y0.\nN60 M30\n%\nG0 X999\n");
-  ASSERT_EQ(p.blocks.size(), 4u);  // nothing after the closing %; G28s move nothing before going home
+  // Nothing after the closing %; the G28s move nothing before going home, and the last G91 G28 Z0 goes up
+  // to the reference height (the program's highest Z, 50: where it is already).
+  ASSERT_EQ(p.blocks.size(), 5u);
+  EXPECT_DOUBLE_EQ(p.blocks[4].target.z, p.blocks[3].target.z);
   EXPECT_DOUBLE_EQ(p.blocks[2].dwell_s, 1.5);  // G4 P1.5: the feed block waits first
   EXPECT_DOUBLE_EQ(p.blocks[1].dwell_s, 0.0);
   EXPECT_EQ(p.blocks[0].tool, 1);

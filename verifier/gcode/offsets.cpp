@@ -5,6 +5,7 @@
 // where tool length offsets are used, 3-axis and TCP targets become the tool tip.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "reader.hpp"
 #include "tiltfield/core/error.hpp"
@@ -129,6 +130,7 @@ void Reader::tool_length_offset(int key, const Values& val, int line) {
 // words) go to the reference position, which the scene does not define: that move is not simulated and
 // those axes count as not set until the program gives them a value again.
 void Reader::reference_return(int key, const Values& val, int line) {
+  const bool z_known = st_.axes[2] == AxisState::Set;
   bool words = false;
   for (char c : std::string_view("XYZABC")) words |= val.has(c);
   if (words) {
@@ -141,17 +143,25 @@ void Reader::reference_return(int key, const Values& val, int line) {
     move_axes(val);
     if (known && (st_.pos != before || st_.axes != axes_before)) emit(Motion::Rapid, st_.pos, line);
   }
+  // Z goes home first, straight up (a mill's reference height is at the top of its travel): a rapid to
+  // the reference height, taken as the highest Z the program commands (fill_unknown_axes), so that what
+  // follows traverses there and not at the next cutting depth.
+  if ((!words || val.has('Z')) && z_known) {
+    st_.axes[2] = AxisState::SentHome;
+    emit(Motion::Rapid, st_.pos, line);
+  }
   for (char c : std::string_view("XYZABC"))
     if ((!words || val.has(c)) && (axis_index(c) < 3 || machine_.has_axis(c)))
       st_.axes[axis_index(c)] = AxisState::SentHome;
   reference_line_ = line;
   warn(line, code_name('G', key),
-       " reference return: the move to the reference position (not in the scene) is not simulated; the axes"
-       " sent there are next seen where the program positions them");
+       " reference return: the reference position is not in the scene; Z is taken there at the highest Z the"
+       " program commands, the other axes sent there are next seen where the program positions them");
 }
 
 // Axes not set when a block was read take the value the program next gives them (the machine is taken
-// to be there already). Blocks whose axes were sent home and never positioned again are dropped.
+// to be there already); Z sent home is at the reference height, taken as the highest Z the program
+// commands. Blocks whose other axes were sent home and never positioned again are dropped.
 void Reader::fill_unknown_axes() {
   auto& blocks = program_.blocks;
   std::vector<bool> drop(blocks.size(), false);
@@ -159,6 +169,14 @@ void Reader::fill_unknown_axes() {
     double* v[6] = {&j.x, &j.y, &j.z, &j.a, &j.b, &j.c};
     return *v[a];
   };
+  double z_home = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < blocks.size(); ++k)
+    if (axes_[k][2] == AxisState::Set) z_home = std::max(z_home, blocks[k].target.z);
+  for (size_t k = 0; k < blocks.size(); ++k)
+    if (axes_[k][2] == AxisState::SentHome && std::isfinite(z_home)) {
+      blocks[k].target.z = z_home;
+      axes_[k][2] = AxisState::Set;
+    }
   for (int a = 0; a < 6; ++a) {
     size_t b = 0;
     while (b < blocks.size()) {
