@@ -85,6 +85,23 @@ TEST(GcodeLinuxcncRules, OneCodePerModalGroup) {
   EXPECT_EQ(parse_program("G17 G21 G90 G94 G40 G49 G54 G64 G80\nG0 X1 Y1 Z1\n").blocks.size(), 1u);
 }
 
+// Words nothing in the block uses, and an arc's offset across its plane: LinuxCNC refuses them (found in
+// review: "G1 X5 R3", probably meant as an arc, ran as a line).
+TEST(GcodeLinuxcncRules, WordsNothingUsesAreRefused) {
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5 R3\n", 3, "R3");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5 I3\n", 3, "I3");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG2 F100 X10 Y0 I5 J0\nI3\n", 4, "I3");
+  expect_gcode_error("G21 G17\nG0 X0 Y0 Z0\nG2 F100 X10 Y0 I5 K3\n", 3, "K3");
+  expect_gcode_error("G21 G90.1\nG0 X0 Y0 Z0\nG2 F100 X10 Y10 I5\n", 3, "J");
+  expect_gcode_error("G21\nS-100 M3\n", 2, "S-100");
+  // What uses them: arcs (modal too), helices, the other planes, cycles' R.
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z0\nG2 F100 X10 Y0 Z-1 I5 J0\nX0 Y0 I-5 J0\nG18 G2 X10 Z-1 I5 K0\n"
+                          "G19 G3 Y10 Z-1 J5 K0\nG17 G3 X0 Y0 R12\nG90.1 G2 X10 Y0 I5 J0\n")
+                .blocks.size(),
+            7u);
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R2 F100\nG80\n").blocks.size(), 5u);  // G0, the drill's 4
+}
+
 TEST(GcodeLinuxcncRules, SplinesAreRefused) {
   // Their axis words would otherwise run in the previous motion mode.
   expect_gcode_error("G21\nG0 X0 Y0 Z0\nG5 I0 J3 P0 Q-3 X1 Y1\n", 3, "G5");

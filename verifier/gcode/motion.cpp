@@ -190,6 +190,9 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     c[pa.v] = c2.y();
   } else {
     if (!ou && !ov) throw InputError(file_, line, std::string(1, pa.lu), "arc without centre offsets or R");
+    // In absolute centre mode (G90.1) a missing word is no offset of 0 but a coordinate not given.
+    if (!st_.arc_incremental && (!ou || !ov))
+      throw InputError(file_, line, std::string(1, ou ? pa.lv : pa.lu), "G90.1 arcs need both centre coordinates");
     const double du = ou.value_or(0.0) * unit(), dv = ov.value_or(0.0) * unit();
     c[pa.u] = st_.arc_incremental ? start[pa.u] + du : (ou ? du : start[pa.u]);
     c[pa.v] = st_.arc_incremental ? start[pa.v] + dv : (ov ? dv : start[pa.v]);

@@ -154,6 +154,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
     else if (*nonmodal == 281 || *nonmodal == 301) warn(line, code_name('G', *nonmodal), " stores the reference position: not simulated");
     else set_g92(*nonmodal, val, line);
   }
+  check_unused_words(motion, nonmodal, axis_words && !axes_taken, val, line);
   if (motion || (axis_words && !axes_taken)) {
     const int mode = motion.value_or(st_.motion);
     if (!is_cycle(mode)) st_.cycle_il_flag = false;  // the initial level of a series of cycles ends
@@ -183,6 +184,30 @@ void Reader::block(const std::vector<Word>& words, int line) {
   }
   for (int m : ms)
     if (m == 20 || m == 300) st_.ended = true;
+}
+
+// I J K belong to an arc and R to an arc or a cycle (or G10's rotation, refused there): LinuxCNC refuses a
+// block that gives them with nothing to use them ("I word with no G2 or G3 to use it"), rather than
+// ignoring what was probably meant as an arc. An arc's centre offset across its plane (K in G17) is
+// refused too, and S must not be negative.
+void Reader::check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
+                                const Values& val, int line) const {
+  const int mode = motion ? *motion : moves ? st_.motion : kNoMotion;
+  const bool arc = mode == 20 || mode == 30;
+  const bool cycle = is_cycle(mode);
+  const bool g10 = nonmodal && *nonmodal == 100;
+  for (char c : std::string_view("IJK"))
+    if (val.has(c) && !arc && !cycle)
+      throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no G2 or G3 to use it");
+  if (val.has('R') && !arc && !cycle && !g10)
+    throw InputError(file_, line, val.word('R'), "R word with no G2, G3 or canned cycle to use it");
+  if (arc) {
+    const char across = st_.plane == 17 ? 'K' : st_.plane == 18 ? 'J' : 'I';
+    if (val.has(across))
+      throw InputError(file_, line, val.word(across),
+                       std::string(1, across) + " word given for an arc in the G" + std::to_string(st_.plane) + " plane");
+  }
+  if (val.has('S') && *val['S'] < 0) throw InputError(file_, line, val.word('S'), "negative spindle speed");
 }
 
 // The block's G and M codes (as code keys, in their order) and its value words by letter; N and O are

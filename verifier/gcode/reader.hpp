@@ -93,6 +93,8 @@ class Reader {
   // motion.cpp
   void motion_block(int motion, bool g53, const Values& val, int line);
   Axes move_axes(const Values& val);
+  void check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
+                          const Values& val, int line) const;
   void assume_position(int axis);
   void emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre = nullptr);
   void arc(int motion, const Axes& start, const Axes& end, const Values& val, int line);
