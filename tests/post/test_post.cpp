@@ -436,7 +436,7 @@ TEST(Post, MachineTcpCodeComesWithTheToolLengthOffset) {
 
 TEST(Post, AptWritesTipsAndAxes) {
   const tf::PostJob job = job_for("table-table-ac");
-  const tf::OrientedPath path = impeller_like_path(25);
+  const tf::OrientedPath path = impeller_like_path(100);  // rows about 3 mm apart: no link
   std::ostringstream s;
   tf::PostOptions opt;
   tf::write_apt(s, path, job, opt);
@@ -458,6 +458,33 @@ TEST(Post, AptWritesTipsAndAxes) {
     EXPECT_NEAR(gotos[i + 1][2], tip.z(), 1e-4);
     EXPECT_NEAR(gotos[i + 1][5], path.rows[i].axis.z(), 1e-6);
   }
+}
+
+// A jump between rows is linked, not cut through (found in review: a 28 mm feed at cutting depth): the
+// retract above the last row, the rapid to above the next, then its GOTO.
+TEST(Post, AptLinksAJumpBetweenRows) {
+  const tf::PostJob job = job_for("table-table-ac");
+  tf::OrientedPath path = impeller_like_path(100);
+  for (size_t i = 10; i < path.rows.size(); ++i) path.rows[i].p.x() += 40.0;
+  std::ostringstream s;
+  tf::PostOptions opt;
+  tf::write_apt(s, path, job, opt);
+  const std::string text = s.str();
+  size_t rapids = 0;
+  for (size_t at = text.find("RAPID\n"); at != std::string::npos; at = text.find("RAPID\n", at + 1)) ++rapids;
+  EXPECT_EQ(rapids, 4u);  // approach, the link's retract and rapid, the final retract
+  // The link sits between rows 10 and 11: the two RAPID points lie above the part, not on the path.
+  const size_t link = text.find("RAPID\n", text.find("RAPID\n") + 1);
+  ASSERT_NE(link, std::string::npos);
+  std::regex go(R"(GOTO/(-?[0-9.]+),(-?[0-9.]+),(-?[0-9.]+))");
+  std::smatch m;
+  const std::string after = text.substr(link);
+  ASSERT_TRUE(std::regex_search(after, m, go));
+  // Up row 9's axis from its tip, at least safe_z (beyond the part's extent along the axis).
+  const Eigen::Vector3d point(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
+  const Eigen::Vector3d from = point - tf::row_tip(path.rows[9], job.tool), axis = path.rows[9].axis.normalized();
+  EXPECT_GT(from.dot(axis), job.machine.safe_z - 1e-3);
+  EXPECT_LT(from.cross(axis).norm(), 1e-3);
 }
 
 TEST(Post, AptReadsBackThroughTheCoreReader) {

@@ -23,7 +23,7 @@ constexpr int kMaxSlices = 64;
 constexpr int kProbes = 32;  // poses sampled for the motion of the block
 
 // Whether a non-cutting part can reach material before the cutting parts in this block: not when the
-// axis keeps its direction and the tip never moves away from the tip (toward the shank). Then every point
+// axis keeps its direction and the tip never moves along it toward the shank. Then every point
 // rises along the tool, relative to it, from the cutting parts' heights to the shank's and the holder's (all
 // stacked above the flutes) or keeps its height, so where both meet it the cutting parts come first.
 bool shank_can_lead(const PoseAt& pose_at) {
