@@ -122,7 +122,13 @@ void step_costs(const Layers& layers, const std::vector<ToolPose>& poses, size_t
       const double dt = through_pole ? metric.tilt(pc[p].tilt, 0) + metric.tilt(0, c[s].tilt)
                                      : metric.tilt(pc[p].tilt, c[s].tilt);
       double v = pcost[p] + dt + metric.c(pc[p].c, c[s].c);
-      if (!through_pole && flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0)) v += kFlipPenalty;
+      // A limited C moving more than half a turn between neighbouring rows unwinds a turn: the joints
+      // cannot follow the wanted axis there either, and the post changes configuration with a retract.
+      // Priced as the costly flip is, once per move (one retract is one, found in review: a spiral took
+      // two unwinds where one flip would do).
+      const bool flip = flip_is_costly && (wrap180(pc[p].tilt) > 0) != (wrap180(c[s].tilt) > 0);
+      const bool unwinds = !metric.c_continuous && metric.c(pc[p].c, c[s].c) > 180.0 + 1e-6;
+      if (!through_pole && (flip || unwinds)) v += kFlipPenalty;
       if (v < lc[s]) {
         lc[s] = v;
         lf[s] = static_cast<int>(p);

@@ -411,6 +411,25 @@ TEST(Post, FarCLimitsAndTinyFeeds) {
   EXPECT_GT(written, 0);
 }
 
+// Three turns of a spiral on a C limited to a turn either way need one change of configuration, not two
+// unwinds (found in review: an unwind was priced as C motion, the flip that would do it with one retract as
+// a retract).
+TEST(Post, OneRetractWhereOneDoes) {
+  const tf::PostJob job = job_for("head-head-ac");
+  tf::OrientedPath path;
+  for (int i = 0; i <= 216; ++i) {
+    const double phi = 5.0 * i * kDeg;
+    tf::OrientedRow r;
+    r.p = {5.0 * std::cos(phi), 5.0 * std::sin(phi), 3.0};
+    r.axis = polar_axis(30.0, 5.0 * i);
+    path.rows.push_back(r);
+  }
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  int changes = 0;
+  for (const std::string& w : prog.warnings) changes += w.find("change of configuration") != std::string::npos;
+  EXPECT_EQ(changes, 1);
+}
+
 // A machine's own TCP codes (LinuxCNC's switchkins: M428, M429) come with G43 H, as LinuxCNC's boat demo
 // writes them: under G49 the controller would track the spindle nose and run the tip a gauge length deep.
 // The codes come in pairs.
