@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/kinematics.hpp"
 #include "tiltfield/core/local_frame.hpp"
 
 namespace tf {
@@ -164,9 +165,20 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   for (size_t k = 0; k < rows.size(); ++k) {
     result.path.rows[rows[k]].clearance_mm = clear[k].distance_mm;
     result.min_clearance_mm = std::min(result.min_clearance_mm, clear[k].distance_mm);
-    if (clear[k].margin_mm < -0.01) {
+    // The planner's own test: below the clearance is below it (a tolerance here hid rows 0.005 mm short).
+    if (clear[k].margin_mm < 0.0) {
       ++result.rows_below_safety;
       result.uncleared.push_back(rows[k]);
+    }
+  }
+  // The blended axes on the scene's machine: a window the limits cannot follow is reported, not posted.
+  if (scene.machine) {
+    const Kinematics kin(*scene.machine, scene.tool.length);
+    for (size_t i : rows) {
+      const OrientedRow& r = result.path.rows[i];
+      const Eigen::Vector3d axis = r.axis.normalized();
+      if (kin.inverse(ToolPose{r.p - scene.tool.cl_height() * axis, axis}, Joints{}).empty())
+        result.unreachable.push_back(i);
     }
   }
   return result;

@@ -87,13 +87,12 @@ void set_up_rows(PlanContext& ctx, const ToolPath& path, const Tool& tool, const
   }
 }
 
-// Only a limited rotary axis can leave an axis without a joint solution.
-bool has_limited_rotary(const MachineSpec& machine) {
+// Only a limit can leave an axis without a joint solution: a limited axis (rotary, or linear: the tip's
+// X Y Z move with the tilt on most machines), or a 3-axis machine, which cannot tilt at all.
+bool has_limits(const MachineSpec& machine) {
+  if (machine.kinematics == KinematicsType::XYZ) return true;
   bool limited = false;
-  for (char c : machine.rotary_axes()) {
-    const auto it = machine.limits.find(c);
-    limited |= it != machine.limits.end() && (std::isfinite(it->second.min) || std::isfinite(it->second.max));
-  }
+  for (const auto& [letter, limit] : machine.limits) limited |= std::isfinite(limit.min) || std::isfinite(limit.max);
   return limited;
 }
 
@@ -109,7 +108,7 @@ void set_up_body(PlanContext& ctx, const Tool& tool, const PlannerBasics& basics
   ctx.obstacles[0].required = std::move(required);
   ctx.obstacles[1].name = "fixtures";
   ctx.obstacles[1].required.assign(ctx.pieces.size(), fixture_clearance(basics));
-  if (machine && has_limited_rotary(*machine)) ctx.kinematics.emplace(*machine, tool.length);
+  if (machine && has_limits(*machine)) ctx.kinematics.emplace(*machine, tool.length);
 }
 
 void set_up_obstacles(PlanContext& ctx, const PlanObstacles& obstacles, PlanMetrics& metrics) {
@@ -274,7 +273,9 @@ void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::v
   if (!machine)
     notes.emplace_back("no machine: only max_tilt_deg limits the axis");
   else if (!ctx.kinematics)
-    notes.emplace_back("the machine has no limited rotary axis: only max_tilt_deg limits the axis");
+    notes.emplace_back("the machine has no axis limits: only max_tilt_deg limits the axis");
+  else if (machine->kinematics == KinematicsType::XYZ)
+    notes.emplace_back("3-axis machine: a row whose axis is not vertical has no joint solution");
 }
 
 // The oriented rows, the rows left below their clearance or without a joint solution, and the summary metrics.

@@ -38,6 +38,17 @@ struct Reader {
     if (!positive && x < 0) throw InputError(file, 0, field, "must not be negative");
     return x;
   }
+  // A count: a whole number from `least` to `most` (checked before the conversion, which is undefined
+  // outside int's range).
+  int count(const char* key, int fallback, int least, int most) const {
+    if (!j.contains(key)) return fallback;
+    const double x = number(key, fallback, false);
+    const std::string field = std::string("planner.") + key;
+    if (x != std::floor(x) || x < least || x > most)
+      throw InputError(file, 0, field,
+                       "must be a whole number from " + std::to_string(least) + " to " + std::to_string(most));
+    return static_cast<int>(x);
+  }
 };
 }  // namespace
 
@@ -91,16 +102,15 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   o.sample_spacing_mm = r.number("sample_spacing_mm", o.sample_spacing_mm, true);
   o.correction_window_mm = r.number("correction_window_mm", 2.0 * o.response_length_mm, false);
   o.correction_margin_mm = r.number("correction_margin_mm", o.correction_margin_mm, false);
-  o.correction_iterations = static_cast<int>(r.number("correction_iterations", o.correction_iterations, false));
+  o.correction_iterations = r.count("correction_iterations", o.correction_iterations, 0, 100);
   o.between_rows_tolerance_mm = r.number("between_rows_tolerance_mm", o.between_rows_tolerance_mm, true);
   o.pointwise_step_deg = r.number("pointwise_step_deg", o.pointwise_step_deg, true);
   o.smooth_weight = r.number("smooth_weight", o.smooth_weight, true);
   o.smooth_deviation_weight = r.number("smooth_deviation_weight", o.smooth_deviation_weight, true);
-  o.smooth_iterations = static_cast<int>(r.number("smooth_iterations", o.smooth_iterations, true));
+  o.smooth_iterations = r.count("smooth_iterations", o.smooth_iterations, 1, 100000);
   // Guard against settings that would make the job explode in memory or time.
   if (o.field_cell_mm < 0.05) throw InputError(file, 0, "planner.field_cell_mm", "must be at least 0.05 mm");
   if (o.sample_spacing_mm < 0.05) throw InputError(file, 0, "planner.sample_spacing_mm", "must be at least 0.05 mm");
-  if (o.correction_iterations > 100) throw InputError(file, 0, "planner.correction_iterations", "at most 100");
   if (o.between_rows_tolerance_mm < 0.001)
     throw InputError(file, 0, "planner.between_rows_tolerance_mm", "must be at least 0.001 mm");
   if (o.pointwise_step_deg > 10) throw InputError(file, 0, "planner.pointwise_step_deg", "at most 10 degrees");

@@ -39,4 +39,27 @@ TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   EXPECT_LT(mid.axis.y(), -0.02) << mid.axis.transpose();
 }
 
+// An oriented path of another path (the same row count, other points) is bad input, not re-planned at
+// the scene's points with clearances measured at its own (found in review).
+TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const tf::Scene scene = tf::load_scene(scene_file);
+  tf::OrientedPath shifted;
+  for (const auto& r : scene.path.rows) {
+    tf::OrientedRow o;
+    o.p = r.p + Eigen::Vector3d(500, 0, 0);
+    o.axis = Eigen::Vector3d::UnitZ();
+    shifted.rows.push_back(o);
+  }
+  tf::write_oriented_csv(shifted, dir / "shifted.csv");
+  const auto r = tf::test::run_command(std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
+                                       (dir / "shifted.csv").string() + " " + (dir / "verify.json").string() +
+                                       " -o " + (dir / "out.csv").string());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("shifted.csv:2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("another path"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+}
+
 }  // namespace

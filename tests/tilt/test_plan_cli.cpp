@@ -77,6 +77,15 @@ TEST(PlanCli, UnknownPlannerKeyIsBadInput) {
   const CliScene t = write_scene("badvalue", R"({"influence_mm": -3})");
   EXPECT_EQ(run("plan " + t.scene.string() + " -o " + out.string(), &err), 2);
   EXPECT_NE(err.find("planner.influence_mm"), std::string::npos) << err;
+  // Counts are whole numbers in range, checked before any conversion (found in review: 1e10 wrapped to a
+  // negative int and switched the corrections off).
+  for (const char* bad : {R"({"smooth_iterations": 1e10})", R"({"correction_iterations": 1e10})",
+                          R"({"correction_iterations": 2.5})", R"({"smooth_iterations": 0})"}) {
+    const CliScene u = write_scene("badcount", bad);
+    EXPECT_EQ(run("plan " + u.scene.string() + " -o " + out.string(), &err), 2) << bad;
+    EXPECT_NE(err.find("_iterations"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(out));
+  }
 }
 
 TEST(PlanCli, UnclearableRowsExitOneAfterWriting) {

@@ -6,6 +6,7 @@
 
 #include "synthetic.hpp"
 #include "tiltfield/core/local_frame.hpp"
+#include "tiltfield/core/machine.hpp"
 #include "tiltfield/tilt/plan.hpp"
 
 namespace tf {
@@ -55,6 +56,21 @@ TEST(PlanSynthetic, NominalCollidesPlannedClearsByFcl) {
   OrientedPath nominal = r.path;
   for (auto& row : nominal.rows) row.axis = Eigen::Vector3d::UnitZ();
   EXPECT_GT(test::fcl_check(nominal, s.tool, s.meshes(), s.basics).rows_below, 50u);
+}
+
+// A 3-axis machine cannot tilt: the rows the wall makes the planner tilt have no joint solution, and are
+// flagged (found in review: it was taken as a machine without limits, and the post refused the program).
+TEST(PlanSynthetic, ThreeAxisMachineFlagsTiltedRows) {
+  const WallScene s = wall_scene(4.0);
+  PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
+  MachineSpec xyz;
+  xyz.kinematics = KinematicsType::XYZ;
+  const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o, &xyz);
+  size_t unreachable = 0, tilted = 0;
+  for (const auto& u : r.uncleared) unreachable += u.unreachable;
+  for (const auto& row : r.path.rows) tilted += row.axis.normalized().z() < std::cos(0.02 * std::numbers::pi / 180);
+  EXPECT_GT(tilted, 50u);
+  EXPECT_EQ(unreachable, tilted);
 }
 
 TEST(PlanSynthetic, DynamicIsSmootherThanPointwise) {

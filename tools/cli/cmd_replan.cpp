@@ -23,6 +23,13 @@ void run_replan(const ReplanArgs& a) {
   if (original.rows.size() != scene.path.rows.size())
     throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +
                                             std::to_string(scene.path.rows.size()));
+  // The oriented rows must be the scene's path (planned from it): the same cutter locations, row by row.
+  for (size_t i = 0; i < original.rows.size(); ++i)
+    if ((original.rows[i].p - scene.path.rows[i].p).norm() > 1e-3)
+      throw InputError(a.oriented, static_cast<int>(i) + 2, "x",
+                       "row " + std::to_string(i + 1) + " is not the scene's path row (" +
+                           fixed(scene.path.rows[i].p.x(), 4) + ", " + fixed(scene.path.rows[i].p.y(), 4) + ", " +
+                           fixed(scene.path.rows[i].p.z(), 4) + "): an oriented path of another path");
   const std::vector<Collision> collisions = read_replan_collisions(a.verify);
   const PlanOptions plan_options =
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
@@ -43,6 +50,13 @@ void run_replan(const ReplanArgs& a) {
   if (!global_options().quiet)
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
               << " rows changed, min clearance in the windows " << fixed(r.min_clearance_mm, 3) << " mm\n";
+  if (!r.unreachable.empty()) {
+    std::ostringstream msg;
+    msg << r.unreachable.size() << " re-planned row(s) have no joint solution on the machine (rows:";
+    for (size_t k = 0; k < r.unreachable.size() && k < 10; ++k) msg << " " << r.unreachable[k];
+    msg << (r.unreachable.size() > 10 ? " ...)" : ")");
+    throw JobError(msg.str());
+  }
   if (!r.uncleared.empty()) {
     std::ostringstream msg;
     msg << r.uncleared.size() << " re-planned row(s) still below their clearance (rows:";

@@ -225,12 +225,35 @@ void write_outputs(const Scene& scene, const OrientedPath& first_plan, const Rou
 
 }  // namespace
 
+namespace {
+
+// Rows the machine cannot reach cannot be posted: the plan is written (oriented.csv, with the rows'
+// clearances) and the job stops naming them, rather than failing in the post with no output.
+void stop_at_unreachable_rows(const PlanResult& planned, const JobOptions& options) {
+  std::vector<size_t> rows;
+  for (const auto& u : planned.uncleared)
+    if (u.unreachable) rows.push_back(u.row);
+  if (rows.empty()) return;
+  std::error_code ec;
+  fs::create_directories(options.out_dir, ec);
+  const fs::path out = options.out_dir / "oriented.csv";
+  write_oriented_csv(planned.path, out);
+  std::ostringstream msg;
+  msg << rows.size() << " planned row(s) have no joint solution on the machine (rows:";
+  for (size_t k = 0; k < rows.size() && k < 10; ++k) msg << " " << rows[k];
+  msg << (rows.size() > 10 ? " ..." : "") << "); the plan is in " << out.string() << ", nothing was posted";
+  throw JobError(msg.str());
+}
+
+}  // namespace
+
 JobSummary run_job(const Scene& scene, const JobOptions& options) {
   if (!scene.machine)
     throw InputError(scene.file.string(), 0, "machine", "the scene names no machine; `run` posts for one");
   JobSummary summary;
   summary.rows = scene.path.rows.size();
   const Planned planned = plan_stage(scene, options, summary);
+  stop_at_unreachable_rows(planned.result, options);
   const PostAndVerify post_and_verify(scene, options);
   Round current = post_and_verify(planned.result.path, summary.seconds);
   summary.collisions_first = current.verified.report.collisions.size();

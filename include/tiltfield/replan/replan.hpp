@@ -71,6 +71,7 @@ struct ReplanResult {
   size_t rows_below_safety = 0;  // rows of the windows still below their clearance afterwards
   double min_clearance_mm = 0;   // over the windows' rows, against check surfaces and the obstacle
   std::vector<size_t> uncleared; // those rows
+  std::vector<size_t> unreachable;  // rows of the windows without a joint solution on the scene's machine
 };
 
 // The part of `stock` that only the non-cutting part of the tool may meet: triangles split to at most
