@@ -213,7 +213,14 @@ Scene parse_scene(const std::string& text, const fs::path& file) {
   }
   // Optional: a program verified on its own often comes without a design (no gouge figures then) or a
   // path; planning needs both (require_for_planning).
-  if (j.contains("design")) s.design = load_mesh(resolve(s, j["design"], "design"));
+  if (j.contains("design")) {
+    const fs::path dp = resolve(s, j["design"], "design");
+    s.design = load_mesh(dp);
+    // The gouge test reads the part's side from the faces' normals: a closed design turned inside out
+    // would invent gouges everywhere and hide the real ones (found in review). An open one cannot be told.
+    if (is_closed(s.design) && signed_volume(s.design) <= 0.0)
+      throw InputError(dp.string(), 0, "", "design mesh is inside out (faces must be oriented outward)");
+  }
   if (j.contains("check_surfaces")) {
     const auto& c = j["check_surfaces"];
     if (!c.is_array()) throw InputError(name, 0, "check_surfaces", "must be an array of mesh files");

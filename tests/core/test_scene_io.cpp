@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "scene_fixture.hpp"
 #include "tiltfield/core/error.hpp"
 
@@ -120,6 +122,7 @@ std::vector<BadScene> bad_scenes() {
       {"stock two kinds", [](json& j) { j["stock"]["mesh"] = "design.stl"; }, "", "", "scene.json", "stock"},
       {"stock box inverted", [](json& j) { j["stock"]["box"]["max"][0] = -1; }, "", "", "scene.json", "stock.box"},
       {"stock mesh open", [](json& j) { j["stock"] = json{{"mesh", "open.stl"}}; }, "", "", "open.stl", "not closed"},
+      {"design inside out", [](json& j) { j["design"] = "inverted.stl"; }, "", "", "inverted.stl", "inside out"},
       {"negative feed", [](json& j) { j["path"]["feed"] = -5; }, "", "", "scene.json", "path.feed"},
       {"missing path file", [](json& j) { j["path"].erase("file"); }, "", "", "scene.json", "path.file"},
       {"safety negative", [](json& j) { j["planner"]["safety_distance"] = -1; }, "", "", "scene.json",
@@ -172,6 +175,15 @@ TEST(SceneIO, EveryBadInputNamesFileAndFieldOrLine) {
     tf::test::write_text(dir / "open.stl",
                          "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
                          "endloop\nendfacet\nendsolid t\n");
+    // A closed tetrahedron with every face turned inward.
+    std::string inverted = "solid t\n";
+    const char* v[4] = {"0 0 0", "1 0 0", "0 1 0", "0 0 1"};
+    for (const auto& f : {std::array<int, 3>{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}}) {
+      inverted += "facet normal 0 0 0\nouter loop\n";
+      for (int k : f) inverted += std::string("vertex ") + v[k] + "\n";
+      inverted += "endloop\nendfacet\n";
+    }
+    tf::test::write_text(dir / "inverted.stl", inverted + "endsolid t\n");
     try {
       tf::load_scene(file);
       ADD_FAILURE() << "loaded";

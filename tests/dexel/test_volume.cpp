@@ -277,6 +277,49 @@ TEST(Volume, FourTurnsOfATableInOneBlockCutTheHelix) {
   EXPECT_NEAR(a.report.removed_volume_mm3, b.report.removed_volume_mm3, 0.005 * b.report.removed_volume_mm3);
 }
 
+// A C table turning 4.25 turns in one block under a vertical ball: the tip runs round a circle, which
+// five poses cannot tell from a quarter turn; the block must cut the whole ring, as the same turn split at
+// 1440 degrees does (found in review: it cut a quarter ring, as an exact arc).
+TEST(Volume, MoreThanFourTurnsOfACTableCutTheWholeRing) {
+  const Scene s = test::box_scene({-20, -20, 0}, {20, 20, 10}, test::ball_tool(3, 12, 3, 50, {}));
+  const ForwardFn table_c = [](const Joints& j) {
+    const Eigen::AngleAxisd part(-j.c * kPi / 180.0, Eigen::Vector3d::UnitZ());
+    return ToolPose{part * Eigen::Vector3d(j.x, j.y, j.z), Eigen::Vector3d::UnitZ()};
+  };
+  test::Moves one, split;
+  one.rapid({.x = 15, .y = 0, .z = 20, .c = 0}).line({.z = 8}, 300).line({.c = 1530}, 5000);
+  split.rapid({.x = 15, .y = 0, .z = 20, .c = 0}).line({.z = 8}, 300).line({.c = 1440}, 5000).line({.c = 1530}, 5000);
+  VerifyOptions o;
+  o.resolution = 0.2;
+  const VerifyResult a = verify_program(s, one.program(), table_c, o);
+  const VerifyResult b = verify_program(s, split.program(), table_c, o);
+  // The ring: the ball's cap 2 mm deep swept round R 15.
+  EXPECT_GT(b.report.removed_volume_mm3, 700.0);
+  EXPECT_NEAR(a.report.removed_volume_mm3, b.report.removed_volume_mm3, 0.005 * b.report.removed_volume_mm3);
+}
+
+// A rotating 5-axis feed, then a rapid straight back up the tool's axis: the rapid's cutting parts start
+// inside the pose the feed ended at, where nothing is left; a sub-step held at its middle axis left a
+// sliver there (up to the sweep's bound) that the rapid reported as a collision (found in review).
+TEST(Volume, ARapidFromWhereARotatingFeedEndedMeetsNothing) {
+  Tool flat = test::bull_tool(3, 1, 11.3, 3, 50);
+  flat.cutter = FlatCutter{3};
+  const Scene s = test::box_scene({0, 0, 0}, {40, 20, 10}, flat);
+  const ForwardFn fwd = [](const Joints& j) {
+    const double a = j.a * kPi / 180.0;
+    return ToolPose{Eigen::Vector3d(j.x, j.y, j.z), Eigen::Vector3d(0, std::sin(a), std::cos(a))};
+  };
+  const double a = 15 * kPi / 180.0;
+  test::Moves m;
+  m.tcp().rapid({.x = -10, .y = 5, .z = 30, .a = 0}).line({.z = 8}, 300).line({.x = 30, .a = 15}, 1000);
+  m.rapid({.x = 30, .y = 5 + 20 * std::sin(a), .z = 8 + 20 * std::cos(a)});
+  VerifyOptions o;
+  o.resolution = 0.1;
+  const VerifyResult r = verify_program(s, m.program(), fwd, o);
+  EXPECT_GT(r.report.removed_volume_mm3, 100.0);
+  EXPECT_TRUE(r.report.collisions.empty()) << r.report.collisions.front().depth_mm;
+}
+
 // Short 5-axis moves of a bull end whose axis leans 3 degrees and swings around the vertical: each block's
 // rotation is below one sub-step, so the blocks after the first skip the rays their cutting spheres keep
 // inside where the previous block left them. A check surface far from the path (inside the stock's box, so

@@ -117,8 +117,57 @@ void cylinder_row(const CylRow& row, int n, double* __restrict t0, double* __res
 
 }  // namespace
 
+namespace {
+
+// A cylinder that does not move (the exact end poses of a block whose axis turns): per ray, the chord of
+// the infinite cylinder (a quadratic in t) within the slab between its end planes.
+void static_cylinder_row(const SweptPart& p, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
+                         double* t1) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d& a = p.axis;
+  auto perp = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d { return x - a * a.dot(x); };
+  Eigen::Vector3d e = Eigen::Vector3d::Zero(), eu = Eigen::Vector3d::Zero();
+  e[dir] = 1.0;
+  eu[u] = step;
+  const Eigen::Vector3d pe = perp(e);
+  const double A = pe.squaredNorm(), ae = a[dir], r2 = p.radius * p.radius;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d w = o + double(i) * eu - p.p0;
+    double lo = -kInf, hi = kInf;
+    const Eigen::Vector3d pw = perp(w);
+    const double B = pw.dot(pe), C = pw.squaredNorm() - r2;
+    if (A > 1e-12) {
+      const double disc = B * B - A * C;
+      if (disc > 0.0) {
+        const double s = std::sqrt(disc);
+        lo = (-B - s) / A, hi = (-B + s) / A;
+      } else {
+        lo = kInf, hi = -kInf;
+      }
+    } else if (C > 0.0) {
+      lo = kInf, hi = -kInf;  // along the axis, outside the radius
+    }
+    const double aw = a.dot(w);
+    if (std::abs(ae) > 1e-12) {
+      const double s0 = -aw / ae, s1 = (p.height - aw) / ae;
+      lo = std::max(lo, std::min(s0, s1)), hi = std::min(hi, std::max(s0, s1));
+    } else if (aw < 0.0 || aw > p.height) {
+      lo = kInf, hi = -kInf;
+    }
+    const bool hit = hi > lo;
+    t0[i] = hit ? lo : kInf;
+    t1[i] = hit ? hi : -kInf;
+  }
+}
+
+}  // namespace
+
 bool cylinder_intervals(const SweptPart& p, const Eigen::Vector3d& o, int dir, int u, double step, int n, double* t0,
                         double* t1) {
+  if (p.d.squaredNorm() == 0.0) {
+    static_cylinder_row(p, o, dir, u, step, n, t0, t1);
+    return true;
+  }
   const Eigen::Vector3d& a = p.axis;
   auto perp = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d { return x - a * a.dot(x); };
   Eigen::Vector3d e = Eigen::Vector3d::Zero(), eu = Eigen::Vector3d::Zero();

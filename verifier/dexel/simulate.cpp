@@ -159,14 +159,16 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   br.dwell_minutes = b.dwell_s / 60.0;
   const PoseAt pose_at = block_pose(b, from);
   const double turn = std::max({std::abs(b.target.a - from.a), std::abs(b.target.b - from.b), std::abs(b.target.c - from.c)});
-  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid, turn);
+  // Before a rapid the feed's end pose is swept exactly (sweep_block, exact_end).
+  const bool before_rapid = size_t(index) < program_.blocks.size() && program_.blocks[size_t(index)].motion == Motion::Rapid;
+  sweep_block(pose_at, tools_.parts(b.tool), opt_.sweep, sweep_, b.motion == Motion::Rapid, turn, before_rapid);
   // A block that moves its cutting spheres along straight lines (one sub-step each) from where the
   // previous block left them finds their start empty. Not with fixtures or check surfaces: the rays inside
   // the start spheres still meet those, and every block reports its own collisions. Not a bull end's ring
   // spheres: turned about the axis from where the previous block left them.
   if (continuing && obstacles_.empty() && sweep_.substeps == 1)
     for (SweptPart& p : sweep_.parts)
-      p.start_empty = p.kind == ToolPart::Kind::Sphere && !p.arc && p.cutting && p.on_axis;
+      p.start_empty = p.kind == ToolPart::Kind::Sphere && !p.arc && p.cutting && p.on_axis && p.len > 0.0;
   br.substeps = sweep_.substeps;
   rep.sweep_error_mm = std::max(rep.sweep_error_mm, sweep_.cutting_error);
   rep.holder_sweep_error_mm = std::max(rep.holder_sweep_error_mm, sweep_.holder_error);

@@ -6,6 +6,7 @@
 // step of whole parts.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <limits>
 
 #include "tiltfield/dexel/sweep.hpp"
@@ -109,6 +110,7 @@ struct Context {
   const SweepOptions& options;
   BlockSweep& out;
   int least_n;  // sub-steps at least (a quarter turn of the rotary joints each)
+  bool exact_end;  // the cutting parts at the exact end pose too (sweep_block)
 };
 
 // Sub-steps of a group of pieces: from the rotation estimate, grown until the measured bound holds. The
@@ -126,16 +128,30 @@ Bound sweep_group(const Context& cx, const std::vector<Piece>& pieces, double to
     n = std::min(max_n, std::max(n + 1, static_cast<int>(std::ceil(n * std::min(4.0, b.value / (kAim * tol))))));
   }
   const std::vector<ToolPose>& poses = poses_for(cx.pose_at, n, cx.out);
+  auto add = [&](const Piece& p, const Eigen::Vector3d& c0, const Eigen::Vector3d& axis, const Eigen::Vector3d& ref,
+                 const Eigen::Vector3d& d) {
+    cx.out.parts.push_back(sweep_part(p.centred, c0, axis, ref, d));
+    cx.out.parts.back().on_axis = p.offset == 0.0;
+    cx.out.box.extend(cx.out.parts.back().box);
+  };
   for (int k = 0; k < n; ++k) {
     const ToolPose* q = &poses[size_t(4 * k)];
     const Eigen::Vector3d& held = q[2].axis;
     const Eigen::Vector3d ref = held.unitOrthogonal();
     for (const Piece& p : pieces) {
       const Eigen::Vector3d c0 = pivot_at(p, q[0], ref), c4 = pivot_at(p, q[4], ref);
-      cx.out.parts.push_back(sweep_part(p.centred, c0, held, ref, c4 - c0));
-      cx.out.parts.back().on_axis = p.offset == 0.0;
-      cx.out.box.extend(cx.out.parts.back().box);
+      add(p, c0, held, ref, c4 - c0);
     }
+  }
+  // A sub-step holds its part at the middle axis: within the bound of the true motion, but not through
+  // the block's exact end pose, where the next block starts; a rapid from there met the sliver of material
+  // the held axis left in the tool (found in review). On request, the cutting parts at the exact end pose
+  // are parts of their own, not moving.
+  if (cx.exact_end && cx.theta > 0.0) {
+    const ToolPose& q = poses.back();
+    const Eigen::Vector3d ref = q.axis.unitOrthogonal();
+    for (const Piece& p : pieces)
+      if (p.centred.cutting) add(p, pivot_at(p, q, ref), q.axis, ref, Eigen::Vector3d::Zero());
   }
   return b;
 }
@@ -210,7 +226,7 @@ void sweep_cylinder(const Context& cx, const ToolPart& part, bool covered_below,
 }  // namespace
 
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out, bool rapid, double rotary_turn_deg) {
+                 BlockSweep& out, bool rapid, double rotary_turn_deg, bool exact_end) {
   out.parts.clear();
   out.box.setEmpty();
   out.substeps = 1;
@@ -232,12 +248,19 @@ void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, cons
   // A tool that does not turn, carried along a circle across its axis: exact arc sweeps, no sub-steps.
   PlanarArc arc;
   if (theta == 0.0 && off_chord > 1e-9 && planar_arc(pose_at, arc)) {
+    // The arc is found from five poses, which cannot tell a turn from that turn plus whole turns: a rotary
+    // joint turning a full turn or more carries the tool round the whole circle (found in review: a table
+    // turning 4.25 turns in one block was swept as a quarter turn).
+    const bool whole_turns = std::abs(rotary_turn_deg) >= 360.0;
+    if (whole_turns) arc.sweep = std::copysign(2.0 * std::numbers::pi, arc.sweep);
     sweep_arc(arc, pose_at(0.0), parts, out);
+    // The tool's axis stays parallel to the turning joint's, so the tip turns with it.
+    if (whole_turns) out.tip_length = arc.radius * std::abs(rotary_turn_deg) * std::numbers::pi / 180.0;
     return;
   }
   const double turn = std::abs(rotary_turn_deg), most = std::max(1, options.max_substeps);
   const double quarters = turn > 0.0 ? std::clamp(std::ceil(turn / 90.0 - 1e-9), 1.0, most) : 1.0;  // NaN: 1
-  const Context cx{pose_at, theta, options, out, static_cast<int>(quarters)};
+  const Context cx{pose_at, theta, options, out, static_cast<int>(quarters), exact_end && !rapid};
   // Cutting parts first: they are the ones removing material.
   for (int pass = 0; pass < 2; ++pass)
     for (const ToolPart& part : parts) {

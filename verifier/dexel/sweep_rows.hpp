@@ -43,7 +43,7 @@ void capsule_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir,
                        double* t0, double* t1);
 // ray_intervals for a cylinder part, vectorised (cylinder_rows.cpp). Returns false, writing
 // nothing, for the rows it leaves to the scalar method: the ray across the cylinder's axis, or the motion
-// along it.
+// along it. A cylinder that does not move is done here, ray by ray in closed form.
 bool cylinder_intervals(const SweptPart& part, const Eigen::Vector3d& o, int dir, int u, double step, int n,
                         double* t0, double* t1);
 // An arc sweep (SweptPart::arc) against the ray o + t e_dir, exactly; and its shadow along dir

@@ -125,8 +125,11 @@ struct BlockSweep {
 // holder's (BlockSweep::holder_error). `rotary_turn_deg`: the most any rotary joint turns over the block
 // (deg); every sub-step turns at most a quarter turn of it, so that the poses a sub-step's bound samples
 // cannot line up across whole turns (a block turning a table four times would otherwise look straight).
+// `exact_end`: the cutting parts also at the exact end pose, not moving, when the axis turns (a sub-step
+// holds its part at its middle axis, which leaves a sliver of material, within the bound, inside the tool
+// at the end; the simulation asks for it before a rapid, which would report the sliver as a collision).
 void sweep_block(const PoseAt& pose_at, const std::vector<ToolPart>& parts, const SweepOptions& options,
-                 BlockSweep& out, bool rapid = false, double rotary_turn_deg = 0.0);
+                 BlockSweep& out, bool rapid = false, double rotary_turn_deg = 0.0, bool exact_end = false);
 
 // A block whose tool axis stays on one lattice axis while the tip runs on a circle in the plane across it
 // (a G17 arc with a vertical tool, and the like; no helix): the tip's circle in that plane. Found from the
