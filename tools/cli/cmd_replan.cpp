@@ -16,6 +16,15 @@ struct ReplanArgs {
   ReplanOptions options;
 };
 
+// The job fails naming the first ten of `rows` (0-based), after the output was written.
+[[noreturn]] void fail_on_rows(const std::vector<size_t>& rows, const std::string& what) {
+  std::ostringstream msg;
+  msg << rows.size() << " re-planned row(s) " << what << " (rows:";
+  for (size_t k = 0; k < rows.size() && k < 10; ++k) msg << " " << rows[k];
+  msg << (rows.size() > 10 ? " ...)" : ")");
+  throw JobError(msg.str());
+}
+
 void run_replan(const ReplanArgs& a) {
   const Scene scene = load_scene(a.scene);
   require_for_planning(scene);
@@ -50,20 +59,8 @@ void run_replan(const ReplanArgs& a) {
   if (!global_options().quiet)
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
               << " rows changed, min clearance in the windows " << fixed(r.min_clearance_mm, 3) << " mm\n";
-  if (!r.unreachable.empty()) {
-    std::ostringstream msg;
-    msg << r.unreachable.size() << " re-planned row(s) have no joint solution on the machine (rows:";
-    for (size_t k = 0; k < r.unreachable.size() && k < 10; ++k) msg << " " << r.unreachable[k];
-    msg << (r.unreachable.size() > 10 ? " ...)" : ")");
-    throw JobError(msg.str());
-  }
-  if (!r.uncleared.empty()) {
-    std::ostringstream msg;
-    msg << r.uncleared.size() << " re-planned row(s) still below their clearance (rows:";
-    for (size_t k = 0; k < r.uncleared.size() && k < 10; ++k) msg << " " << r.uncleared[k];
-    msg << (r.uncleared.size() > 10 ? " ...)" : ")");
-    throw JobError(msg.str());
-  }
+  if (!r.unreachable.empty()) fail_on_rows(r.unreachable, "have no joint solution on the machine");
+  if (!r.uncleared.empty()) fail_on_rows(r.uncleared, "still below their clearance");
 }
 }  // namespace
 
