@@ -165,10 +165,6 @@ void Reader::reference_return(int key, const Values& val, int line) {
 void Reader::fill_unknown_axes() {
   auto& blocks = program_.blocks;
   std::vector<bool> drop(blocks.size(), false);
-  auto ref = [](Joints& j, int a) -> double& {
-    double* v[6] = {&j.x, &j.y, &j.z, &j.a, &j.b, &j.c};
-    return *v[a];
-  };
   double z_home = -std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < blocks.size(); ++k)
     if (axes_[k][2] == AxisState::Set) z_home = std::max(z_home, blocks[k].target.z);
@@ -184,7 +180,7 @@ void Reader::fill_unknown_axes() {
       size_t e = b;
       while (e < blocks.size() && axes_[e][size_t(a)] != AxisState::Set) ++e;
       for (size_t k = b; k < e; ++k) {
-        if (e < blocks.size()) ref(blocks[k].target, a) = ref(blocks[e].target, a);
+        if (e < blocks.size()) axis_value(blocks[k].target, a) = axis_value(blocks[e].target, a);
         else if (axes_[k][size_t(a)] == AxisState::SentHome) drop[k] = true;
       }
       b = e;
