@@ -51,7 +51,7 @@ struct EngagementOptions {
   int max_rings = 160;          // cap on the ring count (a long profile is sampled more coarsely)
   // Evaluations per boundary between samples of opposite states, around a ring or along a meridian, at
   // most: each at the zero of the measure that tells them apart (the facing value, or the depth in
-  // material), until the bracket is an eighth of the lattice spacing (finer than the rays resolve).
+  // material), until the bracket is half the lattice spacing (what the nearest rays resolve).
   int refine_steps = 8;
   // How far outside the box of the material a block removed a sample can still be engaged, beyond the
   // classification's reach of 1.5 lattice spacings: the sweep's bound (the swept parts hold the true tool
