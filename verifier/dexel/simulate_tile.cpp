@@ -329,9 +329,14 @@ bool Simulator::cut_stock(Dexel& ray, const RayAt& at, bool rapid, Accum& acc) {
   if (reaches && subtract(ray, at, acc.cut.data(), acc.cut.size(), design_ ? &acc.removed_pieces : nullptr, true, acc))
     changed = true;
   bool crash = false;
-  const std::pair<const Interval*, size_t> left = acc.current(ray);  // the material the cut left
+  // The material the cut left, put together only for a shank or holder on the ray: a ray whose change
+  // waits for the engagement is copied whole for it (hundreds of intervals across a raster's grooves).
+  std::pair<const Interval*, size_t> left{nullptr, 0};
+  bool have_left = false;
   for (const Hit& h : acc.hits) {
-    if (h.cutting || left.second == 0) continue;
+    if (h.cutting) continue;
+    if (!have_left) left = acc.current(ray), have_left = true;
+    if (left.second == 0) continue;
     const float depth = overlap_longest(h.iv, left);
     record(acc, d, h.component, HitWith::Stock, rapid, depth);
     crash |= depth > 0;

@@ -66,7 +66,8 @@ void copy_intervals(Interval* to, const Interval* from, uint32_t n) {
 void Dexel::replace(uint32_t k0, uint32_t k1, const Interval* iv, uint32_t n) {
   const uint32_t size = n_ - (k1 - k0) + n;
   if (cap_ > 0 && cap_ >= size) {  // on the heap, room enough
-    if (n_ > k1) std::memmove(heap_ + k0 + n, heap_ + k1, (n_ - k1) * sizeof(Interval));
+    // The tail moves only when the count changes (a cut that trims an interval leaves it in place).
+    if (n_ > k1 && k1 - k0 != n) std::memmove(heap_ + k0 + n, heap_ + k1, (n_ - k1) * sizeof(Interval));
     copy_intervals(heap_ + k0, iv, n);
     n_ = size;
     return;
