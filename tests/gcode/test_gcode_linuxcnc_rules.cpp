@@ -1,6 +1,7 @@
 // RS274/NGC rules the reader follows as LinuxCNC does (each case checked against LinuxCNC's rs274): full
 // circles without axis words, axes a block needs before the program set them, inverse-time arcs of
-// several turns, G94 clearing the feed, the arc-centre tolerance, one code per modal group, splines.
+// several turns, G94 clearing the feed, the arc-centre tolerance, one code per modal group, words nothing
+// uses, splines.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -100,6 +101,39 @@ TEST(GcodeLinuxcncRules, WordsNothingUsesAreRefused) {
                 .blocks.size(),
             7u);
   EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R2 F100\nG80\n").blocks.size(), 5u);  // G0, the drill's 4
+}
+
+// P, Q, L, H and D with nothing in the block to use them, as LinuxCNC's rs274 refuses each ("P word with
+// no G2 G3 G4 ... to use it"); and each with a code that uses it, which it accepts.
+TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5 P2\n", 3, "P2");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5\nX6 P2\n", 4, "P2");  // modal G1
+  expect_gcode_error("G21\nM3 S1000 P1\n", 2, "P1");
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 P1 F100\n", 3, "P1");  // G81 has no dwell
+  expect_gcode_error("G21\nG4 P1 Q1\n", 2, "Q1");
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 Q1 F100\n", 3, "Q1");  // G81 has no peck
+  expect_gcode_error("G21\nM6 T1 Q1\n", 2, "Q1");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG2 F100 X2 I1 L1\n", 3, "L1");
+  expect_gcode_error("G21\nM6 T1 H1\n", 2, "H1");
+  expect_gcode_error("G21\nG49 H1\n", 2, "H1");
+  expect_gcode_error("G21\nG40 D1\n", 2, "D1");
+  expect_gcode_error("G21\nG0 X0 Y0 Z0 R1\n", 2, "R1");
+  // A code the reader does not know: ignored with a warning, its P and Q too (a remapped M code), but not
+  // with axis words, which would run in the motion mode in force (G84.2 is not a drilling cycle).
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG1 F100 X1\nG84.2 X1 Y2 Z3 Q5 R1\n", 4, "G84.2");
+  expect_gcode_error("G21\nG16\nG0 X10 Y45\n", 2, "G16");  // polar: X10 Y45 is not a point
+  const Program remapped = parse_program("G21\nM400 P10 Q43\nG0 X0 Y0 Z5\n");
+  EXPECT_EQ(remapped.blocks.size(), 1u);
+  ASSERT_FALSE(remapped.warnings.empty());
+  EXPECT_NE(remapped.warnings.front().find("M400"), std::string::npos);
+  GcodeOptions tools;
+  tools.tool_lengths[1] = 50.0;
+  const Program p = parse_program(
+      "G21 G90\nT1 M6\nG43 H1\nG64 P0.01 Q0.01\nM61 Q1\nM19 R10 Q1\nG4 P0.5\nG0 X0 Y0 Z5\n"
+      "G2 F100 X0 Y0 I5 P2\nM3 S1000\nG82 X1 Y1 Z-1 R1 P0.5\nG83 X2 Y1 Z-1 R1 Q0.5\nG81 X3 Y1 Z-1 R1 L2\n"
+      "G84 X4 Y1 Z-1 R1 P0.2\nG80\nG10 L2 P1 X0\nG41 D1\nG40\nM62 P1\nM66 P0 L0 Q1\nM100 P1 Q2\n",
+      tools);
+  EXPECT_GT(p.blocks.size(), 10u);
 }
 
 TEST(GcodeLinuxcncRules, SplinesAreRefused) {

@@ -2,7 +2,9 @@
 // order (feed mode, F S T, M codes, dwell, modal G codes, G10/G28/G30/G92, motion, stops).
 #include "reader.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
@@ -24,6 +26,13 @@ bool recognised(int g) {
                                       930, 940, 980, 990};
   return codes.count(g) || (g >= 540 && g <= 593 && work_offset_index(g) >= 0) || is_motion_code(g) ||
          is_nonmodal_axis_code(g);
+}
+
+// The M codes apply_m_codes acts on or accepts (RS274/NGC's own), whose words RS274/NGC fixes.
+bool known_m_code(int m) {
+  static const std::set<int> codes = {0,   10,  20,  30,  40,  50,  60,  70,  80,  90,  190, 300, 480, 490, 500,
+                                      510, 520, 530, 600, 610, 620, 630, 640, 650, 660, 670, 680, 980, 990, 1280, 1290};
+  return codes.count(m) > 0;
 }
 
 }  // namespace
@@ -154,7 +163,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
     else if (*nonmodal == 281 || *nonmodal == 301) warn(line, code_name('G', *nonmodal), " stores the reference position: not simulated");
     else set_g92(*nonmodal, val, line);
   }
-  check_unused_words(motion, nonmodal, axis_words && !axes_taken, val, line);
+  check_unused_words(motion, nonmodal, axis_words && !axes_taken, gs, ms, val, line);
   if (motion || (axis_words && !axes_taken)) {
     const int mode = motion.value_or(st_.motion);
     if (!is_cycle(mode)) st_.cycle_il_flag = false;  // the initial level of a series of cycles ends
@@ -186,21 +195,45 @@ void Reader::block(const std::vector<Word>& words, int line) {
     if (m == 20 || m == 300) st_.ended = true;
 }
 
-// I J K belong to an arc and R to an arc or a cycle (or G10's rotation, refused there): LinuxCNC refuses a
-// block that gives them with nothing to use them ("I word with no G2 or G3 to use it"), rather than
-// ignoring what was probably meant as an arc. An arc's centre offset across its plane (K in G17) is
-// refused too, and S must not be negative.
+// A word the block has nothing to use for is refused, as LinuxCNC does ("I word with no G2 or G3 to use
+// it"), rather than ignored: "G1 X5 R3" was probably meant as an arc, "G1 X5 P2" as a dwell or a helix.
+// I J K belong to an arc (or a cycle), R to an arc, a cycle, G10 or M19; P, Q, L, H and D to the codes
+// RS274/NGC gives them (checked against LinuxCNC's rs274). An arc's centre offset across its plane (K in
+// G17) is refused too, and S must not be negative.
 void Reader::check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
-                                const Values& val, int line) const {
+                                const std::vector<int>& gs, const std::vector<int>& ms, const Values& val,
+                                int line) const {
   const int mode = motion ? *motion : moves ? st_.motion : kNoMotion;
   const bool arc = mode == 20 || mode == 30;
   const bool cycle = is_cycle(mode);
   const bool g10 = nonmodal && *nonmodal == 100;
+  auto has_g = [&](std::initializer_list<int> keys) {
+    return std::any_of(gs.begin(), gs.end(), [&](int g) { return std::find(keys.begin(), keys.end(), g) != keys.end(); });
+  };
+  auto has_m = [&](std::initializer_list<int> keys) {
+    return std::any_of(ms.begin(), ms.end(), [&](int m) { return std::find(keys.begin(), keys.end(), m) != keys.end(); });
+  };
+  // A user M code (M100-M199) takes P and Q; so may one the reader does not know (a remapped code, warned
+  // about and ignored with its words).
+  const bool user_m = std::any_of(ms.begin(), ms.end(), [&](int m) {
+    return (m >= 1000 && m <= 1990) || !known_m_code(m) || (tcp_on_ && m == *tcp_on_) || (tcp_off_ && m == *tcp_off_);
+  });
+  auto refuse = [&](char c, const std::string& users) {
+    throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no " + users + " to use it");
+  };
   for (char c : std::string_view("IJK"))
-    if (val.has(c) && !arc && !cycle)
-      throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no G2 or G3 to use it");
-  if (val.has('R') && !arc && !cycle && !g10)
-    throw InputError(file_, line, val.word('R'), "R word with no G2, G3 or canned cycle to use it");
+    if (val.has(c) && !arc && !cycle) refuse(c, "G2 or G3");
+  if (val.has('R') && !arc && !cycle && !g10 && !has_m({190})) refuse('R', "G2, G3, canned cycle, G10 or M19");
+  const bool dwell_cycle = mode == 820 || mode == 840 || mode == 740 || mode == 860 || mode == 880 || mode == 890;
+  if (val.has('P') && !arc && !dwell_cycle && !g10 && !user_m && !has_g({40, 640}) &&
+      !has_m({500, 510, 520, 530, 620, 630, 640, 650, 660, 980}))
+    refuse('P', "G2, G3, G4, G10, G64, G74, G82, G84, G86, G89, M50-M53, M62-M66 or user M code");
+  if (val.has('Q') && mode != 830 && mode != 730 && !g10 && !user_m && !has_g({640}) && !has_m({190, 610, 660, 670, 680}))
+    refuse('Q', "G10, G64, G73, G83, M19, M61, M66-M68 or user M code");
+  if (val.has('L') && !g10 && !cycle && !has_g({411, 421}) && !has_m({660, 980}))
+    refuse('L', "G10, canned cycle, G41.1, G42.1 or M66");
+  if (val.has('H') && !has_g({430, 432, 434})) refuse('H', "G43, G43.2 or G43.4");
+  if (val.has('D') && !has_g({410, 411, 420, 421, 960})) refuse('D', "G41, G41.1, G42, G42.1 or G96");
   if (arc) {
     const char across = st_.plane == 17 ? 'K' : st_.plane == 18 ? 'J' : 'I';
     if (val.has(across))
@@ -289,9 +322,14 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
       throw InputError(file_, line, code_name('G', g), "back boring and manual-retract cycles are not supported");
     if (g == 50 || g == 51 || g == 52 || g == 53)
       throw InputError(file_, line, code_name('G', g), "splines (G5, G5.1, G5.2, G5.3) are not supported");
+    if (g == 160) throw InputError(file_, line, "G16", "polar coordinates are not supported");
     if (g == 330 || g == 331 || g == 760 || (g >= 382 && g <= 385))
       throw InputError(file_, line, code_name('G', g), "is not supported");
-    if (!recognised(g)) warn(line, code_name('G', g), " unknown code ignored");
+    if (recognised(g)) continue;
+    // Its axis words would run in the motion mode in force (a remapped cycle, polar coordinates).
+    for (char c : std::string_view("XYZABC"))
+      if (val.has(c)) throw InputError(file_, line, code_name('G', g), "unknown code with axis words");
+    warn(line, code_name('G', g), " unknown code ignored");
   }
 }
 
@@ -338,6 +376,7 @@ void Reader::apply_m_codes(const std::vector<int>& ms, const Values& val, int li
         throw InputError(file_, line, code_name('M', m), "subprogram calls are not supported");
       case 20: case 300: case 0: case 10: case 600: break;  // stops, after the motion
       case 70: case 80: case 90: case 480: case 490: case 500: case 510: case 520: case 530: break;  // coolant, overrides
+      case 190: break;  // spindle orientation: the swept volume does not depend on it
       case 660: case 670: case 680: case 620: case 630: case 640: case 650:
         warn(line, code_name('M', m), " I/O is not simulated");
         break;

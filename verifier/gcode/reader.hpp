@@ -41,8 +41,9 @@ enum class AxisState : unsigned char { Set, NotYet, SentHome };
 
 // G-code motion modes as code keys (G1 -> 10); kNoMotion before any, 800 after G80 (no mode either).
 constexpr int kNoMotion = -1;
+// The canned cycles G73, G74, G81-G89 (whole numbers: a G84.2 is not one).
 inline bool is_cycle(int motion) {
-  return motion == 730 || motion == 740 || (motion >= 810 && motion <= 890);
+  return motion % 10 == 0 && (motion == 730 || motion == 740 || (motion >= 810 && motion <= 890));
 }
 
 struct State {
@@ -99,7 +100,7 @@ class Reader {
   void motion_block(int motion, bool g53, const Values& val, int line);
   Axes move_axes(const Values& val);
   void check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
-                          const Values& val, int line) const;
+                          const std::vector<int>& gs, const std::vector<int>& ms, const Values& val, int line) const;
   void assume_position(int axis);
   void emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre = nullptr);
   void arc(int motion, const Axes& start, const Axes& end, const Values& val, int line);
