@@ -195,7 +195,8 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   report_collisions(tot.depth, b, index, pose_at, br, rep);
   if (tot.gouge > 0) {
     rep.max_gouge_mm = std::max(rep.max_gouge_mm, tot.gouge);
-    if (tot.gouge > opt_.gouge_tolerance) rep.gouges.push_back({index, b.line, tot.gouge});
+    // The swept parts hold the true tool within the block's bound, and may reach that far beyond it.
+    if (tot.gouge > std::max(opt_.gouge_tolerance, sweep_.cutting_error)) rep.gouges.push_back({index, b.line, tot.gouge});
   }
   return br;
 }

@@ -53,7 +53,8 @@ struct VerifyOptions {
   SweepOptions sweep;                    // sub-step tolerance of 5-axis sweeps
   bool stop_at_first_collision = false;  // stop after the first block that collides
   double collision_tolerance = 0.001;    // overlaps up to this deep (mm) are contact, not collision
-  double gouge_tolerance = 0.01;         // over-cuts deeper than this (mm) are listed as gouges
+  // Over-cuts deeper than this (mm), and than the block's sweep bound (sweep_error_mm), are listed as gouges.
+  double gouge_tolerance = 0.01;
   bool check_gouges = true;              // against the scene's design surface (when it has one)
   // Called for every feed block that removed material (empty: no engagement measured, the
   // BlockResult::engagement stay empty). The command line sets it unless --no-engagement.
