@@ -204,6 +204,9 @@ TEST(Collisions, NoGougeWithinTheSweepsBound) {
   EXPECT_TRUE(r.report.gouges.empty());
   EXPECT_GT(r.report.max_gouge_mm, 0.01);  // what the swept parts reached: within their bound
   EXPECT_LE(r.report.max_gouge_mm, r.report.sweep_error_mm);
+  bool warned = false;  // and the report says a smaller tolerance would tell
+  for (const std::string& w : r.report.warnings) warned |= w.find("not listed as gouges") != std::string::npos;
+  EXPECT_TRUE(warned);
   // The same turn about the tip gouges: the ball's lowest point goes 3 (1 - cos 60 deg) below the tip.
   test::Moves deep;
   deep.tcp().rapid({25, 25, 40, 0}).line({.z = 27}, 300).inverse_time({.a = 60}, 10);

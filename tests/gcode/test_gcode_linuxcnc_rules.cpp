@@ -118,6 +118,16 @@ TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
   expect_gcode_error("G21\nG49 H1\n", 2, "H1");
   expect_gcode_error("G21\nG40 D1\n", 2, "D1");
   expect_gcode_error("G21\nG0 X0 Y0 Z0 R1\n", 2, "R1");
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nM4 S100\nG74 X1 Y1 Z-5 R2 L2 F100\n", 4, "L2");  // G74 repeats not
+  expect_gcode_error("G21\nM70 P1\n", 2, "P1");
+  expect_gcode_error("G21\nG42.1 D2 L1\n", 2, "L1");  // L only in G18
+  expect_gcode_error("G21\nG7\n", 2, "G7");
+  expect_gcode_error("G21\nG17.1\n", 2, "G17.1");
+  // Codes the reader accepts without effect (or with a warning), with their words and axis words.
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\n"
+                          "G18 G42.1 D2 L1\nG17 G40\nG8 G1 X3\nM19 R90 P1\n")
+                .blocks.size(),
+            4u);
   // A code the reader does not know: ignored with a warning, its P and Q too (a remapped M code), but not
   // with axis words, which would run in the motion mode in force (G84.2 is not a drilling cycle).
   expect_gcode_error("G21\nG0 X0 Y0 Z5\nG1 F100 X1\nG84.2 X1 Y2 Z3 Q5 R1\n", 4, "G84.2");

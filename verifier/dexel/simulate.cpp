@@ -101,6 +101,11 @@ VerifyResult Simulator::run() {
     rep.warnings.push_back("the swept volume's bound " + std::to_string(rep.sweep_error_mm) + " mm exceeds --tolerance " +
                            std::to_string(opt_.sweep.tolerance) + " mm: a block needed more than " +
                            std::to_string(opt_.sweep.max_substeps) + " sub-steps for a tool part (split it)");
+  if (unresolved_gouges_ > 0)
+    rep.warnings.push_back(std::to_string(unresolved_gouges_) + " blocks over-cut the design by up to " +
+                           std::to_string(deepest_unresolved_) +
+                           " mm, within their swept volume's bound: not listed as gouges (a smaller --tolerance "
+                           "tells them apart)");
   rep.blocks = static_cast<int>(rep.per_block.size());
   rep.stock_volume_end_mm3 = stock_.volume();
   rep.memory_bytes = stock_.memory_bytes();
@@ -195,8 +200,16 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   report_collisions(tot.depth, b, index, pose_at, br, rep);
   if (tot.gouge > 0) {
     rep.max_gouge_mm = std::max(rep.max_gouge_mm, tot.gouge);
-    // The swept parts hold the true tool within the block's bound, and may reach that far beyond it.
-    if (tot.gouge > std::max(opt_.gouge_tolerance, sweep_.cutting_error)) rep.gouges.push_back({index, b.line, tot.gouge});
+    // The swept parts hold the true tool within the block's bound, and may reach that far beyond it: an
+    // over-cut within the bound may be the sweep's and is only counted (a warning after the run). A
+    // rapid's cutting parts are swept to the holder's bound.
+    const double bound = rapid ? std::max(sweep_.cutting_error, sweep_.holder_error) : sweep_.cutting_error;
+    if (tot.gouge > std::max(opt_.gouge_tolerance, bound)) {
+      rep.gouges.push_back({index, b.line, tot.gouge});
+    } else if (tot.gouge > opt_.gouge_tolerance) {
+      ++unresolved_gouges_;
+      deepest_unresolved_ = std::max(deepest_unresolved_, tot.gouge);
+    }
   }
   return br;
 }

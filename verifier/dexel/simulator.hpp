@@ -286,6 +286,8 @@ class Simulator {
   BlockSweep sweep_;
   LastBlocks last_block_;  // VerifyOptions::record_last_block: written in cut_row
   uint32_t block_ = 0;     // 1-based index of the block being simulated
+  int unresolved_gouges_ = 0;       // blocks over-cutting the design by more than the gouge tolerance,
+  double deepest_unresolved_ = 0.0;  // but within their sweep bound (mm)
   // Rays iu0..iu1 of rows iv0..iv1 of a grid (inclusive; empty when iu1 < iu0 or iv1 < iv0).
   struct Footprint {
     int iu0 = 0, iu1 = -1, iv0 = 0, iv1 = -1;

@@ -19,19 +19,21 @@ bool is_nonmodal_axis_code(int g) {  // group 0 codes that take the block's axis
   return g == 100 || g == 280 || g == 300 || g == 520 || g == 920;
 }
 
-// Every G code the reader acts on or accepts without effect (G15, G50, G69: polar, scaling and rotation off).
+// Every G code the reader acts on or accepts without effect (G8 radius mode, G15, G50, G69: polar, scaling
+// and rotation off; G96, G97 spindle speed modes).
 bool recognised(int g) {
-  static const std::set<int> codes = {40,  150, 170, 180, 190, 200, 210, 281, 301, 400, 410, 420, 430, 431, 432,
-                                      434, 490, 500, 530, 610, 611, 640, 690, 900, 901, 910, 911, 921, 922, 923,
-                                      930, 940, 980, 990};
+  static const std::set<int> codes = {40,  80,  150, 170, 180, 190, 200, 210, 281, 301, 400, 410, 411, 420, 421,
+                                      430, 431, 432, 434, 490, 500, 530, 610, 611, 640, 690, 900, 901, 910, 911,
+                                      921, 922, 923, 930, 940, 960, 970, 980, 990};
   return codes.count(g) || (g >= 540 && g <= 593 && work_offset_index(g) >= 0) || is_motion_code(g) ||
          is_nonmodal_axis_code(g);
 }
 
 // The M codes apply_m_codes acts on or accepts (RS274/NGC's own), whose words RS274/NGC fixes.
 bool known_m_code(int m) {
-  static const std::set<int> codes = {0,   10,  20,  30,  40,  50,  60,  70,  80,  90,  190, 300, 480, 490, 500,
-                                      510, 520, 530, 600, 610, 620, 630, 640, 650, 660, 670, 680, 980, 990, 1280, 1290};
+  static const std::set<int> codes = {0,   10,  20,  30,  40,  50,  60,  70,  80,  90,  190, 300, 480, 490,
+                                      500, 510, 520, 530, 600, 610, 620, 630, 640, 650, 660, 670, 680, 700,
+                                      710, 720, 730, 980, 990, 1280, 1290};
   return codes.count(m) > 0;
 }
 
@@ -223,15 +225,17 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
   };
   for (char c : std::string_view("IJK"))
     if (val.has(c) && !arc && !cycle) refuse(c, "G2 or G3");
-  if (val.has('R') && !arc && !cycle && !g10 && !has_m({190})) refuse('R', "G2, G3, canned cycle, G10 or M19");
+  if (val.has('R') && !arc && !cycle && !g10 && !has_m({190}) && !has_g({411, 421}))
+    refuse('R', "G2, G3, canned cycle, G10, G41.1, G42.1 or M19");
   const bool dwell_cycle = mode == 820 || mode == 840 || mode == 740 || mode == 860 || mode == 880 || mode == 890;
   if (val.has('P') && !arc && !dwell_cycle && !g10 && !user_m && !has_g({40, 640}) &&
-      !has_m({500, 510, 520, 530, 620, 630, 640, 650, 660, 980}))
-    refuse('P', "G2, G3, G4, G10, G64, G74, G82, G84, G86, G89, M50-M53, M62-M66 or user M code");
+      !has_m({190, 500, 510, 520, 530, 620, 630, 640, 650, 660, 980}))
+    refuse('P', "G2, G3, G4, G10, G64, G74, G82, G84, G86, G89, M19, M50-M53, M62-M66 or user M code");
   if (val.has('Q') && mode != 830 && mode != 730 && !g10 && !user_m && !has_g({640}) && !has_m({190, 610, 660, 670, 680}))
     refuse('Q', "G10, G64, G73, G83, M19, M61, M66-M68 or user M code");
-  if (val.has('L') && !g10 && !cycle && !has_g({411, 421}) && !has_m({660, 980}))
-    refuse('L', "G10, canned cycle, G41.1, G42.1 or M66");
+  // G74 takes no repeats in LinuxCNC, and G41.1/G42.1 an L (the orientation) only in the G18 plane.
+  if (val.has('L') && !g10 && !(cycle && mode != 740) && !(has_g({411, 421}) && st_.plane == 18) && !has_m({660, 980}))
+    refuse('L', "G10, canned cycle but G74, G41.1/G42.1 in G18, or M66");
   if (val.has('H') && !has_g({430, 432, 434})) refuse('H', "G43, G43.2 or G43.4");
   if (val.has('D') && !has_g({410, 411, 420, 421, 960})) refuse('D', "G41, G41.1, G42, G42.1 or G96");
   if (arc) {
@@ -297,7 +301,7 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
     switch (g) {
       case 170: case 180: case 190: st_.plane = g / 10; break;
       case 400: break;  // cutter compensation off
-      case 410: case 420: warn(line, code_name('G', g), " cutter compensation is not simulated"); break;
+      case 410: case 411: case 420: case 421: warn(line, code_name('G', g), " cutter compensation is not simulated"); break;
       default: break;
     }
   }
@@ -323,6 +327,9 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
     if (g == 50 || g == 51 || g == 52 || g == 53)
       throw InputError(file_, line, code_name('G', g), "splines (G5, G5.1, G5.2, G5.3) are not supported");
     if (g == 160) throw InputError(file_, line, "G16", "polar coordinates are not supported");
+    if (g == 70) throw InputError(file_, line, "G7", "lathe diameter mode is not supported");
+    if (g == 171 || g == 181 || g == 191)
+      throw InputError(file_, line, code_name('G', g), "the U V W planes are not supported");
     if (g == 330 || g == 331 || g == 760 || (g >= 382 && g <= 385))
       throw InputError(file_, line, code_name('G', g), "is not supported");
     if (recognised(g)) continue;
