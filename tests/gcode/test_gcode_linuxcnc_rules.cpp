@@ -124,10 +124,19 @@ TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
   expect_gcode_error("G21\nG7\n", 2, "G7");
   expect_gcode_error("G21\nG17.1\n", 2, "G17.1");
   // Codes the reader accepts without effect (or with a warning), with their words and axis words.
-  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\n"
-                          "G18 G42.1 D2 L1\nG17 G40\nG8 G1 X3\nM19 R90 P1\n")
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\nG40\n"
+                          "G18 G42.1 D2 L1\nG40\nG17 G41 D1 L1\nG40\nG8 G1 X3\nM19 R90 P1\n")
                 .blocks.size(),
             4u);
+  // Cutter compensation is not simulated, but its rules are kept; and G96 needs its S.
+  expect_gcode_error("G21\nG18\nG41 D1\nG17\n", 4, "G17");  // a plane change with it on
+  expect_gcode_error("G21\nG41 D1\nG42 D1\n", 3, "G42");     // on when on
+  expect_gcode_error("G21\nG19 G41 D1\n", 2, "G41");          // not in G19
+  expect_gcode_error("G21\nG41 G41.1 D1\n", 2, "G41.1");      // one modal group
+  expect_gcode_error("G21\nG96 D2000\n", 2, "G96");
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-5 R2 I1 F100\n", 3, "I1");
+  expect_gcode_error("G21\nM19 R90 P3\n", 2, "P3");
+  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG15 X1\n", 3, "G15");  // not an RS274/NGC code
   // A code the reader does not know: ignored with a warning, its P and Q too (a remapped M code), but not
   // with axis words, which would run in the motion mode in force (G84.2 is not a drilling cycle).
   expect_gcode_error("G21\nG0 X0 Y0 Z5\nG1 F100 X1\nG84.2 X1 Y2 Z3 Q5 R1\n", 4, "G84.2");

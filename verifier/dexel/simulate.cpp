@@ -102,10 +102,10 @@ VerifyResult Simulator::run() {
                            std::to_string(opt_.sweep.tolerance) + " mm: a block needed more than " +
                            std::to_string(opt_.sweep.max_substeps) + " sub-steps for a tool part (split it)");
   if (unresolved_gouges_ > 0)
-    rep.warnings.push_back(std::to_string(unresolved_gouges_) + " blocks over-cut the design by up to " +
-                           std::to_string(deepest_unresolved_) +
-                           " mm, within their swept volume's bound: not listed as gouges (a smaller --tolerance "
-                           "tells them apart)");
+    rep.warnings.push_back(std::to_string(unresolved_gouges_) + (unresolved_gouges_ == 1 ? " block" : " blocks") +
+                           " over-cut the design by up to " + std::to_string(deepest_unresolved_) +
+                           " mm, within the bound of the swept volume: not listed as gouges (a smaller --tolerance, "
+                           "or --holder-tolerance for rapids, tells them apart)");
   rep.blocks = static_cast<int>(rep.per_block.size());
   rep.stock_volume_end_mm3 = stock_.volume();
   rep.memory_bytes = stock_.memory_bytes();

@@ -19,12 +19,11 @@ bool is_nonmodal_axis_code(int g) {  // group 0 codes that take the block's axis
   return g == 100 || g == 280 || g == 300 || g == 520 || g == 920;
 }
 
-// Every G code the reader acts on or accepts without effect (G8 radius mode, G15, G50, G69: polar, scaling
-// and rotation off; G96, G97 spindle speed modes).
+// Every G code the reader acts on or accepts without effect (G8 radius mode; G96, G97 spindle speed modes).
 bool recognised(int g) {
-  static const std::set<int> codes = {40,  80,  150, 170, 180, 190, 200, 210, 281, 301, 400, 410, 411, 420, 421,
-                                      430, 431, 432, 434, 490, 500, 530, 610, 611, 640, 690, 900, 901, 910, 911,
-                                      921, 922, 923, 930, 940, 960, 970, 980, 990};
+  static const std::set<int> codes = {40,  80,  170, 180, 190, 200, 210, 281, 301, 400, 410, 411, 420, 421, 430,
+                                      431, 432, 434, 490, 530, 610, 611, 640, 900, 901, 910, 911, 921, 922, 923,
+                                      930, 940, 960, 970, 980, 990};
   return codes.count(g) || (g >= 540 && g <= 593 && work_offset_index(g) >= 0) || is_motion_code(g) ||
          is_nonmodal_axis_code(g);
 }
@@ -98,7 +97,9 @@ int modal_group(char letter, int key) {
   if (key == 901 || key == 911) return 4;
   if (key == 930 || key == 940 || key == 950) return 5;
   if (key == 980 || key == 990) return 10;
-  if (key == 400 || key == 410 || key == 420) return 7;
+  if (key == 400 || key == 410 || key == 411 || key == 420 || key == 421) return 7;
+  if (key == 960 || key == 970) return 14;
+  if (key == 70 || key == 80) return 15;
   if (key == 430 || key == 431 || key == 432 || key == 434 || key == 490) return 8;
   if (key >= 540 && key <= 593) return 12;
   if (key == 610 || key == 611 || key == 640) return 13;
@@ -199,7 +200,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
 
 // A word the block has nothing to use for is refused, as LinuxCNC does ("I word with no G2 or G3 to use
 // it"), rather than ignored: "G1 X5 R3" was probably meant as an arc, "G1 X5 P2" as a dwell or a helix.
-// I J K belong to an arc (or a cycle), R to an arc, a cycle, G10 or M19; P, Q, L, H and D to the codes
+// I J K belong to an arc, R to an arc, a cycle, G10 or M19; P, Q, L, H and D to the codes
 // RS274/NGC gives them (checked against LinuxCNC's rs274). An arc's centre offset across its plane (K in
 // G17) is refused too, and S must not be negative.
 void Reader::check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
@@ -224,7 +225,7 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
     throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no " + users + " to use it");
   };
   for (char c : std::string_view("IJK"))
-    if (val.has(c) && !arc && !cycle) refuse(c, "G2 or G3");
+    if (val.has(c) && !arc) refuse(c, "G2 or G3");
   if (val.has('R') && !arc && !cycle && !g10 && !has_m({190}) && !has_g({411, 421}))
     refuse('R', "G2, G3, canned cycle, G10, G41.1, G42.1 or M19");
   const bool dwell_cycle = mode == 820 || mode == 840 || mode == 740 || mode == 860 || mode == 880 || mode == 890;
@@ -234,8 +235,11 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
   if (val.has('Q') && mode != 830 && mode != 730 && !g10 && !user_m && !has_g({640}) && !has_m({190, 610, 660, 670, 680}))
     refuse('Q', "G10, G64, G73, G83, M19, M61, M66-M68 or user M code");
   // G74 takes no repeats in LinuxCNC, and G41.1/G42.1 an L (the orientation) only in the G18 plane.
-  if (val.has('L') && !g10 && !(cycle && mode != 740) && !(has_g({411, 421}) && st_.plane == 18) && !has_m({660, 980}))
-    refuse('L', "G10, canned cycle but G74, G41.1/G42.1 in G18, or M66");
+  if (val.has('L') && !g10 && !(cycle && mode != 740) && !has_g({410, 420}) && !(has_g({411, 421}) && st_.plane == 18) &&
+      !has_m({660, 980}))
+    refuse('L', "G10, canned cycle but G74, G41, G42, G41.1/G42.1 in G18, or M66");
+  if (has_m({190}) && val.has('P') && !(*val['P'] == 0 || *val['P'] == 1 || *val['P'] == 2))
+    throw InputError(file_, line, val.word('P'), "M19's P (the direction) must be 0, 1 or 2");
   if (val.has('H') && !has_g({430, 432, 434})) refuse('H', "G43, G43.2 or G43.4");
   if (val.has('D') && !has_g({410, 411, 420, 421, 960})) refuse('D', "G41, G41.1, G42, G42.1 or G96");
   if (arc) {
@@ -299,12 +303,24 @@ void Reader::apply_units_and_feed_mode(const std::vector<int>& gs, int line) {
 void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, int line) {
   for (int g : gs) {
     switch (g) {
-      case 170: case 180: case 190: st_.plane = g / 10; break;
-      case 400: break;  // cutter compensation off
-      case 410: case 411: case 420: case 421: warn(line, code_name('G', g), " cutter compensation is not simulated"); break;
+      case 170: case 180: case 190:
+        if (st_.cutter_comp && g / 10 != st_.plane)
+          throw InputError(file_, line, code_name('G', g), "cannot change planes with cutter compensation on");
+        st_.plane = g / 10;
+        break;
       default: break;
     }
   }
+  for (int g : gs) {  // cutter compensation, after the plane (RS274/NGC's order)
+    if (g == 400) st_.cutter_comp = false;
+    if (g != 410 && g != 411 && g != 420 && g != 421) continue;
+    if (st_.cutter_comp) throw InputError(file_, line, code_name('G', g), "cutter compensation is already on (G40 first)");
+    if (st_.plane == 19) throw InputError(file_, line, code_name('G', g), "cutter compensation only in the G17 and G18 planes");
+    st_.cutter_comp = true;
+    warn(line, code_name('G', g), " cutter compensation is not simulated");
+  }
+  for (int g : gs)
+    if (g == 960 && !val.has('S')) throw InputError(file_, line, "G96", "S (the surface speed) missing");
   for (int g : gs)
     if (g == 430 || g == 431 || g == 432 || g == 434 || g == 490) tool_length_offset(g, val, line);
   for (int g : gs)

@@ -52,6 +52,7 @@ struct State {
                                AxisState::NotYet, AxisState::NotYet, AxisState::NotYet};
   int motion = kNoMotion;
   int plane = 17;
+  bool cutter_comp = false;  // G41/G42 (or .1) in force: not simulated, but its rules are kept
   bool inch = false;
   bool incremental = false;
   bool arc_incremental = true;  // G91.1 default
