@@ -4,6 +4,7 @@
 // uses, splines.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <numbers>
 
 #include "gcode_test_util.hpp"
@@ -103,48 +104,39 @@ TEST(GcodeLinuxcncRules, WordsNothingUsesAreRefused) {
   EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R2 F100\nG80\n").blocks.size(), 5u);  // G0, the drill's 4
 }
 
+// A program LinuxCNC's rs274 refuses, the line it stops at and the word or code named.
+struct Refused {
+  const char* text;
+  int line;
+  const char* field;
+};
+
+void expect_refused(std::initializer_list<Refused> cases) {
+  for (const Refused& c : cases) expect_gcode_error(c.text, c.line, c.field);
+}
+
 // P, Q, L, H and D with nothing in the block to use them, as LinuxCNC's rs274 refuses each ("P word with
 // no G2 G3 G4 ... to use it"); and each with a code that uses it, which it accepts.
 TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
-  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5 P2\n", 3, "P2");
-  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 F100 X5\nX6 P2\n", 4, "P2");  // modal G1
-  expect_gcode_error("G21\nM3 S1000 P1\n", 2, "P1");
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 P1 F100\n", 3, "P1");  // G81 has no dwell
-  expect_gcode_error("G21\nG4 P1 Q1\n", 2, "Q1");
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 Q1 F100\n", 3, "Q1");  // G81 has no peck
-  expect_gcode_error("G21\nM6 T1 Q1\n", 2, "Q1");
-  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG2 F100 X2 I1 L1\n", 3, "L1");
-  expect_gcode_error("G21\nM6 T1 H1\n", 2, "H1");
-  expect_gcode_error("G21\nG49 H1\n", 2, "H1");
-  expect_gcode_error("G21\nG40 D1\n", 2, "D1");
-  expect_gcode_error("G21\nG0 X0 Y0 Z0 R1\n", 2, "R1");
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nM4 S100\nG74 X1 Y1 Z-5 R2 L2 F100\n", 4, "L2");  // G74 repeats not
-  expect_gcode_error("G21\nM70 P1\n", 2, "P1");
-  expect_gcode_error("G21\nG42.1 D2 L1\n", 2, "L1");  // L only in G18
-  expect_gcode_error("G21\nG7\n", 2, "G7");
-  expect_gcode_error("G21\nG17.1\n", 2, "G17.1");
-  // Codes the reader accepts without effect (or with a warning), with their words and axis words.
-  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\nG40\n"
-                          "G18 G42.1 D2 L1\nG40\nG17 G41 D1 L1\nG40\nG8 G1 X3\nM19 R90 P1\n")
-                .blocks.size(),
-            4u);
-  // Cutter compensation is not simulated, but its rules are kept; and G96 needs its S.
-  expect_gcode_error("G21\nG18\nG41 D1\nG17\n", 4, "G17");  // a plane change with it on
-  expect_gcode_error("G21\nG41 D1\nG42 D1\n", 3, "G42");     // on when on
-  expect_gcode_error("G21\nG19 G41 D1\n", 2, "G41");          // not in G19
-  expect_gcode_error("G21\nG41 G41.1 D1\n", 2, "G41.1");      // one modal group
-  expect_gcode_error("G21\nG96 D2000\n", 2, "G96");
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-5 R2 I1 F100\n", 3, "I1");
-  expect_gcode_error("G21\nM19 R90 P3\n", 2, "P3");
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG15 X1\n", 3, "G15");  // not an RS274/NGC code
-  // A code the reader does not know: ignored with a warning, its P and Q too (a remapped M code), but not
-  // with axis words, which would run in the motion mode in force (G84.2 is not a drilling cycle).
-  expect_gcode_error("G21\nG0 X0 Y0 Z5\nG1 F100 X1\nG84.2 X1 Y2 Z3 Q5 R1\n", 4, "G84.2");
-  expect_gcode_error("G21\nG16\nG0 X10 Y45\n", 2, "G16");  // polar: X10 Y45 is not a point
-  const Program remapped = parse_program("G21\nM400 P10 Q43\nG0 X0 Y0 Z5\n");
-  EXPECT_EQ(remapped.blocks.size(), 1u);
-  ASSERT_FALSE(remapped.warnings.empty());
-  EXPECT_NE(remapped.warnings.front().find("M400"), std::string::npos);
+  expect_refused({
+      {"G21\nG0 X0 Y0 Z0\nG1 F100 X5 P2\n", 3, "P2"},
+      {"G21\nG0 X0 Y0 Z0\nG1 F100 X5\nX6 P2\n", 4, "P2"},  // modal G1
+      {"G21\nM3 S1000 P1\n", 2, "P1"},
+      {"G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 P1 F100\n", 3, "P1"},  // G81 has no dwell
+      {"G21\nG4 P1 Q1\n", 2, "Q1"},
+      {"G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 Q1 F100\n", 3, "Q1"},  // nor a peck
+      {"G21\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-5 R2 I1 F100\n", 3, "I1"},
+      {"G21\nM6 T1 Q1\n", 2, "Q1"},
+      {"G21\nG0 X0 Y0 Z0\nG2 F100 X2 I1 L1\n", 3, "L1"},
+      {"G21\nG0 X0 Y0 Z5\nM4 S100\nG74 X1 Y1 Z-5 R2 L2 F100\n", 4, "L2"},  // G74 takes no repeats
+      {"G21\nG42.1 D2 L1\n", 2, "L1"},                                       // L only in G18
+      {"G21\nM6 T1 H1\n", 2, "H1"},
+      {"G21\nG49 H1\n", 2, "H1"},
+      {"G21\nG40 D1\n", 2, "D1"},
+      {"G21\nG0 X0 Y0 Z0 R1\n", 2, "R1"},
+      {"G21\nM70 P1\n", 2, "P1"},
+      {"G21\nM19 R90 P3\n", 2, "P3"},
+  });
   GcodeOptions tools;
   tools.tool_lengths[1] = 50.0;
   const Program p = parse_program(
@@ -153,6 +145,33 @@ TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
       "G84 X4 Y1 Z-1 R1 P0.2\nG80\nG10 L2 P1 X0\nG41 D1\nG40\nM62 P1\nM66 P0 L0 Q1\nM100 P1 Q2\n",
       tools);
   EXPECT_GT(p.blocks.size(), 10u);
+}
+
+// Codes the reader accepts without effect or with a warning (cutter compensation is not simulated, but
+// its rules are kept), and those it refuses as rs274 does.
+TEST(GcodeLinuxcncRules, CodesWithoutEffectKeepTheirRules) {
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\nG40\n"
+                          "G18 G42.1 D2 L1\nG40\nG17 G41 D1 L1\nG40\nG8 G1 X3\nM19 R90 P1\n")
+                .blocks.size(),
+            4u);
+  expect_refused({
+      {"G21\nG18\nG41 D1\nG17\n", 4, "G17"},  // a plane change with compensation on
+      {"G21\nG41 D1\nG42 D1\n", 3, "G42"},     // on when on
+      {"G21\nG19 G41 D1\n", 2, "G41"},          // not in G19
+      {"G21\nG41 G41.1 D1\n", 2, "G41.1"},      // one modal group
+      {"G21\nG96 D2000\n", 2, "G96"},           // without its S
+      {"G21\nG7\n", 2, "G7"},
+      {"G21\nG17.1\n", 2, "G17.1"},
+      {"G21\nG16\nG0 X10 Y45\n", 2, "G16"},  // polar: X10 Y45 is not a point
+      // Unknown codes with axis words, which would run in the motion mode in force.
+      {"G21\nG0 X0 Y0 Z5\nG15 X1\n", 3, "G15"},  // not an RS274/NGC code
+      {"G21\nG0 X0 Y0 Z5\nG1 F100 X1\nG84.2 X1 Y2 Z3 Q5 R1\n", 4, "G84.2"},  // not a drilling cycle
+  });
+  // An M code the reader does not know (a remapped one) is ignored with a warning, its P and Q with it.
+  const Program remapped = parse_program("G21\nM400 P10 Q43\nG0 X0 Y0 Z5\n");
+  EXPECT_EQ(remapped.blocks.size(), 1u);
+  ASSERT_FALSE(remapped.warnings.empty());
+  EXPECT_NE(remapped.warnings.front().find("M400"), std::string::npos);
 }
 
 TEST(GcodeLinuxcncRules, SplinesAreRefused) {
