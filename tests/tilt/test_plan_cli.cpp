@@ -1,5 +1,6 @@
 // `tiltfield plan` as a user runs it: outputs, exit codes 0 / 1 / 2, no partial output on bad input.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -38,7 +39,8 @@ CliScene write_scene(const std::string& name, const std::string& planner, double
 }
 
 int run(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / "stderr.txt";
+  // One file per test process: ctest runs the tests of this suite side by side.
+  const fs::path log = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / ("stderr-" + std::to_string(::getpid()) + ".txt");
   const int rc = std::system((std::string(TILTFIELD_EXE) + " --quiet " + args + " 2> " + log.string()).c_str());
   if (err) {
     std::ifstream in(log);
@@ -46,6 +48,7 @@ int run(const std::string& args, std::string* err = nullptr) {
     ss << in.rdbuf();
     *err = ss.str();
   }
+  fs::remove(log);
   return WEXITSTATUS(rc);
 }
 
