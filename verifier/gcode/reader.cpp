@@ -210,12 +210,11 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
   const bool arc = mode == 20 || mode == 30;
   const bool cycle = is_cycle(mode);
   const bool g10 = nonmodal && *nonmodal == 100;
-  auto has_g = [&](std::initializer_list<int> keys) {
-    return std::any_of(gs.begin(), gs.end(), [&](int g) { return std::find(keys.begin(), keys.end(), g) != keys.end(); });
+  auto any_of = [](const std::vector<int>& codes, std::initializer_list<int> keys) {
+    return std::find_first_of(codes.begin(), codes.end(), keys.begin(), keys.end()) != codes.end();
   };
-  auto has_m = [&](std::initializer_list<int> keys) {
-    return std::any_of(ms.begin(), ms.end(), [&](int m) { return std::find(keys.begin(), keys.end(), m) != keys.end(); });
-  };
+  auto has_g = [&](std::initializer_list<int> keys) { return any_of(gs, keys); };
+  auto has_m = [&](std::initializer_list<int> keys) { return any_of(ms, keys); };
   // A user M code (M100-M199) takes P and Q; so may one the reader does not know (a remapped code, warned
   // about and ignored with its words).
   const bool user_m = std::any_of(ms.begin(), ms.end(), [&](int m) {
