@@ -137,8 +137,6 @@ TEST(Gcode, BadInputNamesFileLineWord) {
   expect_error("G0 X0\nG1 X F10\n", 2, "X");
   expect_error("G0 X0\nG1 X--1 F10\n", 2, "X-");
   expect_error("G0 X0\nG1 U5 F10\n", 2, "U5");
-  expect_error("G0 X#1\n", 1, "X");
-  expect_error("G0 #1=5\n", 1, "#");
   expect_error("G0 X1 X2\n", 1, "X2");
   expect_error("G0 X1 (open comment\n", 1, "(");
   expect_error("X1 Y2\n", 1, "G");                       // no motion mode yet

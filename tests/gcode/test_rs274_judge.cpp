@@ -160,6 +160,32 @@ TEST(Rs274Judge, ProgramOffsetsG10G92G53AndArcs) {
   expect_same_motion(judge(kOffsets, library(), trt_joint()), "offsets");
 }
 
+// Parameters and expressions: numbered, named and global parameters, settings read a line later, the
+// functions and operators, the position read back (#5420, #<_z>). (The judge reads rs274's moves in mm.)
+const char* const kExpressions = R"(G21 G90 G17 G94
+T1 M6
+G43 H1
+#<r> = 10
+#1 = 3 #2 = [#1 * 2]
+G10 L2 P1 X[#1 * 2] Y-5 C[ATAN[1]/[1]]
+G54 G0 X0 Y0 Z[#<r> / 2] A0 C0
+G1 X[#<r> * COS[30]] Y[#<r> * SIN[30]] F[100 * #1]
+G2 X[-#<r>] Y0 R#<r>
+#2 = [#5420 + 1] G1 Z#2
+G1 X#2 Y[#5421 - 2] Z[#<_z> - 1]
+G91 G1 X[2**3] Y[7 MOD 3] C[ROUND[12.5]]
+G90 G0 Z[FUP[#<r> / 3]]
+#<_safe> = [#<r> + [2 - 1] * 5]
+G0 Z#<_safe> X[FIX[-1.5]]
+G1 X[ABS[-4]] Y[SQRT[9] + [1 EQ 1] + [2 LT 1]] F[#<_feed> / 2]
+M2
+)";
+
+TEST(Rs274Judge, ParametersAndExpressions) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kExpressions, library(), trt_joint()), "expressions");
+}
+
 // On a 3-axis machine with tool length offsets in use the targets are the tool tip: LinuxCNC's position
 // (the spindle nose) less the loaded tool's gauge length.
 TEST(Rs274Judge, ThreeAxisTargetsAreTheTipBelowTheNose) {

@@ -75,7 +75,10 @@ void Reader::line(std::string_view raw, int number) {
   }
   const std::string code = strip_line(view, file_, number);
   if (code.empty()) return;
-  block(split_words(code, file_, number), number);
+  line_ = number;
+  const ParsedLine parsed = parse_line(code, file_, number, *this);
+  set_parameters(parsed.settings, number);  // after the whole line is read, before it runs (as LinuxCNC)
+  if (!parsed.words.empty()) block(parsed.words, number);
 }
 
 // One warning per distinct code and message: "file:line: CODE message".
@@ -287,7 +290,7 @@ void Reader::apply_units_and_feed_mode(const std::vector<int>& gs, int line) {
   for (int g : gs) {
     switch (g) {
       case 930: st_.inverse_time = true; break;
-      case 940: st_.inverse_time = false, st_.feed = 0.0; break;  // RS274/NGC: G94 clears the feed rate
+      case 940: st_.inverse_time = false, st_.feed = st_.feed_word = 0.0; break;  // RS274/NGC: G94 clears the feed rate
       case 950: throw InputError(file_, line, "G95", "feed per revolution is not supported");
       case 200: st_.inch = true; break;
       case 210: st_.inch = false; break;
@@ -361,6 +364,7 @@ void Reader::apply_feed_speed_tool(const Values& val, int line) {
     const double f = *val['F'];
     if (f < 0) throw InputError(file_, line, val.word('F'), "negative feed");
     st_.feed = st_.inverse_time ? f : f * unit();
+    st_.feed_word = f;
   }
   if (val.has('S')) st_.spindle = *val['S'];
   if (val.has('T')) {

@@ -10,12 +10,14 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "tiltfield/gcode/gcode.hpp"
+#include "expressions.hpp"
 #include "words.hpp"
 
 namespace tf::gcode {
@@ -60,6 +62,7 @@ struct State {
   bool tcp = false;       // tool-centre-point control on
   bool tcp_g434 = false;  // switched on by G43.4 (which G49 cancels), not by an M code
   double feed = 0.0;
+  double feed_word = 0.0;  // F as written (#<_feed>: LinuxCNC does not convert it when the units change)
   double spindle = 0.0;
   int spindle_dir = 0;    // 1 M3, -1 M4, 0 stopped
   int tool = 0, pending_tool = 0;
@@ -79,13 +82,20 @@ struct State {
   bool percent = false;        // a "%" line opened the program; the next one ends it
 };
 
-class Reader {
+class Reader : private ParameterValues {
  public:
   Reader(const std::string& file, const MachineSpec& machine, const GcodeOptions& options);
   void line(std::string_view raw, int number);
   Program finish();
 
  private:
+  // parameters.cpp: the values a line's parameters read, and its settings
+  std::optional<double> numbered(int k) const override;
+  std::optional<double> named(const std::string& name) const override;
+  std::optional<double> predefined(const std::string& name) const;
+  double position(int axis) const;  // program units
+  void set_parameters(const std::vector<ParameterSetting>& settings, int line);
+
   // reader.cpp
   void warn(int line, const std::string& code, const std::string& what);
   void block(const std::vector<Word>& words, int line);
@@ -136,6 +146,9 @@ class Reader {
   bool uses_length_offsets_ = false;        // G43 / G43.4 anywhere
   int reference_line_ = 0;                  // the last G28/G30
   std::set<std::string> warned_;
+  std::vector<double> numbered_ = std::vector<double>(kMaxParameter + 1, 0.0);  // #1 ... #5000 (index = number)
+  std::map<std::string, double> named_;
+  int line_ = 0;  // the line being read (for a parameter's errors)
 };
 
 }  // namespace tf::gcode

@@ -1,5 +1,5 @@
-// tiltfield gcode (internal): one line of RS274/NGC text into words: comments and blanks removed, letters
-// in upper case, numbers as RS274 writes them (no exponent), G and M numbers as integer keys.
+// tiltfield gcode (internal): the lexical part of a line of RS274/NGC text: comments and blanks removed,
+// letters in upper case, G and M numbers as integer keys (the words themselves: expressions.hpp).
 #pragma once
 #include <array>
 #include <optional>
@@ -18,11 +18,6 @@ struct Word {
 // Strips "( ... )" and "; ..." comments and whitespace; returns the code part in upper case.
 // Throws InputError on an unclosed "(".
 std::string strip_line(std::string_view raw, const std::string& file, int line);
-
-// Splits "G1X10.5Y-3" into words. Numbers are RS274 decimals: [+-] digits [. digits] (no exponent).
-// Throws InputError on parameters and expressions ("#", "[", "<"), O-word subroutines and control flow,
-// and anything that is not a letter followed by a number.
-std::vector<Word> split_words(const std::string& code, const std::string& file, int line);
 
 // A G or M number with up to one decimal, as an integer key: G43.4 -> 434, G1 -> 10. Throws on anything else.
 int code_key(const Word& w, const std::string& file, int line);
