@@ -135,7 +135,7 @@ TEST(Gcode, BadInputNamesFileLineWord) {
   expect_error("G0 X0 Y0 Z0 B5\n", 1, "B5", ac());      // an AC machine has no B
   expect_error("G0 X0\nG1 X1.2.3 F10\n", 2, "X1.2.");    // garbage number
   expect_error("G0 X0\nG1 X F10\n", 2, "X");
-  expect_error("G0 X0\nG1 X--1 F10\n", 2, "X-");
+  expect_error("G0 X0\nG1 X- F10\n", 2, "X-");
   expect_error("G0 X0\nG1 U5 F10\n", 2, "U5");
   expect_error("G0 X1 X2\n", 1, "X2");
   expect_error("G0 X1 (open comment\n", 1, "(");

@@ -38,6 +38,7 @@ TEST(GcodeExpressions, ValuesAsLinuxCncComputesThem) {
       {"[0-2**2]", -4},          {"[EXP[0]]", 1},           {"[LN[1]]", 0},            {"[ACOS[0]]", 90},
       {"[ASIN[1]]", 90},         {"[SIN[30]]", 0.5},        {"[COS[60]]", 0.5},        {"[TAN[45]]", 1},
       {"[ROUND[0.5]]", 1},       {"[7 mod 3]", 1},          {"[ 2 * [ 3 + 1 ] ]", 8},  {"SQRT[9]", 3},
+      {"--1", 1},                {"+-1", -1},
   };
   for (const auto& c : cases) EXPECT_NEAR(x_of(c.value), c.x, 1e-12) << c.value;
 }
@@ -52,6 +53,12 @@ TEST(GcodeExpressions, SettingsTakeEffectAfterTheirLine) {
   EXPECT_DOUBLE_EQ(p.blocks[2].target.y, 0);
   EXPECT_DOUBLE_EQ(p.blocks[3].target.y, 4);
   EXPECT_DOUBLE_EQ(p.blocks[4].target.z, -3);
+  // A name set earlier on a line exists there and reads 0 until the line is done (rs274 alike).
+  const Program q = parse_program("#<a> = 1 #<b> = [#<a> + 2] G0 X[EXISTS[#<a>]] Y[EXISTS[#<_x>]]\nG0 Z#<b>\n");
+  ASSERT_EQ(q.blocks.size(), 2u);
+  EXPECT_DOUBLE_EQ(q.blocks[0].target.x, 1);
+  EXPECT_DOUBLE_EQ(q.blocks[0].target.y, 1);  // predefined: exists before any move sets X
+  EXPECT_DOUBLE_EQ(q.blocks[1].target.z, 2);
 }
 
 TEST(GcodeExpressions, SystemAndPredefinedParametersReadTheState) {
@@ -74,9 +81,9 @@ TEST(GcodeExpressions, SystemAndPredefinedParametersReadTheState) {
 
 TEST(GcodeExpressions, ErrorsNameTheWordOrOperator) {
   const struct {
-    const char* text;
+    std::string text;
     int line;
-    const char* field;
+    std::string field;
   } refused[] = {
       {"G0 X0\nG1 X#<zz> F1\n", 2, "#<ZZ>"},       // undefined named parameter
       {"G1 X[1/0] F1\n", 1, "/"},                   // division by zero
@@ -90,7 +97,10 @@ TEST(GcodeExpressions, ErrorsNameTheWordOrOperator) {
       {"#5221 = 3\n", 1, "#5221"},
       {"#<_x> = 3\n", 1, "#<_X>"},                  // predefined: read-only
       {"G1 X#5061 F1\n", 1, "#5061"},               // the probe's result: not simulated
-      {"G1 X#5420 F1\n", 1, "X"},                   // no position known yet
+      {"G1 Y#5420 F1\n", 1, "#5420"},               // no position known yet
+      {"G1 Z#<_x> F1\n", 1, "#<_X>"},
+      {std::string("#[SIN[1") + std::string(310, '0') + "]] = 1\n", 1, "1" + std::string(7, '0')},  // inf
+      {"G0 X0\nO#1 SUB\n", 2, "O#1"},
       {"G1 X[SQRT[-1]] F1\n", 1, "SQRT"},
       {"G1 X[LN[0]] F1\n", 1, "LN"},
       {"G1 X[ACOS[2]] F1\n", 1, "ACOS"},

@@ -52,8 +52,12 @@ class LineParser {
   ParsedLine parse() {
     ParsedLine out;
     while (i_ < code_.size()) {
-      if (code_[i_] == '#') out.settings.push_back(setting());
-      else out.words.push_back(word());
+      if (code_[i_] == '#') {
+        out.settings.push_back(setting());
+        if (!out.settings.back().name.empty()) named_on_line_.push_back(out.settings.back().name);
+      } else {
+        out.words.push_back(word());
+      }
     }
     return out;
   }
@@ -81,16 +85,17 @@ class LineParser {
     const bool plain = digit(peek()) || peek() == '.' || ((peek() == '+' || peek() == '-') && (digit(peek(1)) || peek(1) == '.'));
     if (plain) {
       v = number(true);
-      const std::string text = code_.substr(start, i_ - start);
-      if (letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_))) fail(text, kOWords);
+      const bool o_word = letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_));
       // A number runs up to the next word or setting: "Z-.5^" or "X1.2.3" is a typo, not two words.
-      if (i_ < code_.size() && !alpha(code_[i_]) && code_[i_] != '#') fail(code_.substr(start, i_ - start + 1), "malformed number");
+      if (!o_word && i_ < code_.size() && !alpha(code_[i_]) && code_[i_] != '#')
+        fail(code_.substr(start, i_ - start + 1), "malformed number");
     } else if (expression_follows()) {
       v = value(0);
     } else {
       fail(code_.substr(start, peek() == '+' || peek() == '-' ? 2 : 1), "missing or malformed number");
     }
     const std::string text = code_.substr(start, i_ - start);
+    if (letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_))) fail(text, kOWords);
     return {letter, finite(v, text), text};
   }
 
@@ -116,14 +121,16 @@ class LineParser {
       ++i_;
     }
     if (!digits) fail(word && start > 0 ? code_.substr(start - 1, i_ - start + 1) : near(start), "missing or malformed number");
-    return std::strtod(code_.substr(start, i_ - start).c_str(), nullptr);
+    // Hundreds of digits make inf, and SIN[inf] a NaN that every later comparison would let through.
+    return finite(std::strtod(code_.substr(start, i_ - start).c_str(), nullptr), near(start));
   }
 
-  // A value other than a plain number at i_: "[", "#", a function, each after an optional sign.
+  // A value other than a plain number at i_: "[", "#", a function or a signed value ("--1" is 1 in rs274),
+  // each after an optional sign.
   bool expression_follows() const {
     const size_t at = i_ + (peek() == '+' || peek() == '-' ? 1 : 0);
     const char c = at < code_.size() ? code_[at] : '\0';
-    return c == '[' || c == '#' || function_follows(at);
+    return c == '[' || c == '#' || (at > i_ && (c == '+' || c == '-')) || function_follows(at);
   }
 
   // An alphabetic run at j that is followed by "[" (a function's name).
@@ -244,7 +251,8 @@ class LineParser {
     if (f == "EXISTS") {
       if (peek() != '#' || peek(1) != '<') fail(f, "EXISTS takes a named parameter: EXISTS[#<name>]");
       ++i_;
-      const bool defined = params_.named(name()).has_value();
+      const std::string n = name();
+      const bool defined = params_.defined(n) || set_on_line(n);
       if (peek() != ']') fail(f, "EXISTS takes a named parameter: EXISTS[#<name>]");
       ++i_;
       return defined ? 1.0 : 0.0;
@@ -284,6 +292,8 @@ class LineParser {
     if (peek() == '<') {
       const std::string n = name();
       const std::optional<double> v = params_.named(n);
+      // rs274 makes a name as it reads its setting: later on the line it reads 0 until the line is done.
+      if (!v && set_on_line(n)) return 0.0;
       if (!v) fail("#<" + n + ">", "named parameter not defined");
       return *v;
     }
@@ -299,7 +309,7 @@ class LineParser {
     const double v = value(depth + 1);
     const std::string text = code_.substr(start, i_ - start);
     const double k = std::round(v);
-    if (std::abs(v - k) > kIntegerTolerance) fail(text, "parameter number is not an integer");
+    if (!std::isfinite(v) || std::abs(v - k) > kIntegerTolerance) fail(text, "parameter number is not an integer");
     if (k < 1 || k > kMaxParameter) fail(text, "parameter number out of range (1 to " + std::to_string(kMaxParameter) + ")");
     return static_cast<int>(k);
   }
@@ -314,11 +324,18 @@ class LineParser {
     return code_.substr(start + 1, close - start - 1);
   }
 
+  bool set_on_line(const std::string& n) const {
+    for (const std::string& s : named_on_line_)
+      if (s == n) return true;
+    return false;
+  }
+
   const std::string& code_;
   const std::string& file_;
   int line_;
   const ParameterValues& params_;
   size_t i_ = 0;
+  std::vector<std::string> named_on_line_;  // the names this line has set so far
 };
 
 }  // namespace

@@ -20,6 +20,8 @@ class ParameterValues {
   virtual std::optional<double> numbered(int k) const = 0;
   // Named parameter (upper case, as the line is), nullopt when it is not defined.
   virtual std::optional<double> named(const std::string& name) const = 0;
+  // Whether a named parameter is defined (EXISTS), without reading it.
+  virtual bool defined(const std::string& name) const = 0;
 };
 
 // One "#k = value" or "#<name> = value" of a line: number k, or name when number is 0.

@@ -29,10 +29,11 @@ bool is_predefined(const std::string& name) {
 }  // namespace
 
 // The position of axis a (XYZABC) in the current coordinate system, program units.
-double Reader::position(int a) const {
+double Reader::position(int a, const std::string& parameter) const {
   if (st_.axes[size_t(a)] != AxisState::Set)
-    throw InputError(file_, line_, std::string(1, "XYZABC"[a]),
-                     "the position is read before any move has set it (no start pose is known)");
+    throw InputError(file_, line_, parameter,
+                     std::string("the position of ") + "XYZABC"[a] +
+                         " is read before any move has set it (no start pose is known)");
   return a < 3 ? st_.pos[size_t(a)] / unit() : st_.pos[size_t(a)];
 }
 
@@ -46,7 +47,7 @@ std::optional<double> Reader::numbered(int k) const {
     if (axis < 10) return 0.0;  // U V W and the rotation (R), which the reader refuses
   }
   if (k == 5400) return double(st_.tool);
-  if (k >= 5420 && k <= 5428) return k <= 5425 ? position(k - 5420) : 0.0;
+  if (k >= 5420 && k <= 5428) return k <= 5425 ? position(k - 5420, "#" + std::to_string(k)) : 0.0;
   return std::nullopt;
 }
 
@@ -55,7 +56,7 @@ std::optional<double> Reader::predefined(const std::string& name) const {
   if (!is_predefined(name)) return std::nullopt;
   if (name.size() == 2 && name[0] == '_') {
     const size_t a = std::string_view("XYZABC").find(name[1]);
-    if (a != std::string_view::npos) return position(static_cast<int>(a));
+    if (a != std::string_view::npos) return position(static_cast<int>(a), "#<" + name + ">");
     if (std::string_view("UVW").find(name[1]) != std::string_view::npos) return 0.0;
   }
   if (name == "_FEED") return st_.feed_word;
@@ -73,6 +74,8 @@ std::optional<double> Reader::predefined(const std::string& name) const {
   if (name == "_SPINDLE_ON") return st_.spindle_dir != 0 ? 1.0 : 0.0;
   return st_.spindle_dir == 1 ? 1.0 : 0.0;  // _SPINDLE_CW
 }
+
+bool Reader::defined(const std::string& name) const { return is_predefined(name) || named_.count(name) > 0; }
 
 std::optional<double> Reader::named(const std::string& name) const {
   if (auto v = predefined(name)) return v;

@@ -92,8 +92,9 @@ class Reader : private ParameterValues {
   // parameters.cpp: the values a line's parameters read, and its settings
   std::optional<double> numbered(int k) const override;
   std::optional<double> named(const std::string& name) const override;
+  bool defined(const std::string& name) const override;
   std::optional<double> predefined(const std::string& name) const;
-  double position(int axis) const;  // program units
+  double position(int axis, const std::string& parameter) const;  // program units
   void set_parameters(const std::vector<ParameterSetting>& settings, int line);
 
   // reader.cpp
