@@ -121,8 +121,11 @@ class LineParser {
       ++i_;
     }
     if (!digits) fail(word && start > 0 ? code_.substr(start - 1, i_ - start + 1) : near(start), "missing or malformed number");
-    // Hundreds of digits make inf, and SIN[inf] a NaN that every later comparison would let through.
-    return finite(std::strtod(code_.substr(start, i_ - start).c_str(), nullptr), near(start));
+    // Hundreds of digits make inf, and SIN[inf] a NaN that every later comparison would let through. (A
+    // word's value is held to 1e9 in word().)
+    const double v = std::strtod(code_.substr(start, i_ - start).c_str(), nullptr);
+    if (!std::isfinite(v)) fail(near(start), "number out of range");
+    return v;
   }
 
   // A value other than a plain number at i_: "[", "#", a function or a signed value ("--1" is 1 in rs274),
