@@ -40,6 +40,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const int mode = data[0];
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
   tf::GcodeOptions options;
+  options.max_lines_run = 100000;  // a loop that does not end is refused within the fuzzer's time limit
   if ((mode / 3) % 2) {
     options.tool_lengths = {{1, 50.0}, {2, 80.0}, {7, 12.5}};
     options.tool_length = 50.0;

@@ -53,18 +53,8 @@ TEST(GcodePosts, NumbersAsRs274WritesThem) {
   expect_gcode_error("G0 X0 Y0 Z0\nG1 X1.5e2 F100\n", 2, "X1.5E2");
 }
 
-TEST(GcodePosts, SubroutinesAndControlFlowAreErrors) {
-  const struct {
-    const char* text;
-    int line;
-    const char* word;
-  } refused[] = {
-      {"G0 X0\no100 sub\nG0 X1\no100 endsub\n", 2, "O100"},
-      {"G0 X0\nO<probe> call\n", 2, "O<"},
-      {"G0 X0\no200 if [1 GT 0]\n", 2, "O200"},
-      {"G0 X0\nM98 P1000\n", 2, "M98"},
-  };
-  for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.word);
+TEST(GcodePosts, SubprogramCallsAreErrors) {
+  expect_gcode_error("G0 X0\nM98 P1000\n", 2, "M98");
 }
 
 }  // namespace

@@ -186,6 +186,73 @@ TEST(Rs274Judge, ParametersAndExpressions) {
   expect_same_motion(judge(kExpressions, library(), trt_joint()), "expressions");
 }
 
+// Subroutines and control flow: arguments and the caller's #1-#30 restored, local and global named
+// parameters, returned values, IF/ELSEIF/ELSE, WHILE with CONTINUE, REPEAT, DO/WHILE with BREAK, nested
+// calls.
+const char* const kControlFlow = R"(G21 G90 G17 G94
+T1 M6
+G43 H1
+G0 X0 Y0 Z5 A0 C0
+#5 = 7
+#<x> = 3
+#<_g> = 4
+#<_n> = 0
+o100 sub
+  G1 X#1 Y#2 Z#5 F100
+  #<x> = 9
+  #1 = 11
+o100 endsub [#1 * 2]
+o<lp> sub
+  #<i> = 0
+  o1 while [#<i> LT 3]
+    #<i> = [#<i> + 1]
+    o2 if [#<i> EQ 2]
+      o1 continue
+    o2 endif
+    G1 X[#<i> * 10] Y#<_g>
+  o1 endwhile
+  o3 repeat [2]
+    G1 Z[#<_value>]
+  o3 endrepeat
+  o4 do
+    G1 Y99
+    o4 break
+  o4 while [1]
+o<lp> endsub
+o<square> sub
+  o10 repeat [4]
+    G91 G1 X[#1 * COS[#<_n> * 90]] Y[#1 * SIN[#<_n> * 90]] Z-#2 F100
+    #<_n> = [#<_n> + 1]
+    o100 call [#<_n>] [#<_n> * 2]
+  o10 endrepeat
+  G90
+  o<square> return [#1 + #2]
+o<square> endsub
+o<square> call [2] [0.5]
+#1 = 5
+o100 call [1] [2]
+G1 X#1 Y#<x> Z#<_value>
+o<lp> call
+G1 X#<_value_returned>
+o5 if [0]
+ G1 X1
+o5 elseif [1]
+ G1 X2
+o5 else
+ G1 X3
+o5 endif
+o6 if [#<_n> GT 3]
+ o<square> call [1] [0]
+o6 endif
+G1 Z#<_value>
+M2
+)";
+
+TEST(Rs274Judge, SubroutinesAndControlFlow) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kControlFlow, library(), trt_joint()), "control flow");
+}
+
 // On a 3-axis machine with tool length offsets in use the targets are the tool tip: LinuxCNC's position
 // (the spindle nose) less the loaded tool's gauge length.
 TEST(Rs274Judge, ThreeAxisTargetsAreTheTipBelowTheNose) {

@@ -5,6 +5,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 #include <string_view>
 
@@ -25,7 +26,9 @@ bool o_word_keyword(std::string_view rest) {
   return false;
 }
 
-constexpr char kOWords[] = "O-word subroutines and control flow are not supported";
+constexpr char kOWords[] =
+    "not an O-word LinuxCNC runs: O100 or O<name> followed by SUB, ENDSUB, CALL, RETURN, IF, ELSEIF, ELSE, ENDIF, "
+    "DO, WHILE, ENDWHILE, REPEAT, ENDREPEAT, BREAK or CONTINUE";
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's TOLERANCE_EQUAL for EQ and NE
@@ -48,6 +51,17 @@ class LineParser {
  public:
   LineParser(const std::string& code, const std::string& file, int line, const ParameterValues& params)
       : code_(code), file_(file), line_(line), params_(params) {}
+
+  // Bracketed values from position `from` to the end of the line.
+  std::vector<double> bracketed_values(size_t from, const std::string& word) {
+    std::vector<double> out;
+    for (i_ = from; i_ < code_.size();) {
+      if (code_[i_] != '[') fail(word, "an O-word's arguments are bracketed expressions: " + word + " [...]");
+      ++i_;
+      out.push_back(finite(bracketed(1), word));
+    }
+    return out;
+  }
 
   ParsedLine parse() {
     ParsedLine out;
@@ -85,9 +99,9 @@ class LineParser {
     const bool plain = digit(peek()) || peek() == '.' || ((peek() == '+' || peek() == '-') && (digit(peek(1)) || peek(1) == '.'));
     if (plain) {
       v = number(true);
-      const bool o_word = letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_));
+      const bool o_line = letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_));
       // A number runs up to the next word or setting: "Z-.5^" or "X1.2.3" is a typo, not two words.
-      if (!o_word && i_ < code_.size() && !alpha(code_[i_]) && code_[i_] != '#')
+      if (!o_line && i_ < code_.size() && !alpha(code_[i_]) && code_[i_] != '#')
         fail(code_.substr(start, i_ - start + 1), "malformed number");
     } else if (expression_follows()) {
       v = value(0);
@@ -342,6 +356,39 @@ class LineParser {
 };
 
 }  // namespace
+
+std::optional<OWord> o_word(const std::string& code) {
+  if (code.size() < 2 || code[0] != 'O') return std::nullopt;
+  OWord o;
+  size_t i = 1;
+  if (code[1] == '<') {
+    const size_t close = code.find('>', 2);
+    if (close == std::string::npos || close == 2) return std::nullopt;
+    o.label = code.substr(1, close);
+    i = close + 1;
+  } else {
+    while (i < code.size() && digit(code[i])) ++i;
+    if (i == 1) return std::nullopt;
+    o.label = code.substr(1, i - 1);
+    o.label.erase(0, std::min(o.label.find_first_not_of('0'), o.label.size() - 1));
+  }
+  const size_t k = i;
+  while (i < code.size() && alpha(code[i])) ++i;
+  o.keyword = code.substr(k, i - k);
+  static const char* const keywords[] = {"SUB", "ENDSUB", "CALL", "RETURN", "IF", "ELSEIF", "ELSE", "ENDIF", "DO",
+                                         "WHILE", "ENDWHILE", "REPEAT", "ENDREPEAT", "BREAK", "CONTINUE"};
+  for (const char* kw : keywords)
+    if (o.keyword == kw) {
+      o.args = i;
+      return o;
+    }
+  return std::nullopt;
+}
+
+std::vector<double> o_word_values(const std::string& code, const OWord& o, const std::string& file, int line,
+                                  const ParameterValues& params) {
+  return LineParser(code, file, line, params).bracketed_values(o.args, o.name());
+}
 
 ParsedLine parse_line(const std::string& code, const std::string& file, int line, const ParameterValues& params) {
   return LineParser(code, file, line, params).parse();

@@ -2,7 +2,7 @@
 // A line's words may take their values from numbered (#1 ... #5602) or named (#<name>, #<_global>)
 // parameters and from bracketed expressions ([#1 * 2], SIN[30], ATAN[#2]/[#3]); "#1 = ..." and
 // "#<name> = ..." set parameters once the whole line has been read (a word of the same line reads the old
-// value). Not here: O-word subroutines and control flow (refused with their own message).
+// value). O-word lines (subroutines and control flow) are recognised here and run by the reader (control.cpp).
 #pragma once
 #include <optional>
 #include <string>
@@ -36,6 +36,23 @@ struct ParsedLine {
   std::vector<Word> words;
   std::vector<ParameterSetting> settings;
 };
+
+// An O-word line of LinuxCNC's subroutines and control flow: "O100 WHILE [#1 LT 3]", "O<probe> CALL [2]".
+struct OWord {
+  std::string label;    // "100" (leading zeros dropped) or "<PROBE>"
+  std::string keyword;  // SUB ENDSUB CALL RETURN IF ELSEIF ELSE ENDIF DO WHILE ENDWHILE REPEAT ENDREPEAT BREAK CONTINUE
+  size_t args = 0;      // where its bracketed values start in the line
+  std::string name() const { return "O" + label; }
+};
+
+// The O-word a code line (strip_line's output) opens with; nullopt for any other line (a plain "O1000"
+// program number included).
+std::optional<OWord> o_word(const std::string& code);
+
+// The bracketed values after an O-word ("[1] [#2 * 3]": a call's arguments, a condition, a return value),
+// evaluated now. Throws InputError on anything else after the O-word or a bad expression.
+std::vector<double> o_word_values(const std::string& code, const OWord& o, const std::string& file, int line,
+                                  const ParameterValues& params);
 
 // The highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS - 1).
 inline constexpr int kMaxParameter = 5602;

@@ -22,7 +22,7 @@ bool is_predefined(const std::string& name) {
   static const std::set<std::string> names = {
       "_X", "_Y", "_Z", "_A", "_B", "_C", "_U", "_V", "_W", "_FEED", "_RPM", "_METRIC", "_IMPERIAL",
       "_ABSOLUTE", "_INCREMENTAL", "_INVERSE_TIME", "_UNITS_PER_MINUTE", "_COORD_SYSTEM", "_MOTION_MODE", "_PLANE",
-      "_CURRENT_TOOL", "_SPINDLE_ON", "_SPINDLE_CW"};
+      "_CURRENT_TOOL", "_SPINDLE_ON", "_SPINDLE_CW", "_VALUE", "_VALUE_RETURNED", "_CALL_LEVEL"};
   return names.count(name) > 0;
 }
 
@@ -71,16 +71,23 @@ std::optional<double> Reader::predefined(const std::string& name) const {
   if (name == "_MOTION_MODE") return st_.motion < 0 ? 800.0 : double(st_.motion);
   if (name == "_PLANE") return 10.0 * st_.plane;
   if (name == "_CURRENT_TOOL") return double(st_.tool);
+  if (name == "_VALUE") return value_;
+  if (name == "_VALUE_RETURNED") return value_returned_;
+  if (name == "_CALL_LEVEL") return double(calls_.size());
   if (name == "_SPINDLE_ON") return st_.spindle_dir != 0 ? 1.0 : 0.0;
   return st_.spindle_dir == 1 ? 1.0 : 0.0;  // _SPINDLE_CW
 }
 
-bool Reader::defined(const std::string& name) const { return is_predefined(name) || named_.count(name) > 0; }
+// Names that begin with "_" are global; the others belong to the call level that set them.
+bool Reader::defined(const std::string& name) const {
+  return is_predefined(name) || (name[0] == '_' ? globals_ : locals_.back()).count(name) > 0;
+}
 
 std::optional<double> Reader::named(const std::string& name) const {
   if (auto v = predefined(name)) return v;
-  const auto it = named_.find(name);
-  if (it == named_.end()) return std::nullopt;
+  const auto& scope = name[0] == '_' ? globals_ : locals_.back();
+  const auto it = scope.find(name);
+  if (it == scope.end()) return std::nullopt;
   return it->second;
 }
 
@@ -88,7 +95,7 @@ void Reader::set_parameters(const std::vector<ParameterSetting>& settings, int l
   for (const ParameterSetting& s : settings) {
     if (!s.name.empty()) {
       if (is_predefined(s.name)) throw InputError(file_, line, s.text, "a predefined parameter is read-only");
-      named_[s.name] = s.value;
+      (s.name[0] == '_' ? globals_ : locals_.back())[s.name] = s.value;
     } else if (s.number > 5000 && s.number != kDebugParameter) {
       throw InputError(file_, line, s.text,
                        "system parameter: a program writing it is not simulated (G10 and G92 set the offsets)");

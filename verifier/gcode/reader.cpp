@@ -59,22 +59,26 @@ Reader::Reader(const std::string& file, const MachineSpec& machine, const GcodeO
   }
 }
 
-void Reader::line(std::string_view raw, int number) {
-  if (st_.ended) return;
+// The code of a line (upper case, without blanks and comments); nullopt for a line not read (block delete,
+// the "%" lines, what follows the end).
+std::optional<std::string> Reader::code_of(std::string_view raw, int number) {
+  if (st_.ended) return std::nullopt;
   std::string_view view = raw;
   while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
   if (!view.empty() && view.front() == '/') {
-    if (options_.block_delete) return;
+    if (options_.block_delete) return std::nullopt;
     view.remove_prefix(1);
   }
   if (!view.empty() && view.front() == '%') {
     // RS274/NGC: a program opened by "%" ends at the next "%"; what follows is not read.
     if (st_.percent) st_.ended = true;
     st_.percent = true;
-    return;
+    return std::nullopt;
   }
-  const std::string code = strip_line(view, file_, number);
-  if (code.empty()) return;
+  return strip_line(view, file_, number);
+}
+
+void Reader::execute(const std::string& code, int number) {
   line_ = number;
   const ParsedLine parsed = parse_line(code, file_, number, *this);
   set_parameters(parsed.settings, number);  // after the whole line is read, before it runs (as LinuxCNC)
@@ -423,19 +427,19 @@ GcodeOptions gcode_options(const Scene& scene) {
 }
 
 Program parse_gcode(std::string_view text, const std::string& file, const MachineSpec& machine, const GcodeOptions& options) {
-  gcode::Reader reader(file, machine, options);
-  int number = 0;
+  std::vector<std::string_view> lines;
   size_t pos = 0;
   while (pos <= text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
     std::string_view raw = text.substr(pos, end - pos);
     if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-    ++number;
-    reader.line(raw, number);
+    lines.push_back(raw);
     if (end == text.size()) break;
     pos = end + 1;
   }
+  gcode::Reader reader(file, machine, options);
+  reader.run(lines);
   return reader.finish();
 }
 

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <set>
@@ -85,10 +86,43 @@ struct State {
 class Reader : private ParameterValues {
  public:
   Reader(const std::string& file, const MachineSpec& machine, const GcodeOptions& options);
-  void line(std::string_view raw, int number);
+  // Reads the program's lines (without their line ends), in the order its control flow takes them.
+  void run(const std::vector<std::string_view>& lines);
   Program finish();
 
  private:
+  // control.cpp: O-word subroutines and control flow
+  struct OLine {
+    OWord word;
+    std::string code;
+  };
+  struct Sub {
+    size_t begin, end;  // the lines (0-based) of its SUB and ENDSUB
+  };
+  struct Frame {
+    size_t return_to;              // the line after the CALL
+    std::array<double, 31> saved;  // the caller's #1 ... #30
+    size_t loops;                  // the caller's open loops
+  };
+  enum class LoopKind { While, Do, Repeat };
+  struct Loop {
+    std::string label;
+    LoopKind kind;
+    size_t head;     // While: its WHILE line; Do, Repeat: the first line of the body
+    long remaining;  // Repeat: passes left
+  };
+  void scan_o_words(const std::vector<std::string_view>& lines);
+  void control(const OLine& o, size_t at, size_t& next);
+  void call(const OLine& o, int number, size_t& next);
+  void return_from(const OLine& o, int number, size_t& next);
+  void loop_end(const OLine& o, int number, size_t& next);
+  void break_or_continue(const OLine& o, size_t at, size_t& next);
+  bool condition(const OLine& o, int number);
+  size_t find_o_word(size_t from, const OWord& o, std::initializer_list<std::string_view> keywords) const;
+
+  std::optional<std::string> code_of(std::string_view raw, int number);
+  void execute(const std::string& code, int number);
+
   // parameters.cpp: the values a line's parameters read, and its settings
   std::optional<double> numbered(int k) const override;
   std::optional<double> named(const std::string& name) const override;
@@ -148,7 +182,13 @@ class Reader : private ParameterValues {
   int reference_line_ = 0;                  // the last G28/G30
   std::set<std::string> warned_;
   std::vector<double> numbered_ = std::vector<double>(kMaxParameter + 1, 0.0);  // #1 ... #5000 (index = number)
-  std::map<std::string, double> named_;
+  std::map<std::string, double> globals_;                    // #<_name>
+  std::vector<std::map<std::string, double>> locals_{1};      // #<name>, per call level (the main program's first)
+  double value_ = 0.0, value_returned_ = 0.0;                 // #<_value>, #<_value_returned>
+  std::vector<std::optional<OLine>> o_lines_;                 // per line (0-based)
+  std::map<std::string, Sub> subs_;                           // by label
+  std::vector<Frame> calls_;
+  std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
 };
 

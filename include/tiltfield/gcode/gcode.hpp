@@ -53,6 +53,9 @@ struct GcodeOptions {
   std::map<int, double> tool_lengths;
   double tool_length = 0.0;  // the scene's `tool`: gauge length, mm
   int start_tool = 0;        // the tool number in the spindle before the first M6 (Block::tool)
+  // Lines a program's loops and calls may run in all (each pass of a loop counts its lines again) before
+  // the program is refused as one whose loop does not end. Default 10 000 000.
+  long max_lines_run = 10'000'000;
 };
 
 // The options for programs run on `scene`: its work offsets, tool library and tool.

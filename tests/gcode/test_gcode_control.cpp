@@ -1,0 +1,72 @@
+// O-word subroutines and control flow in the G-code reader (rs274 judges a whole program of them in
+// test_rs274_judge.cpp): what it does not cover, and the errors naming the O-word and its line.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "gcode_test_util.hpp"
+
+namespace tf {
+namespace {
+
+using test::expect_gcode_error;
+using test::parse_program;
+
+std::vector<double> xs(const Program& p) {
+  std::vector<double> out;
+  for (const Block& b : p.blocks) out.push_back(b.target.x);
+  return out;
+}
+
+TEST(GcodeControl, CallsFindSubroutinesAnywhereInTheFile) {
+  // The call comes first; the definition is not run where it stands.
+  const Program p = parse_program("G0 X0 Y0 Z0\no<hop> call [5]\nG1 X1 F100\no<hop> sub\n  G0 X#1\no<hop> endsub\nM2\n");
+  EXPECT_EQ(xs(p), (std::vector<double>{0, 5, 1}));
+}
+
+TEST(GcodeControl, RepeatCountsAndLevels) {
+  // REPEAT rounds its count to the nearest whole, halves to even (rs274: 2.5 passes twice, 2.7 three times);
+  // none for 0 or less. #<_call_level> is 1 inside a call.
+  const Program p = parse_program(
+      "G0 X0 Y0 Z0\nG91\no1 repeat [2.5]\nG0 X1\no1 endrepeat\no2 repeat [2.7]\nG0 X10\no2 endrepeat\n"
+      "o3 repeat [0]\nG0 X100\no3 endrepeat\no4 sub\nG0 X#<_call_level>\no4 endsub\no4 call\n");
+  EXPECT_EQ(xs(p), (std::vector<double>{0, 1, 2, 12, 22, 32, 33}));
+}
+
+TEST(GcodeControl, EndInsideASubroutineEndsTheProgram) {
+  const Program p = parse_program("G0 X0 Y0 Z0\no1 sub\nG0 X1\nM2\no1 endsub\no1 call\nG0 X9\n");
+  EXPECT_EQ(xs(p), (std::vector<double>{0, 1}));
+}
+
+TEST(GcodeControl, ErrorsNameTheOWord) {
+  const struct {
+    const char* text;
+    int line;
+    const char* field;
+  } refused[] = {
+      {"G0 X0\nO<probe> call\n", 2, "O<PROBE>"},                      // no such subroutine here
+      {"G0 X0\no100 sub\nG0 X1\n", 2, "O100"},                        // no ENDSUB
+      {"G0 X0\no100 endsub\n", 2, "O100"},                            // no SUB
+      {"o1 sub\no2 sub\no2 endsub\no1 endsub\n", 2, "O2"},            // defined inside another
+      {"o1 sub\no1 endsub\no1 sub\no1 endsub\n", 3, "O1"},            // defined twice
+      {"G0 X0\no1 return\n", 2, "O1"},                                // outside a call
+      {"o1 sub\no1 call\no1 endsub\no1 call\n", 2, "O1"},             // recursion without end (depth 100)
+      {"G0 X0\no200 if [0]\nG0 X1\n", 2, "O200"},                     // IF without ENDIF
+      {"G0 X0\no3 endwhile\n", 2, "O3"},                              // ENDWHILE without WHILE
+      {"G0 X0\no3 while [1]\no3 endrepeat\n", 3, "O3"},               // the wrong end
+      {"G0 X0\no4 break\n", 2, "O4"},                                 // outside a loop
+      {"G0 X0\no5 if 1\no5 endif\n", 2, "O5"},                        // arguments are bracketed
+      {"G0 X0\no5 if [1] [2]\no5 endif\n", 2, "O5"},                  // one condition
+      {"o6 sub\no6 endsub\no6 call [1] [2] [3] [4] [5] [6] [7] [8] [9] [10] [11] [12] [13] [14] [15] [16] [17] "
+       "[18] [19] [20] [21] [22] [23] [24] [25] [26] [27] [28] [29] [30] [31]\n", 3, "O6"},  // 31 arguments
+      {"G0 X0\no7 if [#<nope>]\no7 endif\n", 2, "#<NOPE>"},           // a condition's error
+      {"G0 X0\nO#1 sub\n", 2, "O#1"},                                 // a label is a number or <name>
+  };
+  for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.field);
+  GcodeOptions few;
+  few.max_lines_run = 1000;  // a loop that does not end is refused, naming the line where the count ran out
+  expect_gcode_error("G0 X0\no1 while [1]\nG91 G0 X1\no1 endwhile\n", 2, "", few);
+}
+
+}  // namespace
+}  // namespace tf
