@@ -33,6 +33,18 @@ TEST(GcodeControl, RepeatCountsAndLevels) {
   EXPECT_EQ(xs(p), (std::vector<double>{0, 1, 2, 12, 22, 32, 33}));
 }
 
+TEST(GcodeControl, ReturnedValues) {
+  // A return without a value clears #<_value> (rs274); a call leaves #<_value_returned> as it was.
+  const Program p = parse_program(
+      "G0 X0 Y0 Z0\no2 sub\no2 return [7]\no2 endsub\no1 sub\nG0 Z#<_value_returned>\no1 return\no1 endsub\n"
+      "o2 call\nG0 X#<_value>\no1 call\nG0 X#<_value> Y#<_value_returned>\n");
+  ASSERT_EQ(p.blocks.size(), 4u);
+  EXPECT_DOUBLE_EQ(p.blocks[1].target.x, 7);
+  EXPECT_DOUBLE_EQ(p.blocks[2].target.z, 1);
+  EXPECT_DOUBLE_EQ(p.blocks[3].target.x, 0);
+  EXPECT_DOUBLE_EQ(p.blocks[3].target.y, 0);
+}
+
 TEST(GcodeControl, EndInsideASubroutineEndsTheProgram) {
   const Program p = parse_program("G0 X0 Y0 Z0\no1 sub\nG0 X1\nM2\no1 endsub\no1 call\nG0 X9\n");
   EXPECT_EQ(xs(p), (std::vector<double>{0, 1}));
@@ -50,7 +62,8 @@ TEST(GcodeControl, ErrorsNameTheOWord) {
       {"o1 sub\no2 sub\no2 endsub\no1 endsub\n", 2, "O2"},            // defined inside another
       {"o1 sub\no1 endsub\no1 sub\no1 endsub\n", 3, "O1"},            // defined twice
       {"G0 X0\no1 return\n", 2, "O1"},                                // outside a call
-      {"o1 sub\no1 call\no1 endsub\no1 call\n", 2, "O1"},             // recursion without end (depth 100)
+      {"o1 sub\no1 call\no1 endsub\no1 call\n", 2, "O1"},             // recursion: 9 levels deep at most
+      {"G0 X0\no2 repeat [3]\no2 break\no2 endrepeat\n", 3, "O2"},     // BREAK only in WHILE and DO
       {"G0 X0\no200 if [0]\nG0 X1\n", 2, "O200"},                     // IF without ENDIF
       {"G0 X0\no3 endwhile\n", 2, "O3"},                              // ENDWHILE without WHILE
       {"G0 X0\no3 while [1]\no3 endrepeat\n", 3, "O3"},               // the wrong end
@@ -64,8 +77,8 @@ TEST(GcodeControl, ErrorsNameTheOWord) {
   };
   for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.field);
   GcodeOptions few;
-  few.max_lines_run = 1000;  // a loop that does not end is refused, naming the line where the count ran out
-  expect_gcode_error("G0 X0\no1 while [1]\nG91 G0 X1\no1 endwhile\n", 2, "", few);
+  few.max_lines_run = 1000;  // beyond the file's own lines  // a loop that does not end is refused, naming the line where the count ran out
+  expect_gcode_error("G0 X0\no1 while [1]\nG91 G0 X1\no1 endwhile\n", 4, "", few);
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 namespace tf::gcode {
 namespace {
 
-constexpr size_t kMaxCallDepth = 100;
+constexpr size_t kMaxCallDepth = 9;  // rs274: "Too many subroutine levels" at level 10
 constexpr size_t kArguments = 30;
 
 }  // namespace
@@ -25,9 +25,10 @@ void Reader::run(const std::vector<std::string_view>& lines) {
   for (size_t next = 0; next < lines.size() && !st_.ended;) {
     const size_t at = next++;
     const int number = static_cast<int>(at) + 1;
-    if (++run_lines > options_.max_lines_run)
+    // The program's own lines, and as many again from its loops and calls.
+    if (++run_lines > options_.max_lines_run + static_cast<long>(lines.size()))
       throw InputError(file_, number, "", "more than " + std::to_string(options_.max_lines_run) +
-                                             " lines run (GcodeOptions::max_lines_run): a loop that does not end?");
+                                             " lines run beyond the program's own (GcodeOptions::max_lines_run): a loop that does not end?");
     const std::optional<std::string> code = code_of(lines[at], number);
     if (!code || code->empty()) continue;
     if (o_lines_[at]) {
@@ -133,7 +134,7 @@ void Reader::call(const OLine& o, int number, size_t& next) {
     throw InputError(file_, number, o.word.name(),
                      "subroutine not defined in this file (subroutine files on LinuxCNC's SUBROUTINE_PATH are not read)");
   if (calls_.size() >= kMaxCallDepth)
-    throw InputError(file_, number, o.word.name(), "subroutine calls nested deeper than 100 (a recursion that does not end?)");
+    throw InputError(file_, number, o.word.name(), "subroutine calls nested more than 9 deep (LinuxCNC's limit; a recursion that does not end?)");
   const std::vector<double> args = o_word_values(o.code, o.word, file_, number, *this);  // in the caller's scope
   if (args.size() > kArguments) throw InputError(file_, number, o.word.name(), "more than 30 arguments");
   Frame f{next, {}, loops_.size()};
@@ -141,7 +142,6 @@ void Reader::call(const OLine& o, int number, size_t& next) {
   calls_.push_back(f);
   locals_.emplace_back();
   for (size_t k = 1; k <= kArguments; ++k) numbered_[k] = k <= args.size() ? args[k - 1] : 0.0;
-  value_returned_ = 0.0;
   next = it->second.begin + 1;
 }
 
@@ -150,7 +150,7 @@ void Reader::return_from(const OLine& o, int number, size_t& next) {
   const std::vector<double> v = o_word_values(o.code, o.word, file_, number, *this);
   if (v.size() > 1) throw InputError(file_, number, o.word.name(), "a subroutine returns one value");
   value_returned_ = v.empty() ? 0.0 : 1.0;
-  if (!v.empty()) value_ = v[0];
+  value_ = v.empty() ? 0.0 : v[0];  // rs274 clears it on a return without a value
   const Frame f = calls_.back();
   calls_.pop_back();
   locals_.pop_back();
@@ -186,13 +186,14 @@ void Reader::break_or_continue(const OLine& o, size_t at, size_t& next) {
   loops_.resize(i);
   const bool leave = o.word.keyword == "BREAK";
   const LoopKind kind = loops_.back().kind;
+  if (kind == LoopKind::Repeat)  // rs274 refuses them there too
+    throw InputError(file_, static_cast<int>(at) + 1, o.word.name(), o.word.keyword + " in a REPEAT loop (only WHILE and DO)");
   if (kind == LoopKind::While) {
     next = leave ? find_o_word(at, o.word, {"ENDWHILE"}) + 1 : loops_.back().head;
     loops_.pop_back();  // CONTINUE: the WHILE opens it again if its condition holds
     return;
   }
-  // REPEAT's ENDREPEAT counts the pass; DO's WHILE tests its condition.
-  const size_t end = find_o_word(at, o.word, {kind == LoopKind::Repeat ? "ENDREPEAT" : "WHILE"});
+  const size_t end = find_o_word(at, o.word, {"WHILE"});  // DO's WHILE tests its condition
   if (leave) loops_.pop_back();
   next = leave ? end + 1 : end;
 }

@@ -53,8 +53,8 @@ struct GcodeOptions {
   std::map<int, double> tool_lengths;
   double tool_length = 0.0;  // the scene's `tool`: gauge length, mm
   int start_tool = 0;        // the tool number in the spindle before the first M6 (Block::tool)
-  // Lines a program's loops and calls may run in all (each pass of a loop counts its lines again) before
-  // the program is refused as one whose loop does not end. Default 10 000 000.
+  // Lines a program's loops and calls may run beyond the file's own count (each pass of a loop counts its
+  // lines again) before the program is refused as one whose loop does not end. Default 10 000 000.
   long max_lines_run = 10'000'000;
 };
 
