@@ -3,6 +3,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <string>
 
 #include "tiltfield/core/error.hpp"
@@ -25,6 +26,17 @@ inline void expect_gcode_error(const std::string& text, int line, const std::str
     EXPECT_EQ(e.line(), line) << e.what() << "\n" << text;
     EXPECT_EQ(e.field(), field) << e.what() << "\n" << text;
   }
+}
+
+// One refused program: its text, the line and the field the error names.
+struct Refused {
+  std::string text;
+  int line;
+  std::string field;
+};
+
+inline void expect_refused(std::initializer_list<Refused> cases) {
+  for (const Refused& c : cases) expect_gcode_error(c.text, c.line, c.field);
 }
 
 }  // namespace tf::test

@@ -10,6 +10,7 @@ namespace tf {
 namespace {
 
 using test::expect_gcode_error;
+using test::expect_refused;
 using test::parse_program;
 
 std::vector<double> xs(const Program& p) {
@@ -51,11 +52,7 @@ TEST(GcodeControl, EndInsideASubroutineEndsTheProgram) {
 }
 
 TEST(GcodeControl, ErrorsNameTheOWord) {
-  const struct {
-    const char* text;
-    int line;
-    const char* field;
-  } refused[] = {
+  expect_refused({
       {"G0 X0\nO<probe> call\n", 2, "O<PROBE>"},                      // no such subroutine here
       {"G0 X0\no100 sub\nG0 X1\n", 2, "O100"},                        // no ENDSUB
       {"G0 X0\no100 endsub\n", 2, "O100"},                            // no SUB
@@ -74,8 +71,7 @@ TEST(GcodeControl, ErrorsNameTheOWord) {
        "[18] [19] [20] [21] [22] [23] [24] [25] [26] [27] [28] [29] [30] [31]\n", 3, "O6"},  // 31 arguments
       {"G0 X0\no7 if [#<nope>]\no7 endif\n", 2, "#<NOPE>"},           // a condition's error
       {"G0 X0\nO#1 sub\n", 2, "O#1"},                                 // a label is a number or <name>
-  };
-  for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.field);
+  });
   GcodeOptions few;
   few.max_lines_run = 1000;  // beyond the file's own lines  // a loop that does not end is refused, naming the line where the count ran out
   expect_gcode_error("G0 X0\no1 while [1]\nG91 G0 X1\no1 endwhile\n", 4, "", few);

@@ -12,6 +12,7 @@ namespace tf {
 namespace {
 
 using test::expect_gcode_error;
+using test::expect_refused;
 using test::parse_program;
 
 // X's value in "G1 X<value>" after "#1 = 2" and "#<abc> = 5".
@@ -80,11 +81,7 @@ TEST(GcodeExpressions, SystemAndPredefinedParametersReadTheState) {
 }
 
 TEST(GcodeExpressions, ErrorsNameTheWordOrOperator) {
-  const struct {
-    std::string text;
-    int line;
-    std::string field;
-  } refused[] = {
+  expect_refused({
       {"G0 X0\nG1 X#<zz> F1\n", 2, "#<ZZ>"},       // undefined named parameter
       {"G1 X[1/0] F1\n", 1, "/"},                   // division by zero
       {"G1 X[1 MOD 0] F1\n", 1, "MOD"},
@@ -114,8 +111,7 @@ TEST(GcodeExpressions, ErrorsNameTheWordOrOperator) {
       {"G1 X1[2] F1\n", 1, "X1["},
       {"G1 X[EXP[100]] F1\n", 1, "EXP"},            // beyond 1e9
       {"G0 X0\no100 sub\n", 2, "O100"},             // subroutines stay refused
-  };
-  for (const auto& r : refused) expect_gcode_error(r.text, r.line, r.field);
+  });
   // Brackets nested beyond reason are refused, not recursed into until the stack ends.
   const std::string deep = "G1 X" + std::string(200, '[') + "1" + std::string(200, ']') + " F1\n";
   try {

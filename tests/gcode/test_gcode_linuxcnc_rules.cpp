@@ -105,16 +105,6 @@ TEST(GcodeLinuxcncRules, WordsNothingUsesAreRefused) {
 }
 
 // A program LinuxCNC's rs274 refuses, the line it stops at and the word or code named.
-struct Refused {
-  const char* text;
-  int line;
-  const char* field;
-};
-
-void expect_refused(std::initializer_list<Refused> cases) {
-  for (const Refused& c : cases) expect_gcode_error(c.text, c.line, c.field);
-}
-
 // P, Q, L, H and D with nothing in the block to use them, as LinuxCNC's rs274 refuses each ("P word with
 // no G2 G3 G4 ... to use it"); and each with a code that uses it, which it accepts.
 TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
