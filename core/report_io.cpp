@@ -88,6 +88,8 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
   j["holder_sweep_error_mm"] = num(r.holder_sweep_error_mm, 6);
   j["sweep_tolerance_mm"] = num(r.sweep_tolerance_mm, 6);
   j["holder_tolerance_mm"] = num(r.holder_tolerance_mm, 6);
+  j["gouge_tolerance_mm"] = num(r.gouge_tolerance_mm, 6);
+  j["collision_tolerance_mm"] = num(r.collision_tolerance_mm, 6);
   j["excess"] = {{"samples", r.excess.samples},
                  {"mean_mm", num(r.excess.mean_mm, 4)},
                  {"p95_mm", num(r.excess.p95_mm, 4)},

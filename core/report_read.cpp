@@ -113,6 +113,8 @@ void read_figures(const json& j, const std::string& file, VerifyReport& r) {
   r.holder_sweep_error_mm = jf::number_or(j, "holder_sweep_error_mm", nan, file, "");
   r.sweep_tolerance_mm = jf::number_or(j, "sweep_tolerance_mm", nan, file, "");
   r.holder_tolerance_mm = jf::number_or(j, "holder_tolerance_mm", nan, file, "");
+  r.gouge_tolerance_mm = jf::number_or(j, "gouge_tolerance_mm", nan, file, "");
+  r.collision_tolerance_mm = jf::number_or(j, "collision_tolerance_mm", nan, file, "");
   r.memory_bytes = static_cast<size_t>(jf::number_or(j, "memory_mb", 0.0, file, "") * 1048576.0);
   if (j.contains("stopped_at_first_collision")) r.stopped_early = boolean(j, "stopped_at_first_collision", file, "");
   if (j.contains("excess")) {

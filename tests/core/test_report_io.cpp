@@ -24,6 +24,8 @@ VerifyReport sample_report() {
   r.seconds = 1.25;
   r.sweep_error_mm = 0.004;
   r.holder_sweep_error_mm = 0.03;
+  r.gouge_tolerance_mm = 0.02;
+  r.collision_tolerance_mm = 0.005;
   Collision c;
   c.block = 2;
   c.line = 7;
@@ -75,6 +77,8 @@ TEST(ReportIo, VerifyJsonRoundTrip) {
   EXPECT_EQ(r.rays, 300u);
   EXPECT_EQ(r.material_rays, 120u);
   EXPECT_DOUBLE_EQ(r.holder_sweep_error_mm, 0.03);
+  EXPECT_DOUBLE_EQ(r.gouge_tolerance_mm, 0.02);
+  EXPECT_DOUBLE_EQ(r.collision_tolerance_mm, 0.005);
   ASSERT_EQ(r.collisions.size(), 1u);
   const Collision& c = r.collisions[0];
   EXPECT_EQ(c.block, 2);

@@ -168,6 +168,58 @@ TEST_F(VerifyCli, CollisionsAndFailOnCollision) {
   EXPECT_EQ(r.code, 1) << r.err;
 }
 
+// --gouge-tolerance and --collision-tolerance: a 0.03 mm over-cut of the design's top (z 8) is a gouge at
+// the default 0.01 and not at 0.05 (its depth still reported); a holder face 0.03 mm into the stock's
+// top is a collision at the default 0.001 and contact at 0.05. Both tolerances are in the report; a bad
+// one is exit 2 naming the option.
+TEST_F(VerifyCli, GougeAndCollisionTolerances) {
+  const std::string scene = (dir / "scene.json").string(), out = (dir / "v.json").string();
+  auto report = [&] {
+    std::ifstream in(out);
+    return nlohmann::json::parse(in);
+  };
+  write(dir / "over.ngc", "G0 X5 Y15 Z20\nG1 Z7.97 F600\nG1 X35 F1200\nG0 Z20\n");
+  const std::string gouge = "verify " + scene + " " + (dir / "over.ngc").string() + " -o " + out + " --resolution 0.25";
+  CliRun r = tiltfield(gouge, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = report();
+  EXPECT_FALSE(j["gouges"].empty());
+  // The rays nearest the ball's lowest line may lie half a spacing beside it: h^2 / 8R = 0.0026 mm higher.
+  EXPECT_NEAR(j["max_gouge_mm"].get<double>(), 0.03, 0.003);
+  EXPECT_EQ(j["gouge_tolerance_mm"].get<double>(), 0.01);
+  r = tiltfield(gouge + " --gouge-tolerance 0.05", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = report();
+  EXPECT_TRUE(j["gouges"].empty());
+  EXPECT_NEAR(j["max_gouge_mm"].get<double>(), 0.03, 0.003);
+  EXPECT_EQ(j["gouge_tolerance_mm"].get<double>(), 0.05);
+
+  write(dir / "dip.ngc", "G0 X20 Y15 Z40\nG1 Z-10.03 F300\nG0 Z40\n");  // the holder face (tip + 20) at 9.97
+  const std::string dip = "verify " + scene + " " + (dir / "dip.ngc").string() + " -o " + out + " --resolution 0.25";
+  r = tiltfield(dip, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = report();
+  ASSERT_EQ(j["collisions"].size(), 1u) << j["collisions"].dump();
+  EXPECT_EQ(j["collisions"][0]["component"], "holder");
+  EXPECT_NEAR(j["collisions"][0]["depth_mm"].get<double>(), 0.03, 0.002);
+  EXPECT_EQ(j["collision_tolerance_mm"].get<double>(), 0.001);
+  r = tiltfield(dip + " --collision-tolerance 0.05", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = report();
+  EXPECT_TRUE(j["collisions"].empty()) << j["collisions"].dump();
+  EXPECT_EQ(j["collision_tolerance_mm"].get<double>(), 0.05);
+
+  fs::remove(out);
+  for (const std::string bad : {"--gouge-tolerance -0.01", "--gouge-tolerance nan", "--collision-tolerance -1",
+                                "--collision-tolerance inf"}) {
+    r = tiltfield(dip + " " + bad, dir);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+}
+
 TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
   write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X5 A10 F100\n");
   CliRun r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);

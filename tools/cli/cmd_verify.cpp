@@ -1,5 +1,6 @@
 // `tiltfield verify SCENE PROGRAM.ngc -o VERIFY.json [--blocks BLOCKS.csv] [--stock-mesh STOCK.ply]
-//  [--html REPORT.html] [--mesh-tolerance MM] [--resolution MM] [--engagement PAIRS.csv]`: tri-dexel
+//  [--html REPORT.html] [--mesh-tolerance MM] [--resolution MM] [--gouge-tolerance MM] [--collision-tolerance MM]
+//  [--engagement PAIRS.csv]`: tri-dexel
 // material-removal simulation of a G-code program (docs/verifier.md), its compact stock mesh and its HTML
 // report (docs/report.md). With `--schedule-feed V`, -o names the rewritten program instead
 // (docs/engagement.md).
@@ -32,6 +33,8 @@ struct VerifyArgs {
   double resolution = 0.1;
   double tolerance = 0.01;
   double holder_tolerance = 0.05;
+  double gouge_tolerance = 0.01;
+  double collision_tolerance = 0.001;
   int mesh_refine = 0;
   bool stop_at_first = false;
   bool fail_on_collision = false;
@@ -41,6 +44,10 @@ void run_verify(const VerifyArgs& a) {
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
+  if (!(a.gouge_tolerance >= 0.0) || !std::isfinite(a.gouge_tolerance))
+    throw InputError("", 0, "--gouge-tolerance", "must be a number of mm >= 0");
+  if (!(a.collision_tolerance >= 0.0) || !std::isfinite(a.collision_tolerance))
+    throw InputError("", 0, "--collision-tolerance", "must be a number of mm >= 0");
   if (!(a.engagement.angle_step_deg > 0.0 && a.engagement.angle_step_deg <= 45.0))
     throw InputError("", 0, "--engagement-angle-step", "must be a number of degrees in (0, 45]");
   if (!(a.engagement.axial_step_mm >= 0.0) || !std::isfinite(a.engagement.axial_step_mm))
@@ -61,6 +68,8 @@ void run_verify(const VerifyArgs& a) {
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;
   opt.sweep.holder_tolerance = a.holder_tolerance;
+  opt.gouge_tolerance = a.gouge_tolerance;
+  opt.collision_tolerance = a.collision_tolerance;
   opt.stop_at_first_collision = a.stop_at_first;
   if (!a.no_engagement) {
     EngagementOptions eo = a.engagement;
@@ -139,6 +148,11 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--tolerance", args.tolerance, "5-axis sub-step error bound of the cutting parts, mm (default 0.01)");
   cmd->add_option("--holder-tolerance", args.holder_tolerance,
                   "5-axis sub-step error bound of shank and holder (collision only), mm (default 0.05)");
+  cmd->add_option("--gouge-tolerance", args.gouge_tolerance,
+                  "over-cuts of the design deeper than this (and than the block's sweep bound) are gouges, mm (default 0.01)");
+  cmd->add_option("--collision-tolerance", args.collision_tolerance,
+                  "overlaps of shank, holder or a rapid with stock, check surfaces or fixtures up to this deep are contact, "
+                  "not collision, mm (default 0.001)");
   cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
       ->check(CLI::Range(0, 4));
   cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");

@@ -53,6 +53,8 @@ VerifyResult Simulator::run() {
   rep.resolution_mm = lattice_.h;
   rep.sweep_tolerance_mm = opt_.sweep.tolerance;
   rep.holder_tolerance_mm = opt_.sweep.holder_tolerance;
+  rep.gouge_tolerance_mm = opt_.gouge_tolerance;
+  rep.collision_tolerance_mm = opt_.collision_tolerance;
   rep.rays = stock_.ray_count();
   rep.material_rays = stock_.material_rays();
   rep.stock_volume_start_mm3 = stock_.volume();

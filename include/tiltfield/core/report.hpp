@@ -125,6 +125,8 @@ struct VerifyReport {
   double holder_sweep_error_mm = 0.0;  // the same for shank and holder
   double sweep_tolerance_mm = 0.0;     // the bounds asked for (--tolerance, --holder-tolerance)
   double holder_tolerance_mm = 0.0;
+  double gouge_tolerance_mm = 0.0;      // over-cuts listed as gouges beyond this (--gouge-tolerance)
+  double collision_tolerance_mm = 0.0;  // overlaps up to this deep are contact (--collision-tolerance)
   size_t memory_bytes = 0;             // tri-dexel stock at the end
   bool stopped_early = false;
   ExcessStats excess;
