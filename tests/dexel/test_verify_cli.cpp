@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -33,6 +34,19 @@ CliRun tiltfield(const std::string& args, const fs::path& dir) {
 }
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// Each of `bad` ("--option value") appended to `command`: exit 2, one line naming the option, `out` not written.
+void expect_options_refused(const std::string& command, std::initializer_list<std::string> bad, const fs::path& out,
+                            const fs::path& dir) {
+  fs::remove(out);
+  for (const std::string& option : bad) {
+    const CliRun r = tiltfield(command + " " + option, dir);
+    EXPECT_EQ(r.code, 2) << option;
+    EXPECT_NE(r.err.find(option.substr(0, option.find(' '))), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
+    EXPECT_FALSE(fs::exists(out)) << option;
+  }
+}
 
 class VerifyCli : public ::testing::Test {
  protected:
@@ -209,15 +223,9 @@ TEST_F(VerifyCli, GougeAndCollisionTolerances) {
   EXPECT_TRUE(j["collisions"].empty()) << j["collisions"].dump();
   EXPECT_EQ(j["collision_tolerance_mm"].get<double>(), 0.05);
 
-  fs::remove(out);
-  for (const std::string bad : {"--gouge-tolerance -0.01", "--gouge-tolerance nan", "--collision-tolerance -1",
-                                "--collision-tolerance inf"}) {
-    r = tiltfield(dip + " " + bad, dir);
-    EXPECT_EQ(r.code, 2) << bad;
-    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
-    EXPECT_FALSE(fs::exists(out)) << bad;
-  }
+  expect_options_refused(
+      dip, {"--gouge-tolerance -0.01", "--gouge-tolerance nan", "--collision-tolerance -1", "--collision-tolerance inf"},
+      out, dir);
 }
 
 TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
@@ -298,15 +306,10 @@ TEST_F(VerifyCli, EngagementSamplingOptions) {
   const auto fine = slot_heights();
   EXPECT_GE(coarse, 5) << "the default: rings about 0.31 mm apart over the ball's 3 mm";
   EXPECT_GE(fine, 2 * coarse) << "rings 0.1 mm apart";
-  fs::remove(dir / "v.json");
-  for (const std::string bad : {"--engagement-angle-step 0", "--engagement-angle-step 90", "--engagement-axial-step -1",
-                                "--engagement-axial-step nan"}) {
-    r = tiltfield(base + " " + bad, dir);
-    EXPECT_EQ(r.code, 2) << bad;
-    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line\n" << r.err;
-    EXPECT_FALSE(fs::exists(dir / "v.json")) << bad;
-  }
+  expect_options_refused(base,
+                         {"--engagement-angle-step 0", "--engagement-angle-step 90", "--engagement-axial-step -1",
+                          "--engagement-axial-step nan"},
+                         dir / "v.json", dir);
 }
 
 TEST_F(VerifyCli, SceneWithoutDesignSaysNoGougesWereComputed) {
