@@ -207,6 +207,11 @@ TEST_F(VerifyCli, GougeAndCollisionTolerances) {
   EXPECT_TRUE(j["gouges"].empty());
   EXPECT_NEAR(j["max_gouge_mm"].get<double>(), 0.03, 0.003);
   EXPECT_EQ(j["gouge_tolerance_mm"].get<double>(), 0.05);
+  r = tiltfield(gouge + " --gouge-tolerance 0.5", dir);  // a coarse tolerance hides no depth
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = report();
+  EXPECT_TRUE(j["gouges"].empty());
+  EXPECT_NEAR(j["max_gouge_mm"].get<double>(), 0.03, 0.003);
 
   write(dir / "dip.ngc", "G0 X20 Y15 Z40\nG1 Z-10.03 F300\nG0 Z40\n");  // the holder face (tip + 20) at 9.97
   const std::string dip = "verify " + scene + " " + (dir / "dip.ngc").string() + " -o " + out + " --resolution 0.25";

@@ -151,8 +151,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--gouge-tolerance", args.gouge_tolerance,
                   "over-cuts of the design deeper than this (and than the block's sweep bound) are gouges, mm (default 0.01)");
   cmd->add_option("--collision-tolerance", args.collision_tolerance,
-                  "overlaps of shank, holder or a rapid with stock, check surfaces or fixtures up to this deep are contact, "
-                  "not collision, mm (default 0.001)");
+                  "overlaps up to this deep are contact, not collision (shank, holder or a rapid in the stock, any part in "
+                  "a check surface or fixture), mm (default 0.001)");
   cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
       ->check(CLI::Range(0, 4));
   cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");

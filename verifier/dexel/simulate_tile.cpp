@@ -17,6 +17,9 @@ namespace {
 // Rows met by at most this many parts gather each ray's hits directly instead of scattering them.
 constexpr size_t kFewRowParts = 3;
 
+// Over-cuts estimated along a ray at most this deep (mm) are not measured (record_gouge).
+constexpr double kGougeQueryDepth = 0.0025;
+
 // ceil and floor to a lattice index, without a libm call on baseline x86-64; far-off values (a block
 // from a mistyped coordinate) are clamped first, well inside int.
 int ceil_index(double x) {
@@ -385,8 +388,10 @@ void Simulator::record_gouge(int d, int iu, int iv, Accum& acc) const {
   double at = 0.0;
   const double est = gouge_depth(design_->begin(d, iu, iv), design_->end(d, iu, iv), acc.removed_pieces, &at);
   // The along-ray estimate selects the point; a point deep inside the part along a ray parallel to its
-  // surface is much closer to the surface than the ray says, so the depth is its true distance.
-  if (est > 0.25 * opt_.gouge_tolerance) {
+  // surface is much closer to the surface than the ray says, so the depth is its true distance. Shallower
+  // estimates skip the closest-point query: a quarter of the default tolerance, or of a finer one (not of
+  // a coarser one, which would hide over-cuts from max_gouge_mm).
+  if (est > std::min(kGougeQueryDepth, 0.25 * opt_.gouge_tolerance)) {
     Eigen::Vector3d p = lattice_.origin;
     p[Lattice::u_axis(d)] += lattice_.h * iu;
     p[Lattice::v_axis(d)] += lattice_.h * iv;
