@@ -77,5 +77,42 @@ TEST(GcodeControl, ErrorsNameTheOWord) {
   expect_gcode_error("G0 X0\no1 while [1]\nG91 G0 X1\no1 endwhile\n", 4, "", few);
 }
 
+TEST(GcodeControl, FanucSubprogramsRunAsLinuxcncRunsThem) {
+  // L counts runs (L0 none); the first of two programs of one number is the one run (rs274 alike).
+  const Program p = parse_program(
+      "G0 X0 Y0 Z0\nG91\nM98 P10 L2\nN5 M98 P10 L0\nM98 P010\nM30\nO10\nG0 X1\nM99\nO10\nG0 X100\nM99\n");
+  EXPECT_EQ(xs(p), (std::vector<double>{0, 1, 2, 3}));
+  // Words after M98's P and L are ignored, as rs274 ignores them, with a warning.
+  const Program q = parse_program("G0 X0 Y0 Z0\nM98 P10 G91 #2=5\nG0 X#2\nM30\nO10\nG0 X1\nM99\n");
+  EXPECT_EQ(xs(q), (std::vector<double>{0, 1, 0}));
+  ASSERT_EQ(q.warnings.size(), 1u);
+  EXPECT_NE(q.warnings[0].find("M98"), std::string::npos) << q.warnings[0];
+  // M99 in the main program ends it (warned: the controller would run it again).
+  const Program r = parse_program("G0 X0 Y0 Z0\nG0 X1 M99\nG0 X2\n");
+  EXPECT_EQ(xs(r), (std::vector<double>{0, 1}));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("M99"), std::string::npos) << r.warnings[0];
+}
+
+TEST(GcodeControl, FanucSubprogramErrorsNameTheWord) {
+  // Each refused by rs274 too (its messages: no P-word, negative L, non-integer, EOF seeking the O-word,
+  // "must be called with M98", "must end with M99", unknown M code, unexpected character, levels).
+  expect_refused({
+      {"G0 X0\nM98\n", 2, "M98"},                                      // no P
+      {"G0 X0\nM98 P10 L-1\nM30\nO10\nM99\n", 2, "L-1"},             // negative repeat count
+      {"G0 X0\nM98 P10 L2.6\nM30\nO10\nM99\n", 2, "L2.6"},           // not a whole count
+      {"G0 X0\nM98 P10.5\nM30\nO10\nM99\n", 2, "P10.5"},             // not a program number
+      {"G0 X0\nM98 P1000\n", 2, "P1000"},                                // no such program here
+      {"G0 X0\nM98 P10\nM30\no10 sub\no10 endsub\n", 2, "P10"},      // an O-word subroutine
+      {"G0 X0\no10 call\nM30\nO10\nM99\n", 2, "O10"},                 // a Fanuc program called by CALL
+      {"G0 X0\nM98 P10\nM30\nO10\no10 endsub\n", 5, "O10"},           // a program ended by ENDSUB
+      {"G0 X0\no10 call\nM30\no10 sub\nM99\no10 endsub\n", 5, "M99"},  // a subroutine ended by M99
+      {"G0 X0\nG0 X1 M98 P10\nM30\nO10\nM99\n", 2, "M98"},            // M98 opens its line
+      {"G0 X0\nM98 P10\nM30\nO10\nG90 M99\n", 5, "M99"},              // a return stands alone
+      {"G0 X0\nM98 P10\nM30\nO10\nM99 X5\n", 5, "M99"},
+      {"G0 X0\nM98 P1\nM30\nO1\nM98 P1\nM99\n", 5, "M98"},           // 9 levels at most
+  });
+}
+
 }  // namespace
 }  // namespace tf

@@ -53,9 +53,5 @@ TEST(GcodePosts, NumbersAsRs274WritesThem) {
   expect_gcode_error("G0 X0 Y0 Z0\nG1 X1.5e2 F100\n", 2, "X1.5E2");
 }
 
-TEST(GcodePosts, SubprogramCallsAreErrors) {
-  expect_gcode_error("G0 X0\nM98 P1000\n", 2, "M98");
-}
-
 }  // namespace
 }  // namespace tf

@@ -253,6 +253,62 @@ TEST(Rs274Judge, SubroutinesAndControlFlow) {
   expect_same_motion(judge(kControlFlow, library(), trt_joint()), "control flow");
 }
 
+// Fanuc-style subprograms as a Fanuc post writes them: the program number first, M98 P with and without
+// L, calls nested two deep from a called program, N numbers, G91 inside, a subprogram that reads
+// and sets the caller's #1 and its own named parameter, subprograms after the M30, one reached by the main
+// program's own flow after a return (a bare "O" line runs on) and ended by M99 in the main program.
+const char* const kFanucSubprograms = R"(%
+O2000 (judge: M98 / M99)
+N10 G21 G90 G17 G94
+N20 T1 M6
+N30 G43 H1
+N40 G0 X0 Y0 Z10 A0 C0
+N50 #1 = 2
+N60 #<depth> = 1
+N70 M98 P3000 L3
+N80 (L0 runs nothing: test_gcode_control.cpp; this rs274 then keeps the call level raised)
+N90 G1 X#1 Y#<depth> F100
+N100 M98 P4000
+N110 M98 P0005
+N120 G0 Z20
+N130 M30
+O3000 (a row of holes)
+#<depth> = [#1 / 2]
+G91 G1 X5 F200
+G1 Z-#<depth>
+G0 Z#<depth>
+G90
+#1 = [#1 + 1]
+M99
+O4000
+G1 Y7 F150
+M98 P3000 L2
+G1 Y0
+M99
+O5
+G0 X1 Y1
+M99
+)";
+
+// The same flow reached without a call: after the main program's M98, "O6" runs on into its lines and
+// its M99 ends the program (rs274 too: the G1 after it never runs).
+const char* const kFlowIntoProgram = R"(G21 G90 G94
+T1 M6
+G43 H1
+G0 X0 Y0 Z5 A0 C0
+M98 P6
+O6
+G1 X3 F100
+M99
+G1 X9
+)";
+
+TEST(Rs274Judge, FanucSubprograms) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kFanucSubprograms, library(), trt_joint()), "M98/M99");
+  expect_same_motion(judge(kFlowIntoProgram, library(), trt_joint()), "flow into a program");
+}
+
 // On a 3-axis machine with tool length offsets in use the targets are the tool tip: LinuxCNC's position
 // (the spindle nose) less the loaded tool's gauge length.
 TEST(Rs274Judge, ThreeAxisTargetsAreTheTipBelowTheNose) {

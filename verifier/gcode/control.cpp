@@ -14,7 +14,6 @@
 namespace tf::gcode {
 namespace {
 
-constexpr size_t kMaxCallDepth = 9;  // rs274: "Too many subroutine levels" at level 10
 constexpr size_t kArguments = 30;
 
 }  // namespace
@@ -34,14 +33,15 @@ void Reader::run(const std::vector<std::string_view>& lines) {
     if (o_lines_[at]) {
       line_ = number;
       control(*o_lines_[at], at, next);
-    } else {
+    } else if (!fanuc_line(*code, at, next)) {
       execute(*code, number);
     }
   }
 }
 
-// Every O-word line, and each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
-// further down). A line that cannot be read is left to the run, which reports it if it gets there.
+// Every O-word line, each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
+// further down) and each Fanuc-style program's "O1000" line (the first, as rs274 finds it). A line that
+// cannot be read is left to the run, which reports it if it gets there.
 void Reader::scan_o_words(const std::vector<std::string_view>& lines) {
   o_lines_.assign(lines.size(), std::nullopt);
   std::optional<std::pair<std::string, size_t>> open;  // the subroutine being defined: label, line
@@ -64,7 +64,10 @@ void Reader::scan_o_words(const std::vector<std::string_view>& lines) {
       continue;
     }
     const std::optional<OWord> o = o_word(code);
-    if (!o) continue;
+    if (!o) {
+      if (const std::optional<std::string> n = program_number(code)) programs_.emplace(*n, i);
+      continue;
+    }
     const int number = static_cast<int>(i) + 1;
     if (o->keyword == "SUB") {
       if (open) throw InputError(file_, number, o->name(), "a subroutine defined inside another (O" + open->first + ")");
@@ -130,23 +133,33 @@ void Reader::control(const OLine& o, size_t at, size_t& next) {
 
 void Reader::call(const OLine& o, int number, size_t& next) {
   const auto it = subs_.find(o.word.label);
-  if (it == subs_.end())
+  if (it == subs_.end()) {
+    if (programs_.count(o.word.label))
+      throw InputError(file_, number, o.word.name(), "a Fanuc-style program (" + o.word.name() + " ... M99): M98 P" + o.word.label + " calls it");
     throw InputError(file_, number, o.word.name(),
                      "subroutine not defined in this file (subroutine files on LinuxCNC's SUBROUTINE_PATH are not read)");
-  if (calls_.size() >= kMaxCallDepth)
-    throw InputError(file_, number, o.word.name(), "subroutine calls nested more than 9 deep (LinuxCNC's limit; a recursion that does not end?)");
+  }
   const std::vector<double> args = o_word_values(o.code, o.word, file_, number, *this);  // in the caller's scope
   if (args.size() > kArguments) throw InputError(file_, number, o.word.name(), "more than 30 arguments");
   Frame f{next, {}, loops_.size()};
   std::copy_n(numbered_.begin(), f.saved.size(), f.saved.begin());
-  calls_.push_back(f);
-  locals_.emplace_back();
+  enter_call(f, number, o.word.name());
   for (size_t k = 1; k <= kArguments; ++k) numbered_[k] = k <= args.size() ? args[k - 1] : 0.0;
   next = it->second.begin + 1;
 }
 
+// A new call level (an O-word call or M98): its frame and its own named parameters.
+void Reader::enter_call(const Frame& f, int number, const std::string& field) {
+  if (calls_.size() >= kMaxCallDepth)
+    throw InputError(file_, number, field, "subroutine calls nested more than 9 deep (LinuxCNC's limit; a recursion that does not end?)");
+  calls_.push_back(f);
+  locals_.emplace_back();
+}
+
 void Reader::return_from(const OLine& o, int number, size_t& next) {
   if (calls_.empty()) throw InputError(file_, number, o.word.name(), o.word.keyword + " outside a subroutine call");
+  if (calls_.back().fanuc)
+    throw InputError(file_, number, o.word.name(), o.word.keyword + " in a program M98 ran: it ends with M99");
   const std::vector<double> v = o_word_values(o.code, o.word, file_, number, *this);
   if (v.size() > 1) throw InputError(file_, number, o.word.name(), "a subroutine returns one value");
   value_returned_ = v.empty() ? 0.0 : 1.0;

@@ -357,6 +357,19 @@ class LineParser {
 
 }  // namespace
 
+namespace {
+
+// The digits of an O number from code[1], leading zeros dropped, and where they end (i stays 1 when none).
+std::string number_label(const std::string& code, size_t& i) {
+  i = 1;
+  while (i < code.size() && digit(code[i])) ++i;
+  std::string label = code.substr(1, i - 1);
+  if (!label.empty()) label.erase(0, std::min(label.find_first_not_of('0'), label.size() - 1));
+  return label;
+}
+
+}  // namespace
+
 std::optional<OWord> o_word(const std::string& code) {
   if (code.size() < 2 || code[0] != 'O') return std::nullopt;
   OWord o;
@@ -367,10 +380,8 @@ std::optional<OWord> o_word(const std::string& code) {
     o.label = code.substr(1, close);
     i = close + 1;
   } else {
-    while (i < code.size() && digit(code[i])) ++i;
+    o.label = number_label(code, i);
     if (i == 1) return std::nullopt;
-    o.label = code.substr(1, i - 1);
-    o.label.erase(0, std::min(o.label.find_first_not_of('0'), o.label.size() - 1));
   }
   const size_t k = i;
   while (i < code.size() && alpha(code[i])) ++i;
@@ -383,6 +394,14 @@ std::optional<OWord> o_word(const std::string& code) {
       return o;
     }
   return std::nullopt;
+}
+
+std::optional<std::string> program_number(const std::string& code) {
+  if (code.size() < 2 || code[0] != 'O') return std::nullopt;
+  size_t i = 1;
+  std::string label = number_label(code, i);
+  if (i == 1 || i != code.size()) return std::nullopt;
+  return label;
 }
 
 std::vector<double> o_word_values(const std::string& code, const OWord& o, const std::string& file, int line,

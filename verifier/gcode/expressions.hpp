@@ -49,6 +49,10 @@ struct OWord {
 // program number included).
 std::optional<OWord> o_word(const std::string& code);
 
+// The number of a Fanuc-style program line, "O1000" alone (what M98 P1000 calls; the main program's own
+// number too), leading zeros dropped as in OWord::label; nullopt for any other line.
+std::optional<std::string> program_number(const std::string& code);
+
 // The bracketed values after an O-word ("[1] [#2 * 3]": a call's arguments, a condition, a return value),
 // evaluated now. Throws InputError on anything else after the O-word or a bad expression.
 std::vector<double> o_word_values(const std::string& code, const OWord& o, const std::string& file, int line,

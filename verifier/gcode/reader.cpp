@@ -202,7 +202,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
     throw InputError(file_, line, "G53", "G53 without axis words");
   }
   for (int m : ms)
-    if (m == 20 || m == 300) st_.ended = true;
+    if (m == 20 || m == 300 || m == 990) st_.ended = true;
 }
 
 // A word the block has nothing to use for is refused, as LinuxCNC does ("I word with no G2 or G3 to use
@@ -402,8 +402,13 @@ void Reader::apply_m_codes(const std::vector<int>& ms, const Values& val, int li
       }
       case 1280: st_.tcp = true; st_.tcp_g434 = false; break;
       case 1290: st_.tcp = false; st_.tcp_g434 = false; break;
-      case 980: case 990:
-        throw InputError(file_, line, code_name('M', m), "subprogram calls are not supported");
+      case 980:  // a call opens its line (programs.cpp); in a block LinuxCNC knows no M98
+        throw InputError(file_, line, "M98", "M98 must open its line (after an optional N number), as LinuxCNC reads a call");
+      case 990:
+        if (!calls_.empty())  // a return stands alone (programs.cpp)
+          throw InputError(file_, line, "M99", "M99 in a block with other words cannot return from a subprogram (LinuxCNC refuses it)");
+        warn(line, "M99", " in the main program ends it here: LinuxCNC's controller would run it again from the start, endlessly");
+        break;
       case 20: case 300: case 0: case 10: case 600: break;  // stops, after the motion
       case 70: case 80: case 90: case 480: case 490: case 500: case 510: case 520: case 530: break;  // coolant, overrides
       case 190: break;  // spindle orientation: the swept volume does not depend on it

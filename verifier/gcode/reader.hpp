@@ -39,6 +39,9 @@ inline int work_offset_index(int key) {
   return -1;
 }
 
+// Subroutine and subprogram calls nest at most this deep (rs274: "Too many subroutine levels" at level 10).
+inline constexpr size_t kMaxCallDepth = 9;
+
 // Per block and axis: whether the program has set its position.
 enum class AxisState : unsigned char { Set, NotYet, SentHome };
 
@@ -100,9 +103,12 @@ class Reader : private ParameterValues {
     size_t begin, end;  // the lines (0-based) of its SUB and ENDSUB
   };
   struct Frame {
-    size_t return_to;              // the line after the CALL
-    std::array<double, 31> saved;  // the caller's #1 ... #30
+    size_t return_to;              // the line after the CALL (or M98)
+    std::array<double, 31> saved;  // the caller's #1 ... #30 (an O-word call's)
     size_t loops;                  // the caller's open loops
+    bool fanuc = false;            // a program called by M98, which M99 ends
+    size_t start = 0;              // M98: the program's "O1000" line
+    long passes_left = 0;          // M98: the runs after this one (L)
   };
   enum class LoopKind { While, Do, Repeat };
   struct Loop {
@@ -114,6 +120,10 @@ class Reader : private ParameterValues {
   void scan_o_words(const std::vector<std::string_view>& lines);
   void control(const OLine& o, size_t at, size_t& next);
   void call(const OLine& o, int number, size_t& next);
+  void enter_call(const Frame& f, int number, const std::string& field);
+  bool fanuc_line(const std::string& code, size_t at, size_t& next);
+  void m98(const std::string& code, int number, size_t& next);
+  void m99(const std::string& code, int number, size_t& next);
   void return_from(const OLine& o, int number, size_t& next);
   void loop_end(const OLine& o, int number, size_t& next);
   void break_or_continue(const OLine& o, size_t at, size_t& next);
@@ -187,6 +197,7 @@ class Reader : private ParameterValues {
   double value_ = 0.0, value_returned_ = 0.0;                 // #<_value>, #<_value_returned>
   std::vector<std::optional<OLine>> o_lines_;                 // per line (0-based)
   std::map<std::string, Sub> subs_;                           // by label
+  std::map<std::string, size_t> programs_;                    // Fanuc-style "O1000" lines, by number
   std::vector<Frame> calls_;
   std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
