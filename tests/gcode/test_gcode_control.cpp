@@ -82,6 +82,13 @@ TEST(GcodeControl, FanucSubprogramsRunAsLinuxcncRunsThem) {
   const Program p = parse_program(
       "G0 X0 Y0 Z0\nG91\nM98 P10 L2\nN5 M98 P10 L0\nM98 P010\nM30\nO10\nG0 X1\nM99\nO10\nG0 X100\nM99\n");
   EXPECT_EQ(xs(p), (std::vector<double>{0, 1, 2, 3}));
+  // L0 does not look for the program; M99 clears #<_value> and #<_value_returned> (rs274 alike).
+  const Program v = parse_program(
+      "G0 X0 Y0 Z0\nM98 P77 L0\no1 sub\no1 return [5]\no1 endsub\no1 call\nM98 P10\n"
+      "G0 X#<_value> Y#<_value_returned>\nM30\nO10\nM99\n");
+  ASSERT_EQ(v.blocks.size(), 2u);
+  EXPECT_DOUBLE_EQ(v.blocks[1].target.x, 0);
+  EXPECT_DOUBLE_EQ(v.blocks[1].target.y, 0);
   // Words after M98's P and L are ignored, as rs274 ignores them, with a warning.
   const Program q = parse_program("G0 X0 Y0 Z0\nM98 P10 G91 #2=5\nG0 X#2\nM30\nO10\nG0 X1\nM99\n");
   EXPECT_EQ(xs(q), (std::vector<double>{0, 1, 0}));
@@ -105,7 +112,10 @@ TEST(GcodeControl, FanucSubprogramErrorsNameTheWord) {
       {"G0 X0\nM98 P1000\n", 2, "P1000"},                                // no such program here
       {"G0 X0\nM98 P10\nM30\no10 sub\no10 endsub\n", 2, "P10"},      // an O-word subroutine
       {"G0 X0\no10 call\nM30\nO10\nM99\n", 2, "O10"},                 // a Fanuc program called by CALL
-      {"G0 X0\nM98 P10\nM30\nO10\no10 endsub\n", 5, "O10"},           // a program ended by ENDSUB
+      {"G0 X0\nM98 P10\nM30\nO10\no10 return\n", 5, "O10"},           // a program ended by RETURN
+      {"G0 X0\nM98 P10 L2 L3\nM30\nO10\nM99\n", 2, "L3"},             // L twice
+      {"G0 X0\nM98 P10\nM30\nO10\nG0 X1\n", 2, "M98"},                // the file ends inside the program
+      {"o1 sub\nO10\nM99\no1 endsub\n", 2, "O10"},                    // a program inside a subroutine
       {"G0 X0\no10 call\nM30\no10 sub\nM99\no10 endsub\n", 5, "M99"},  // a subroutine ended by M99
       {"G0 X0\nG0 X1 M98 P10\nM30\nO10\nM99\n", 2, "M98"},            // M98 opens its line
       {"G0 X0\nM98 P10\nM30\nO10\nG90 M99\n", 5, "M99"},              // a return stands alone

@@ -37,6 +37,12 @@ void Reader::run(const std::vector<std::string_view>& lines) {
       execute(*code, number);
     }
   }
+  // A program M98 ran that reaches the end of the file without M99 or a program end: the caller's rest
+  // would go unread (rs274: "File ended with no percent sign or program end").
+  for (const Frame& f : calls_)
+    if (f.fanuc && !st_.ended)
+      throw InputError(file_, static_cast<int>(f.return_to), "M98",
+                       "the program it runs (line " + std::to_string(f.start + 1) + ") reaches the end of the file without M99");
 }
 
 // Every O-word line, each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
@@ -65,7 +71,11 @@ void Reader::scan_o_words(const std::vector<std::string_view>& lines) {
     }
     const std::optional<OWord> o = o_word(code);
     if (!o) {
-      if (const std::optional<std::string> n = program_number(code)) programs_.emplace(*n, i);
+      if (const std::optional<std::string> n = program_number(code)) {
+        if (open)  // rs274: a nested definition
+          throw InputError(file_, static_cast<int>(i) + 1, "O" + *n, "a program number inside subroutine O" + open->first);
+        programs_.emplace(*n, i);
+      }
       continue;
     }
     const int number = static_cast<int>(i) + 1;

@@ -1,4 +1,4 @@
-// The G-code reader's Fanuc-style subprograms, as LinuxCNC 2.9 runs them: "M98 P1000 L3" runs the program
+// The G-code reader's Fanuc-style subprograms, as LinuxCNC 2.9 runs them (differences: docs/verifier.md): "M98 P1000 L3" runs the program
 // that starts at the line "O1000" (alone on its line) three times, each run ended by M99. The subprogram
 // shares the caller's #1 ... #30 (an O-word call gets its own) and has its own named parameters; L0 skips
 // the call, no L runs it once. M99 in the main program ends it (LinuxCNC's controller would start it over,
@@ -54,15 +54,21 @@ void Reader::m98(const std::string& code, int number, size_t& next) {
   const Word* l = nullptr;
   bool call_seen = false, ignored = !parsed.settings.empty();
   for (const Word& w : parsed.words) {
-    if (w.letter == 'P' && !p) p = &w;
-    else if (w.letter == 'L' && !l) l = &w;
-    else if (w.letter == 'M' && w.value == 98 && !call_seen) call_seen = true;
-    else if (w.letter != 'N') ignored = true;
+    if (w.letter == 'P' || w.letter == 'L') {
+      const Word*& slot = w.letter == 'P' ? p : l;
+      if (slot) throw InputError(file_, number, w.text, std::string(1, w.letter) + " given twice on an M98 line");
+      slot = &w;
+    } else if (w.letter == 'M' && w.value == 98 && !call_seen) {
+      call_seen = true;
+    } else if (w.letter != 'N') {
+      ignored = true;
+    }
   }
   if (!p) throw InputError(file_, number, "M98", "M98 without P, the number of the program to call");
   const std::string label = std::to_string(whole(*p, file_, number));
   const long passes = l ? whole(*l, file_, number) : 1;
   if (passes < 0) throw InputError(file_, number, l->text, "a negative repeat count");
+  if (passes == 0) return;  // L0: no run, and rs274 does not look for the program
   const auto it = programs_.find(label);
   if (it == programs_.end()) {
     if (subs_.count(label))
@@ -71,7 +77,6 @@ void Reader::m98(const std::string& code, int number, size_t& next) {
                      "no program O" + label + " in this file (M98 runs the lines from \"O" + label + "\" to M99)");
   }
   if (ignored) warn(number, "M98", " line: words other than P and L, and parameter settings, are ignored (as LinuxCNC does)");
-  if (passes == 0) return;  // L0: no run
   Frame f{next, {}, loops_.size()};
   f.fanuc = true;
   f.start = it->second;
@@ -87,6 +92,7 @@ void Reader::m99(const std::string& after, int number, size_t& next) {
     throw InputError(file_, number, "M99", "M99 in an O-word subroutine: it ends with ENDSUB or RETURN (M99 ends a program M98 ran)");
   if (!after.empty()) throw InputError(file_, number, "M99", "something after M99 on its line (LinuxCNC refuses it)");
   loops_.resize(f.loops);
+  value_ = value_returned_ = 0.0;  // rs274 clears both on every M99 return
   if (f.passes_left > 0) {  // the next run: a fresh call, as LinuxCNC runs the M98 line again
     --f.passes_left;
     locals_.back().clear();
