@@ -355,10 +355,6 @@ class LineParser {
   std::vector<std::string> named_on_line_;  // the names this line has set so far
 };
 
-}  // namespace
-
-namespace {
-
 // The digits of an O number from code[1], leading zeros dropped, and where they end (i stays 1 when none).
 std::string number_label(const std::string& code, size_t& i) {
   i = 1;
