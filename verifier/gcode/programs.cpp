@@ -1,9 +1,10 @@
 // The G-code reader's Fanuc-style subprograms, as LinuxCNC 2.9 runs them (the differences are listed in
 // docs/verifier.md): "M98 P1000 L3" runs the program that starts at the line "O1000" (alone on its line)
 // three times, each run ended by M99. The subprogram shares the caller's #1 ... #30 (an O-word call gets
-// its own) and has its own named parameters; L0 skips the call, no L runs it once. M99 in the main program ends it (LinuxCNC's controller would start it over,
-// endlessly: simulated once, with a warning). M98 and M99 open their lines: elsewhere in a block LinuxCNC
-// refuses them, and the rest of an M98 line (but P and L) is ignored there, as here with a warning.
+// its own) and has its own named parameters; L0 skips the call, no L runs it once. M99 in the main program
+// ends it (LinuxCNC's controller would start it over, endlessly: simulated once, with a warning). M98 and
+// M99 open their lines: elsewhere in a block LinuxCNC refuses them, and the rest of an M98 line (but P and
+// L) is ignored there, as here with a warning.
 #include <cctype>
 #include <cmath>
 
