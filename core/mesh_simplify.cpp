@@ -3,10 +3,10 @@
 #include "tiltfield/core/mesh_simplify.hpp"
 #include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/triangle_bvh.hpp"
+#include "decimate_bound.hpp"
 
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
-#include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
@@ -16,6 +16,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <queue>
 #include <stdexcept>
@@ -28,140 +29,17 @@ namespace {
 
 namespace dec = OpenMesh::Decimater;
 using Quadric = dec::ModQuadricT<Mesh>;
-using Hausdorff = dec::ModHausdorffT<Mesh>;
 using NormalFlipping = dec::ModNormalFlippingT<Mesh>;
 using AspectRatio = dec::ModAspectRatioT<Mesh>;
-
-// A binary decimater module for the direction ModHausdorffT leaves open (the output's faces near the
-// input surface: without it a face bridging a crease can stand 7 times the bound off it while every input
-// vertex is near some other face): a collapse is legal only when sample points of every face it moves (a
-// grid of quarters over the face and its two moved edges) lie within `bound` of the input's triangles.
-// Between samples the distance can grow (it is 1-Lipschitz, and the samples are up to a quarter face
-// apart), so the samples are held to kSampleMargin times the bound. On LinuxCNC's impeller demo at 0.1 mm
-// and a bound of 0.01 mm, 66 points a face against the input measured 0.0097 mm at most with 0.5 (0.0108
-// with 0.6, 0.07 without the module); tests/integration/test_verify_html.cpp checks 28 points a face.
-constexpr double kSampleMargin = 0.5;
-class ModSurfaceDistance : public dec::ModBaseT<Mesh> {
- public:
-  using Handle = dec::ModHandleT<ModSurfaceDistance>;
-  explicit ModSurfaceDistance(Mesh& mesh) : dec::ModBaseT<Mesh>(mesh, true) {}
-  const std::string& name() const override {
-    static const std::string n = "SurfaceDistance";
-    return n;
-  }
-  // The input as a tree of its triangles and as a mesh (whose faces are walked), and per vertex of the
-  // mesh decimated the input vertex it is.
-  void set_surface(const TriangleBvh* surface, const Mesh* input, OpenMesh::VPropHandleT<int> source, double bound) {
-    surface_ = surface;
-    input_ = input;
-    source_ = source;
-    bound2_ = bound * bound;
-  }
-  float collapse_priority(const CollapseInfo& ci) override {
-    Mesh& m = mesh();
-    // The walk starts on the input at the vertex the moved faces meet at.
-    walk_face_ = Mesh::FaceHandle();
-    for (auto f : input_->vf_range(Mesh::VertexHandle(m.property(source_, ci.v1)))) {
-      walk_face_ = f;
-      break;
-    }
-    // A moved edge (v0 to a neighbour w) is shared by two moved faces: its samples are tested once. They
-    // come out the same from either face (the third corner's weight is zero), so the verdict is too.
-    edges_done_.clear();
-    auto edge_done = [&](Mesh::VertexHandle w) {
-      if (std::find(edges_done_.begin(), edges_done_.end(), w) != edges_done_.end()) return true;
-      edges_done_.push_back(w);
-      return false;
-    };
-    for (auto f : m.vf_range(ci.v0)) {
-      if (f == ci.fl || f == ci.fr) continue;
-      // The face after the collapse: v0 moved onto v1; corner `moved` is the moved one.
-      std::array<Eigen::Vector3d, 3> p;
-      std::array<Mesh::VertexHandle, 3> fv;
-      int k = 0, moved = 0;
-      for (auto v : m.fv_range(f)) {
-        if (v == ci.v0) moved = k;
-        fv[size_t(k)] = v;
-        p[size_t(k++)] = to_eigen(v == ci.v0 ? ci.p1 : m.point(v));
-      }
-      const Eigen::Vector3d& a = p[size_t(moved)];
-      const Eigen::Vector3d& b = p[size_t((moved + 1) % 3)];
-      const Eigen::Vector3d& c = p[size_t((moved + 2) % 3)];
-      // A barycentric grid of quarters with the moved corner's weight 1..3 quarters: the face's interior
-      // and its two moved edges (a-b: c's weight 0; a-c: b's weight 0; the third edge did not move).
-      const bool ab = !edge_done(fv[size_t((moved + 1) % 3)]), ac = !edge_done(fv[size_t((moved + 2) % 3)]);
-      // Nearest the meeting vertex first, so that the walk goes out step by step.
-      for (int i = 3; i >= 1; --i)
-        for (int j = 0; i + j <= 4; ++j) {
-          if ((j == 0 && !ac) || (i + j == 4 && !ab)) continue;
-          if (!near((i * a + j * b + (4 - i - j) * c) / 4.0)) return ILLEGAL_COLLAPSE;
-        }
-    }
-    return LEGAL_COLLAPSE;
-  }
-
- private:
-  bool near(const Eigen::Vector3d& q) {
-    const auto& tris = surface_->triangles();
-    const double limit = bound2_ * (1.0 + 1e-9);
-    auto d2 = [&](int i) { return (closest_point_on_triangle(q, tris[size_t(i)]) - q).squaredNorm(); };
-    // Consecutive samples lie close together: the triangle that answered the last one often answers this,
-    // or one a few steps from the face the walk reached.
-    if (hint_ >= 0 && d2(hint_) < limit) return true;
-    if (walk(q, limit)) return true;
-    // A yes/no query: the search stops at the first triangle within the bound (the minimum stays at
-    // `limit` when there is none).
-    const double found = surface_->minimum(
-        [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return box_distance_squared(q, lo, hi); },
-        [&](int i, double) {
-          const double d = d2(i);
-          if (d < limit) hint_ = i;
-          return d;
-        },
-        limit, limit);
-    return found < limit;
-  }
-  // A greedy walk over the input's faces from walk_face_ toward q: each step moves to the neighbouring face
-  // nearest q while that comes nearer. True only when it reaches a face within `limit` (squared), which is
-  // then where the next walk starts; a walk that stalls (a crease, a gap) proves nothing.
-  bool walk(const Eigen::Vector3d& q, double limit) {
-    if (!walk_face_.is_valid()) return false;
-    auto d2 = [&](Mesh::FaceHandle f) {
-      Triangle t;
-      auto v = input_->cfv_begin(f);
-      t.a = to_eigen(input_->point(*v++));
-      t.b = to_eigen(input_->point(*v++));
-      t.c = to_eigen(input_->point(*v));
-      return (closest_point_on_triangle(q, t) - q).squaredNorm();
-    };
-    Mesh::FaceHandle f = walk_face_;
-    double best = d2(f);
-    for (int step = 0; best >= limit && step < kWalkSteps; ++step) {
-      Mesh::FaceHandle next;
-      for (auto g : input_->ff_range(f)) {
-        const double d = d2(g);
-        if (d < best) best = d, next = g;
-      }
-      if (!next.is_valid()) return false;
-      f = next;
-    }
-    if (best >= limit) return false;
-    walk_face_ = f;
-    return true;
-  }
-  static constexpr int kWalkSteps = 8;
-  const TriangleBvh* surface_ = nullptr;
-  const Mesh* input_ = nullptr;
-  OpenMesh::VPropHandleT<int> source_;
-  Mesh::FaceHandle walk_face_;
-  double bound2_ = 0.0;
-  int hint_ = -1;
-  std::vector<Mesh::VertexHandle> edges_done_;  // the moved edges tested in this collapse, by their far end
-};
+using internal::InputSurface;
+using internal::ModSurfaceDistance;
+using internal::ModVertexDistance;
 
 // OpenMesh's decimater framework (modules, legality tests, collapse bookkeeping) with a lazy selection:
 // vertices wait in a heap keyed by their cheapest collapse by the quadric alone, and the binary modules
-// (the Hausdorff bound above all) are asked only when a vertex comes to the top.
+// (the distance bounds above all) are asked only when a vertex comes to the top. A collapse beside a
+// queued vertex leaves its entry in place: the key is taken again when the entry comes up (the quadrics
+// only grow, so a key mostly gets dearer), which keeps the heap at about one entry a vertex.
 class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
  public:
   using dec::BaseDecimaterT<Mesh>::BaseDecimaterT;
@@ -170,6 +48,7 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
   void run(Quadric& quadric, const std::function<void(double)>& tick) {
     Mesh& m = mesh();
     stamp_.assign(m.n_vertices(), 0);
+    queued_.assign(m.n_vertices(), 0);
     for (auto v : m.vertices()) push(quadric, v);
     const double initial = double(std::max<size_t>(heap_.size(), 1));
     std::vector<Candidate> candidates;
@@ -180,20 +59,25 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
       if (pops % 4096 == 0) tick(1.0 - double(heap_.size()) / initial);
       const Mesh::VertexHandle v(e.v);
       if (m.status(v).deleted() || e.stamp != stamp_[size_t(e.v)]) continue;
-      candidates.clear();
-      for (auto h : m.voh_range(v)) {
-        const CollapseInfo ci(m, h);
-        float error, length2;
-        if (is_collapse_legal(ci) && cheap(quadric, ci, error, length2)) candidates.push_back({error, length2, h});
+      queued_[size_t(e.v)] = 0;
+      collapses(quadric, v, candidates);
+      if (candidates.empty()) continue;
+      // The key was taken when v was queued; a collapse beside v since then has made its cheapest
+      // collapse dearer (the quadrics only grow): then v waits for its turn again.
+      const Entry now{candidates.front().error, candidates.front().length2, e.v, 0};
+      if (!heap_.empty() && now < heap_.top()) {
+        enqueue(now);
+        continue;
       }
-      std::sort(candidates.begin(), candidates.end());
       Mesh::HalfedgeHandle chosen;
-      for (const Candidate& c : candidates)
-        if (collapse_priority(CollapseInfo(m, c.h)) >= 0.0f) {
+      for (const Candidate& c : candidates) {
+        const CollapseInfo ci(m, c.h);
+        if (is_collapse_legal(ci) && collapse_priority(ci) >= 0.0f) {
           chosen = c.h;
           break;
         }
-      if (!chosen.is_valid()) continue;  // back in the heap when a neighbour changes
+      }
+      if (!chosen.is_valid()) continue;  // queued again when a neighbour changes
       CollapseInfo ci(m, chosen);
       preprocess_collapse(ci);
       m.collapse(chosen);
@@ -201,7 +85,10 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
       postprocess_collapse(ci);
       ring.assign(m.vv_begin(ci.v1), m.vv_end(ci.v1));
       ring.push_back(ci.v1);
-      for (auto w : ring) push(quadric, w);
+      // A vertex already queued is looked at again when its entry comes up; one that had no collapse
+      // left may have one now.
+      for (auto w : ring)
+        if (!queued_[size_t(w.idx())]) push(quadric, w);
     }
     tick(1.0);
   }
@@ -219,7 +106,9 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
   struct Candidate {
     float error, length2;
     Mesh::HalfedgeHandle h;
-    bool operator<(const Candidate& o) const { return std::tie(error, length2) < std::tie(o.error, o.length2); }
+    bool operator<(const Candidate& o) const {
+      return std::tuple(error, length2, h.idx()) < std::tuple(o.error, o.length2, o.h.idx());
+    }
   };
 
   // The quadric's error of a collapse and its squared edge length (the tie-break that keeps a flat
@@ -234,29 +123,35 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
     return true;
   }
 
-  // (Re-)queues v with its cheapest collapse by the quadric, legal or not: the topology test is left to
-  // the pop (it is the costliest test but the Hausdorff one, and most keys go stale before their turn).
-  // An older entry of v is then stale.
-  void push(Quadric& quadric, Mesh::VertexHandle v) {
+  // v's collapses that the quadric allows, cheapest first; the topology test is left to the collapses
+  // tried (it is the costliest test but the distance ones).
+  void collapses(Quadric& quadric, Mesh::VertexHandle v, std::vector<Candidate>& out) {
     Mesh& m = mesh();
-    if (m.status(v).deleted()) return;
-    uint32_t& s = stamp_[size_t(v.idx())];
-    ++s;
-    Entry best{0.0f, 0.0f, v.idx(), s};
-    bool found = false;
+    out.clear();
     for (auto h : m.voh_range(v)) {
       float error, length2;
-      if (!cheap(quadric, CollapseInfo(m, h), error, length2)) continue;
-      if (!found || std::tie(error, length2) < std::tie(best.error, best.length2)) {
-        best.error = error;
-        best.length2 = length2;
-        found = true;
-      }
+      if (cheap(quadric, CollapseInfo(m, h), error, length2)) out.push_back({error, length2, h});
     }
-    if (found) heap_.push(best);
+    std::sort(out.begin(), out.end());
+  }
+
+  // Queues v with its cheapest collapse by the quadric, legal or not.
+  void push(Quadric& quadric, Mesh::VertexHandle v) {
+    if (mesh().status(v).deleted()) return;
+    collapses(quadric, v, scratch_);
+    if (!scratch_.empty()) enqueue({scratch_.front().error, scratch_.front().length2, v.idx(), 0});
+  }
+
+  // Queues e for its vertex; an older entry of the vertex is then stale.
+  void enqueue(Entry e) {
+    e.stamp = ++stamp_[size_t(e.v)];
+    queued_[size_t(e.v)] = 1;
+    heap_.push(e);
   }
 
   std::vector<uint32_t> stamp_;
+  std::vector<uint8_t> queued_;  // per vertex: it has a live entry in the heap
+  std::vector<Candidate> scratch_;
   std::priority_queue<Entry> heap_;
 };
 
@@ -318,13 +213,13 @@ void build_slab(const Mesh& in, const std::vector<int>& slab_of, const std::vect
   m.update_face_normals();
 }
 
-void decimate_slab(Slab& slab, const Mesh& in, const TriangleBvh& surface, const BoundedDecimateOptions& o,
+void decimate_slab(Slab& slab, const Mesh& in, const InputSurface& surface, const BoundedDecimateOptions& o,
                    const std::function<void(double)>& tick) {
   LazyDecimater d(slab.mesh);
   Quadric::Handle quadric;
   NormalFlipping::Handle flipping;
   AspectRatio::Handle aspect;
-  Hausdorff::Handle hausdorff;
+  ModVertexDistance::Handle hausdorff;
   ModSurfaceDistance::Handle distance;
   // Binary modules are asked in the order added: the cheap guards first, the distance tests last.
   d.add(quadric);
@@ -335,8 +230,8 @@ void decimate_slab(Slab& slab, const Mesh& in, const TriangleBvh& surface, const
   d.module(quadric).unset_max_err();
   d.module(flipping).set_max_normal_deviation(o.max_normal_deviation_deg);
   d.module(aspect).set_aspect_ratio(float(o.max_aspect_ratio));
-  d.module(hausdorff).set_tolerance(o.max_error_mm);
-  d.module(distance).set_surface(&surface, &in, slab.source, kSampleMargin * o.max_error_mm);
+  d.module(hausdorff).set_bound(o.max_error_mm);
+  d.module(distance).set_surface(&surface, &in, slab.source, o.max_error_mm);
   if (!d.initialize()) throw std::logic_error("decimate_within: OpenMesh's decimater did not initialise");
   d.run(d.module(quadric), tick);
   slab.mesh.garbage_collection();
@@ -443,7 +338,7 @@ BoundedDecimation decimate_within(const Mesh& in, const BoundedDecimateOptions& 
       first = s;
     }
   }
-  const TriangleBvh surface({&in});
+  const InputSurface surface(in);
   std::vector<Slab> slabs(static_cast<size_t>(count));
   SlabProgress progress(options.progress, slabs.size());
   {

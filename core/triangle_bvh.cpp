@@ -19,6 +19,7 @@ Eigen::AlignedBox3d TriangleBvh::bounds() const {
 
 void TriangleBvh::build() {
   nodes_.clear();
+  input_index_.clear();
   if (tris_.empty()) return;
   std::vector<Vector3d> centroid(tris_.size());
   for (size_t i = 0; i < tris_.size(); ++i) centroid[i] = (tris_[i].a + tris_[i].b + tris_[i].c) / 3.0;
@@ -30,6 +31,7 @@ void TriangleBvh::build() {
   std::vector<Triangle> sorted(tris_.size());
   for (size_t i = 0; i < perm.size(); ++i) sorted[i] = tris_[static_cast<size_t>(perm[i])];
   tris_ = std::move(sorted);
+  input_index_ = std::move(perm);
 }
 
 int TriangleBvh::build_range(int begin, int end, std::vector<int>& perm, const std::vector<Vector3d>& centroid) {

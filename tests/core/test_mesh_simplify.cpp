@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "tiltfield/core/mesh_simplify.hpp"
 #include "tiltfield/core/triangle_bvh.hpp"
@@ -95,6 +96,46 @@ TEST(MeshSimplify, TorusWithinTheBoundBothWays) {
   EXPECT_TRUE(tf::is_closed(d.mesh));
   const double volume = 2.0 * std::numbers::pi * std::numbers::pi * kMajor * kMinor * kMinor;
   EXPECT_NEAR(tf::signed_volume(d.mesh), volume, 0.01 * volume);  // outward faces, no fold
+}
+
+// An ellipsoid about z with semi-axes a, a, c: nu meridians, nv - 1 rings between the poles, faces outward.
+tf::Mesh ellipsoid(double a, double c, int nu, int nv) {
+  Eigen::MatrixX3d V(nu * (nv - 1) + 2, 3);
+  std::vector<Eigen::Vector3i> faces;
+  const int south = nu * (nv - 1), north = south + 1;
+  V.row(south) << 0.0, 0.0, -c;
+  V.row(north) << 0.0, 0.0, c;
+  for (int j = 1; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const double t = std::numbers::pi * j / nv - std::numbers::pi / 2, u = 2.0 * std::numbers::pi * i / nu;
+      V.row((j - 1) * nu + i) << a * std::cos(t) * std::cos(u), a * std::cos(t) * std::sin(u), c * std::sin(t);
+    }
+  auto id = [&](int j, int i) { return (j - 1) * nu + (i + nu) % nu; };
+  for (int i = 0; i < nu; ++i) {
+    faces.emplace_back(south, id(1, i + 1), id(1, i));
+    faces.emplace_back(north, id(nv - 1, i), id(nv - 1, i + 1));
+    for (int j = 1; j + 1 < nv; ++j) {
+      faces.emplace_back(id(j, i), id(j, i + 1), id(j + 1, i + 1));
+      faces.emplace_back(id(j, i), id(j + 1, i + 1), id(j + 1, i));
+    }
+  }
+  Eigen::MatrixX3i F(int(faces.size()), 3);
+  for (size_t k = 0; k < faces.size(); ++k) F.row(int(k)) = faces[k].transpose();
+  return tf::mesh_from_arrays(V, F);
+}
+
+// A plate thinner than the bound (an ellipsoid 4 mm across and 0.004 thick): every face inside it lies
+// within the bound of the input, so only the vertices' test keeps the outline where it is.
+TEST(MeshSimplify, ThinPlateKeepsItsOutline) {
+  const tf::Mesh input = ellipsoid(2.0, 0.002, 180, 90);
+  ASSERT_GT(tf::signed_volume(input), 0.0);
+  tf::BoundedDecimateOptions o;
+  o.max_error_mm = 0.01;
+  const tf::BoundedDecimation d = tf::decimate_within(input, o);
+  EXPECT_LT(d.mesh.n_faces(), input.n_faces() / 2);
+  const Measured m = measure(input, d.mesh);
+  EXPECT_LE(m.input_to_output, 0.01 + 1e-9);
+  EXPECT_LE(m.output_to_input, 0.01 + 1e-9);
 }
 
 TEST(MeshSimplify, SlabsJoinOnTheirLockedCutsAndKeepTheBound) {

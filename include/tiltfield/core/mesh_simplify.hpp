@@ -4,9 +4,9 @@
 // In:  a triangle mesh (mm), the bound. Out: a mesh made by half-edge collapses, so every output vertex
 //      is an input vertex at its own position (`source_vertex` names it). Within the bound, one way exact,
 //      the other sampled:
-//      - every input vertex lies within `max_error_mm` of the output's triangles: OpenMesh's ModHausdorffT
-//        keeps the removed vertices on the faces nearest to them and allows a collapse only when each of
-//        them stays within the bound (exact, for the vertices);
+//      - every input vertex lies within `max_error_mm` of the output's triangles: each face carries the
+//        removed input vertices nearest to it (as OpenMesh's ModHausdorffT does), and a collapse is allowed
+//        only when each of them stays within the bound (exact, for the vertices);
 //      - the output's faces lie near the input: a collapse is allowed only when a grid of points over each
 //        face it moves (quarters of the face) lies within half the bound of the input's triangles
 //        (a sampled test, with a margin for the points between the samples; the tests measure 28 points a
@@ -15,11 +15,11 @@
 //      (no face longer than `max_aspect_ratio` times its height, unless the collapse improves the worst).
 // Order: the cheapest collapse by OpenMesh's area-weighted error quadric (ModQuadricT), the shorter edge
 //      on a tie. OpenMesh's DecimaterT evaluates every module for every outgoing edge of every vertex
-//      around each collapse; the Hausdorff test grows with the points each face carries, which made it
-//      take tens of minutes on a 3 M-vertex stock. The loop here uses the same framework
-//      (BaseDecimaterT: modules, legality tests, collapse bookkeeping) but runs the modules' tests only
-//      for the collapse about to be made, in quadric order; and core's TriangleBvh answers the surface
-//      test.
+//      around each collapse, which took tens of minutes on a 3 M-vertex stock. The loop here uses the same
+//      framework (BaseDecimaterT: modules, legality tests, collapse bookkeeping) but runs the tests only
+//      for the collapse about to be made: vertices wait in a heap keyed by their cheapest collapse by the
+//      quadric alone, a key is checked again when it comes up (the quadrics only grow), and core's
+//      TriangleBvh answers the surface test.
 // Parallel: meshes over 200k faces are cut into slabs of equal face count along their longest axis,
 //      decimated in parallel; vertices on the cuts are locked (kept), so the slabs join exactly.
 #pragma once

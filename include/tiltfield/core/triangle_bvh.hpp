@@ -30,6 +30,8 @@ class TriangleBvh {
   bool empty() const { return tris_.empty(); }
   const Triangle& triangle(int i) const { return tris_[static_cast<size_t>(i)]; }
   const std::vector<Triangle>& triangles() const { return tris_; }  // in leaf order, not input order
+  // The position in the input (the meshes' faces in order, or the triangles given) of triangle `i`.
+  int input_index(int i) const { return input_index_[static_cast<size_t>(i)]; }
   Eigen::AlignedBox3d bounds() const;
 
   // The nearest surface point to p within max_distance (exclusive). `hint` (a triangle index or -1) seeds
@@ -59,6 +61,7 @@ class TriangleBvh {
   int build_range(int begin, int end, std::vector<int>& perm, const std::vector<Eigen::Vector3d>& centroid);
 
   std::vector<Triangle> tris_;  // reordered so that every leaf is a contiguous range
+  std::vector<int> input_index_;  // per triangle of tris_
   std::vector<Node> nodes_;
 };
 
