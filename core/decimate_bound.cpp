@@ -7,7 +7,7 @@
 namespace tf::internal {
 
 InputSurface::InputSurface(const Mesh& in) : bvh({&in}) {
-  if (bvh.size() != in.n_faces()) return;  // a face that is not a triangle: no walks, the tree answers
+  if (bvh.size() != in.n_faces()) return;  // deleted faces (not garbage-collected): no walks, the tree answers
   of_face.resize(bvh.size());
   for (int i = 0; i < int(bvh.size()); ++i) of_face[size_t(bvh.input_index(i))] = i;
   neighbours.assign(bvh.size(), {-1, -1, -1});

@@ -27,9 +27,9 @@ struct InputSurface {
 // Every input vertex within the bound of the output's faces, as OpenMesh's ModHausdorffT keeps it: each
 // face carries the removed input vertices nearest to it, and a collapse is legal only when every vertex the
 // moved faces carry (and the removed one) lies within the bound of one of the faces after the collapse.
-// The same test with three differences: each vertex is tried first against the face that carried it (it
-// nearly always stays near that one), the faces are in double precision, and a face that degenerates to a
-// segment is measured as one (ModHausdorffT counts a point as on any degenerate face).
+// The same test with two differences: each vertex is tried first against the face that carried it (it
+// nearly always stays near that one), and a face that degenerates to a segment is measured as one
+// (ModHausdorffT counts a point as on any degenerate face).
 class ModVertexDistance : public OpenMesh::Decimater::ModBaseT<Mesh> {
  public:
   using Handle = OpenMesh::Decimater::ModHandleT<ModVertexDistance>;

@@ -39,7 +39,8 @@ using internal::ModVertexDistance;
 // vertices wait in a heap keyed by their cheapest collapse by the quadric alone, and the binary modules
 // (the distance bounds above all) are asked only when a vertex comes to the top. A collapse beside a
 // queued vertex leaves its entry in place: the key is taken again when the entry comes up (the quadrics
-// only grow, so a key mostly gets dearer), which keeps the heap at about one entry a vertex.
+// only grow, so a key mostly gets dearer; one that got cheaper, by the new edge to the vertex kept, waits
+// at its old place), which keeps the heap at about one entry a vertex.
 class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
  public:
   using dec::BaseDecimaterT<Mesh>::BaseDecimaterT;
@@ -62,8 +63,8 @@ class LazyDecimater : public dec::BaseDecimaterT<Mesh> {
       queued_[size_t(e.v)] = 0;
       collapses(quadric, v, candidates);
       if (candidates.empty()) continue;
-      // The key was taken when v was queued; a collapse beside v since then has made its cheapest
-      // collapse dearer (the quadrics only grow): then v waits for its turn again.
+      // The key was taken when v was queued; a collapse beside v since then may have made its cheapest
+      // collapse dearer: then v waits for its turn again.
       const Entry now{candidates.front().error, candidates.front().length2, e.v, 0};
       if (!heap_.empty() && now < heap_.top()) {
         enqueue(now);

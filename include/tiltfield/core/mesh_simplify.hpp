@@ -18,8 +18,9 @@
 //      around each collapse, which took tens of minutes on a 3 M-vertex stock. The loop here uses the same
 //      framework (BaseDecimaterT: modules, legality tests, collapse bookkeeping) but runs the tests only
 //      for the collapse about to be made: vertices wait in a heap keyed by their cheapest collapse by the
-//      quadric alone, a key is checked again when it comes up (the quadrics only grow), and core's
-//      TriangleBvh answers the surface test.
+//      quadric alone, a key is taken again when it comes up (so the order is cheapest first only nearly:
+//      a key that got cheaper meanwhile waits at its old place), and core's TriangleBvh answers the
+//      surface test.
 // Parallel: meshes over 200k faces are cut into slabs of equal face count along their longest axis,
 //      decimated in parallel; vertices on the cuts are locked (kept), so the slabs join exactly.
 #pragma once

@@ -30,7 +30,8 @@ class TriangleBvh {
   bool empty() const { return tris_.empty(); }
   const Triangle& triangle(int i) const { return tris_[static_cast<size_t>(i)]; }
   const std::vector<Triangle>& triangles() const { return tris_; }  // in leaf order, not input order
-  // The position in the input (the meshes' faces in order, or the triangles given) of triangle `i`.
+  // The position of triangle `i` among the triangles taken (the meshes' triangles in order, deleted faces
+  // skipped, or the triangles given).
   int input_index(int i) const { return input_index_[static_cast<size_t>(i)]; }
   Eigen::AlignedBox3d bounds() const;
 
