@@ -68,7 +68,7 @@ void ModVertexDistance::postprocess_collapse(const CollapseInfo& ci) {
   };
   for (auto f : m.vf_range(ci.v1)) {
     faces_.push_back(f);
-    triangles_.push_back(triangle(f));
+    triangles_.push_back(moved_triangle(f, ci));  // v0 is gone: the face as it stands
     take(f);
   }
   if (faces_.empty()) return;
@@ -84,15 +84,6 @@ void ModVertexDistance::postprocess_collapse(const CollapseInfo& ci) {
     }
     m.property(carried_, faces_[best]).push_back(q);
   }
-}
-
-Triangle ModVertexDistance::triangle(Mesh::FaceHandle f) {
-  auto v = mesh().cfv_begin(f);
-  Triangle t;
-  t.a = to_eigen(mesh().point(*v++));
-  t.b = to_eigen(mesh().point(*v++));
-  t.c = to_eigen(mesh().point(*v));
-  return t;
 }
 
 Triangle ModVertexDistance::moved_triangle(Mesh::FaceHandle f, const CollapseInfo& ci) {

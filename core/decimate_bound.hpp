@@ -42,7 +42,6 @@ class ModVertexDistance : public OpenMesh::Decimater::ModBaseT<Mesh> {
   void postprocess_collapse(const CollapseInfo& ci) override;
 
  private:
-  Triangle triangle(Mesh::FaceHandle f);
   Triangle moved_triangle(Mesh::FaceHandle f, const CollapseInfo& ci);
   bool within(const Eigen::Vector3d& q, int first) const;
 
