@@ -1,12 +1,14 @@
 // LinuxCNC's interpreter as the judge of the reader's motion: runs `rs274 -g` on a program with a tool
 // table and a parameter (.var) file and turns its canonical calls into the machine positions LinuxCNC
-// commands: the STRAIGHT_TRAVERSE / STRAIGHT_FEED / ARC_FEED end points (program coordinates) plus the
+// commands: the STRAIGHT_TRAVERSE / STRAIGHT_FEED / ARC_FEED end points (program coordinates; RIGID_TAP's
+// point and the way back) plus the
 // G5x offset, the G92 offset and the tool length offset in force (SET_G5X_OFFSET, SET_G92_OFFSET,
 // USE_TOOL_LENGTH_OFFSET), with the DWELL seconds before each move. rs274 run alone (no INI file) takes
 // its tool table and parameters in inches; these helpers write them so.
 #pragma once
 #include <array>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -82,6 +84,7 @@ inline Rs274Run run_rs274(const TempDir& dir, const std::string& program, const 
   run.output = r.out;
   std::array<double, 6> g5x{}, g92{}, pos{};
   double tlo = 0.0, dwell = 0.0;
+  bool inch = false;
   std::string plane = "XY";
   const std::regex call(R"(N[.0-9]+\s+([A-Z_0-9]+)\((.*)\))");
   std::istringstream lines(r.out);
@@ -89,7 +92,20 @@ inline Rs274Run run_rs274(const TempDir& dir, const std::string& program, const 
     std::smatch m;
     if (!std::regex_search(line, m, call)) continue;
     const std::string name = m[1];
-    const std::vector<double> v = canon_numbers(m[2]);
+    std::vector<double> v = canon_numbers(m[2]);
+    if (name == "USE_LENGTH_UNITS") {
+      inch = m[2].str().find("INCHES") != std::string::npos;
+      continue;
+    }
+    // Lengths come in the program's units (G20: inches); the moves are kept in mm.
+    auto mm = [&](std::initializer_list<size_t> at) {
+      for (size_t k : at)
+        if (inch && k < v.size()) v[k] *= 25.4;
+    };
+    if (name == "SET_G5X_OFFSET") mm({1, 2, 3});
+    if (name == "SET_G92_OFFSET" || name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" || name == "RIGID_TAP") mm({0, 1, 2});
+    if (name == "USE_TOOL_LENGTH_OFFSET") mm({0, 1, 2});
+    if (name == "ARC_FEED") mm({0, 1, 2, 3, 5});
     if (name == "SET_G5X_OFFSET" && v.size() >= 7) {
       for (int k = 0; k < 6; ++k) g5x[k] = v[k + 1];
     } else if (name == "SET_G92_OFFSET" && v.size() >= 6) {
@@ -108,6 +124,16 @@ inline Rs274Run run_rs274(const TempDir& dir, const std::string& program, const 
       mv.dwell_before = dwell;
       dwell = 0.0;
       run.moves.push_back(mv);
+    } else if (name == "RIGID_TAP" && v.size() >= 3) {
+      // In to the point and back out to where the tap started (the position does not change).
+      for (const bool back : {false, true}) {
+        CanonMove mv;
+        mv.feed = true;
+        for (int k = 0; k < 6; ++k) mv.m[k] = (back || k > 2 ? pos[k] : v[k]) + g5x[k] + g92[k] + (k == 2 ? tlo : 0.0);
+        mv.dwell_before = back ? 0.0 : dwell;
+        run.moves.push_back(mv);
+      }
+      dwell = 0.0;
     } else if (name == "ARC_FEED" && v.size() >= 9) {
       // first_end, second_end, first_axis, second_axis, rotation, axis_end_point, a, b, c
       if (plane == "XY") { pos[0] = v[0]; pos[1] = v[1]; pos[2] = v[5]; }

@@ -172,3 +172,41 @@ TEST(GcodeLinuxcncRules, SplinesAreRefused) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+// Polar coordinates and the spindle-synchronised moves keep LinuxCNC's rules (its enhance_block and
+// check_other_codes); where they go is judged by rs274 in test_rs274_judge.cpp.
+TEST(GcodeLinuxcncRules, PolarAndSynchronisedMovesKeepTheirRules) {
+  expect_refused({
+      {"G21\nG18 G0 @5 ^10\n", 2, "@5"},                 // G17 only
+      {"G21\nG0 X1 @5 ^10\n", 2, "X1"},                  // not with X or Y
+      {"G21\nG53 G0 @5 ^10\n", 2, "@5"},                 // not with G53
+      {"G21\nG92 @5 ^10\n", 2, "@5"},                    // motion only
+      {"G21\nG0 X0 Y0 Z0\nG91 G0 ^10\n", 3, "^10"},      // incremental from the origin: no direction
+      {"G21\nG0 X0 Y0 Z0\nG0 @5\n", 3, "@5"},            // a distance without an angle at the origin
+      {"G21\nG0 X0 Y0 Z0\nG80 @5\n", 3, "G80"},          // no motion mode
+      {"G21\nM3 S100\nG33 Z-5\n", 3, "G33"},            // K missing
+      {"G21\nM3 S100\nG33 Z-5 K1 F100\n", 3, "F100"},   // F with G33
+      {"G21\nS100\nG33 Z-5 K1\n", 3, "G33"},            // spindle stopped
+      {"G21\nM3 S100\nG33.1 Z-5 K-1\n", 3, "K-1"},      // K must be positive
+      {"G21\nM3 S100\nG33 Z-5 K1 I2\n", 3, "I2"},       // I only with G33.1
+      {"G21\nM3 S100\nG76 P1 Z-5 I-1 J1 K1 E0.5\n", 3, "G76"},  // a lathe cycle, not an exponent
+      {"G21\nG0 X0 Y0 Z0\nG71.1 Q100 X1 Z1 D1\n", 3, "G71.1"},  // lathe roughing
+  });
+  // G33 feeds K per turn at the spindle's speed; G33.1 goes in at that feed and out I times as fast, back
+  // to where it started.
+  const Program p = parse_program("G20 G90\nG0 X1 Y2 Z0.5\nM3 S600\nG33 Z-0.5 K0.05\nG0 Z0.5\nG33.1 Z-0.25 K0.1 I2\n");
+  ASSERT_EQ(p.blocks.size(), 5u);
+  EXPECT_EQ(p.blocks[1].motion, Motion::Linear);
+  EXPECT_NEAR(p.blocks[1].feed, 0.05 * 25.4 * 600, 1e-9);
+  EXPECT_NEAR(p.blocks[3].target.z, -0.25 * 25.4, 1e-9);
+  EXPECT_NEAR(p.blocks[3].feed, 0.1 * 25.4 * 600, 1e-9);
+  EXPECT_NEAR(p.blocks[4].target.z, 0.5 * 25.4, 1e-9);
+  EXPECT_NEAR(p.blocks[4].feed, 2 * 0.1 * 25.4 * 600, 1e-9);
+  EXPECT_EQ(p.blocks[4].feed_mode, FeedMode::PerMinute);
+}
+
+}  // namespace
+}  // namespace tf

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "rs274_judge.hpp"
 #include "tiltfield/gcode/gcode.hpp"
@@ -307,6 +310,111 @@ TEST(Rs274Judge, FanucSubprograms) {
   TF_REQUIRE_RS274();
   expect_same_motion(judge(kFanucSubprograms, library(), trt_joint()), "M98/M99");
   expect_same_motion(judge(kFlowIntoProgram, library(), trt_joint()), "flow into a program");
+}
+
+// LinuxCNC's polar coordinates (@ the distance, ^ the angle about the XY origin of the coordinate system
+// in force; absolute and incremental, straight moves, an R arc and cycles with repeats) and the spindle-
+// synchronised moves G33 and G33.1 (rigid tapping: in and back out).
+const char* const kPolarAndSynchronised = R"(G21 G17 G90 G94
+T1 M6
+G54 G43 H1
+G0 X10 Y0 Z5 A0 C0
+S500 M3
+G33 Z-5 K1.5
+G0 Z5
+G33.1 Z-8 K1.25 I2
+G0 X2.5 Y0
+G1 F100 ^120
+@4
+G91 @1 ^10
+G90 @5 ^33
+G91 G81 @1 R.1 Z-0.5 L3
+G90 G0 X2 Y0
+G91 G81 ^[360/17] R.1 Z-0.5 L3
+G90 G99 G81 @7 ^-45 R2 Z-1
+^45
+G80
+G0 Z5
+G2 @10 ^0 R10
+G0 X5 Y5
+G33.1 X5 Y5 Z-3 K1
+M2
+)";
+
+TEST(Rs274Judge, PolarCoordinatesAndSpindleSynchronisedMoves) {
+  TF_REQUIRE_RS274();
+  expect_same_motion(judge(kPolarAndSynchronised, library(), trt_joint()), "polar, G33, G33.1");
+}
+
+// A path as a list of (position, feed or rapid, dwell before) with the moves that go nowhere left out (their
+// dwells carried to the next): rs274 makes a traverse of a lone "G0", the reader no block.
+struct PathPoint {
+  std::array<double, 6> m;
+  bool feed;
+  double dwell;
+};
+std::vector<PathPoint> moving(const std::vector<PathPoint>& in, double tol) {
+  std::vector<PathPoint> out;
+  std::array<double, 6> at{};
+  double dwell = 0.0;
+  for (const PathPoint& p : in) {
+    dwell += p.dwell;
+    bool moves = false;
+    for (int k = 0; k < 6; ++k) moves |= std::abs(p.m[k] - at[k]) > tol;
+    if (!moves) continue;
+    out.push_back({p.m, p.feed, dwell});
+    at = p.m;
+    dwell = 0.0;
+  }
+  return out;
+}
+
+// LinuxCNC's own sample programs (examples/nc_files of the package that brings rs274), each that needs no
+// subroutine files, probing, cutter compensation (which the reader does not simulate), lathe cycles,
+// splines or a B axis: every move where rs274 puts it. Inch and mm programs, arcs in every plane, polar
+// coordinates, G33 threading, cycles, O-word loops, subroutines and parameters. A first line "G0 X0 Y0 Z0"
+// puts the reader where rs274 starts (the reader takes an axis not yet programmed to be where the program
+// first sends it); tools 1-99 have length 0. rs274 prints 4 decimals: 0.00005 inch is 0.00127 mm.
+TEST(Rs274Judge, LinuxcncSamplePrograms) {
+  TF_REQUIRE_RS274();
+  const std::filesystem::path dir = "/usr/share/doc/linuxcnc/examples/nc_files";
+  GcodeOptions options;
+  for (int t = 1; t < 100; ++t) options.tool_lengths[t] = 0.0;
+  const double tol = 1.3e-3;
+  int judged = 0;
+  for (const char* name : {"3D_Chips", "3dtest", "arcspiral", "cds", "daisy", "factorial", "flowsnake", "g20sub", "g881",
+                           "g881min", "g882", "hole-circle", "lathe_pawn", "m250", "m61demo", "m6demo", "m6remap",
+                           "m70m72-demo", "m73-demo", "m75", "m76", "offsets", "plasmatest", "polar", "retval",
+                           "roparams", "skeleton", "spiral", "testm6fail", "threading", "toplevel", "tort", "touchoff"}) {
+    const std::filesystem::path file = dir / (std::string(name) + ".ngc");
+    if (!std::filesystem::exists(file)) continue;  // a LinuxCNC whose examples differ
+    std::ifstream in(file);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    std::string text = buffer.str();
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    const size_t at = first != std::string::npos && text[first] == '%' ? text.find('\n', first) + 1 : 0;
+    text.insert(at, "G0 X0 Y0 Z0\n");
+    test::TempDir tmp;
+    const test::Rs274Run rs = test::run_rs274(tmp, text, test::rs274_tool_table(options.tool_lengths), "");
+    ASSERT_EQ(rs.exit_code, 0) << name << ": rs274 refused it:\n" << rs.output.substr(0, 2000);
+    const Program program = parse_gcode(text, file.string(), trt_joint(), options);
+    std::vector<PathPoint> ours, theirs;
+    for (const Block& b : program.blocks)
+      ours.push_back({{b.target.x, b.target.y, b.target.z, b.target.a, b.target.b, b.target.c}, b.motion != Motion::Rapid, b.dwell_s});
+    for (const test::CanonMove& m : rs.moves) theirs.push_back({m.m, m.feed, m.dwell_before});
+    ours = moving(ours, tol);
+    theirs = moving(theirs, tol);
+    ASSERT_EQ(ours.size(), theirs.size()) << name;
+    for (size_t i = 0; i < ours.size(); ++i) {
+      for (int k = 0; k < 6; ++k)
+        ASSERT_NEAR(ours[i].m[k], theirs[i].m[k], tol) << name << ": move " << i + 1 << ", axis " << "XYZABC"[k];
+      ASSERT_EQ(ours[i].feed, theirs[i].feed) << name << ": move " << i + 1;
+      ASSERT_NEAR(ours[i].dwell, theirs[i].dwell, 1e-9) << name << ": move " << i + 1;
+    }
+    ++judged;
+  }
+  EXPECT_GT(judged, 0) << "no sample program found in " << dir;
 }
 
 // On a 3-axis machine with tool length offsets in use the targets are the tool tip: LinuxCNC's position

@@ -1,8 +1,9 @@
 // The G-code reader's canned cycles, expanded into the moves LinuxCNC's interpreter makes (its G-code
 // reference, "G80-G89 Canned Cycles"): G73 G74 G81 G82 G83 G84 G85 G86 G89 in the selected plane, with
-// sticky R, Z, P and Q, G98/G99 retract, L repeats and G91 increments. Dwells become the next block's
-// Block::dwell_s. Spindle reversal and stops do not change the swept volume and are not modelled.
+// sticky R, Z, P and Q, G98/G99 retract, L repeats and G91 increments, and polar hole positions (@, ^).
+// Dwells become the next block's Block::dwell_s. Spindle reversal and stops do not change the swept volume and are not modelled.
 #include <cmath>
+#include <numbers>
 
 #include "reader.hpp"
 #include "tiltfield/core/error.hpp"
@@ -84,6 +85,21 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   double a_inc = 0.0, b_inc = 0.0, r = r_word, bottom = cc_word;
   double a = val.has(la) ? length(la, *val[la]) : st_.pos[ax[0]];
   double b = val.has(lb) ? length(lb, *val[lb]) : st_.pos[ax[1]];
+  // Polar words (G17 only): absolute, the hole's distance and angle about the XY origin, a word not given
+  // taken from the present position; incremental, added to the polar position before each repeat.
+  double polar_r = 0.0, polar_theta = 0.0;
+  if (val.polar()) {
+    assume_position(0);
+    assume_position(1);
+    polar_r = val.has('@') ? *val['@'] * unit() : 0.0;
+    polar_theta = val.has('^') ? *val['^'] * std::numbers::pi / 180.0 : 0.0;
+    if (!st_.incremental) {
+      const double rho = val.has('@') ? polar_r : std::hypot(st_.pos[1], st_.pos[0]);
+      const double theta = val.has('^') ? polar_theta : std::atan2(st_.pos[1], st_.pos[0]);
+      a = rho * std::cos(theta);
+      b = rho * std::sin(theta);
+    }
+  }
   if (st_.incremental) {
     // X, Y (in the plane) and R are increments from the current point, the bottom from R.
     a_inc = val.has(la) ? length(la, *val[la]) : 0.0;
@@ -105,11 +121,21 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   if (!(repeats * (4.0 + 3.0 * pecks) <= kMaxCycleMoves))
     throw InputError(file_, line, name, "the cycle expands into more than " + std::to_string(int(kMaxCycleMoves)) +
                                             " moves (check Q and L)");
-  if (val.has(la)) st_.axes[ax[0]] = AxisState::Set;
-  if (val.has(lb)) st_.axes[ax[1]] = AxisState::Set;
+  if (val.has(la) || val.polar()) st_.axes[ax[0]] = AxisState::Set;
+  if (val.has(lb) || val.polar()) st_.axes[ax[1]] = AxisState::Set;
   for (int rep = repeats; rep > 0; --rep) {
     a += a_inc;
     b += b_inc;
+    if (st_.incremental) {  // LinuxCNC's CYCLE_MACRO: the distance, then the angle
+      for (const char w : {'@', '^'}) {
+        const double step = w == '@' ? polar_r : polar_theta;
+        if (step == 0.0) continue;
+        if (a == 0.0 && b == 0.0) throw InputError(file_, line, val.word(w), "incremental polar motion from the XY origin has no direction");
+        const double rho = std::hypot(a, b) + (w == '@' ? step : 0.0), theta = std::atan2(b, a) + (w == '^' ? step : 0.0);
+        a = rho * std::cos(theta);
+        b = rho * std::sin(theta);
+      }
+    }
     if (rep == repeats && current_cc > r) {
       cycle_move(false, ax, a, b, current_cc, line);
       cycle_move(false, ax, a, b, r, line);

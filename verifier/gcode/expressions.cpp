@@ -16,6 +16,8 @@ namespace {
 
 bool alpha(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
 bool digit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
+// The letters that start a word: A to Z and LinuxCNC's polar coordinate words @ and ^.
+bool word_letter(char c) { return alpha(c) || c == '@' || c == '^'; }
 
 // The O-word keywords of LinuxCNC's subroutines and control flow (after the O number).
 bool o_word_keyword(std::string_view rest) {
@@ -92,7 +94,7 @@ class LineParser {
   Word word() {
     const size_t start = i_;
     const char letter = code_[i_];
-    if (!alpha(letter)) fail(std::string(1, letter), "expected a word letter");
+    if (!word_letter(letter)) fail(std::string(1, letter), "expected a word letter");
     if (letter == 'O' && peek(1) == '<') fail("O<", kOWords);
     ++i_;
     double v = 0.0;
@@ -100,8 +102,8 @@ class LineParser {
     if (plain) {
       v = number(true);
       const bool o_line = letter == 'O' && o_word_keyword(std::string_view(code_).substr(i_));
-      // A number runs up to the next word or setting: "Z-.5^" or "X1.2.3" is a typo, not two words.
-      if (!o_line && i_ < code_.size() && !alpha(code_[i_]) && code_[i_] != '#')
+      // A number runs up to the next word or setting: "X1.2.3" or "Z-.5%" is a typo, not two words.
+      if (!o_line && i_ < code_.size() && !word_letter(code_[i_]) && code_[i_] != '#')
         fail(code_.substr(start, i_ - start + 1), "malformed number");
     } else if (expression_follows()) {
       v = value(0);

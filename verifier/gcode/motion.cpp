@@ -47,6 +47,10 @@ void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
     emit(Motion::Rapid, st_.pos, line);
     return;
   }
+  if (motion == 330 || motion == 331) {
+    spindle_synchronized(motion, start, val, line);
+    return;
+  }
   if (st_.inverse_time && !val.has('F'))
     throw InputError(file_, line, "F", "inverse-time feed (G93) needs F on every feed block");
   if (!st_.inverse_time && st_.feed <= 0.0) throw InputError(file_, line, "F", "feed block with no feed rate set");
@@ -68,7 +72,71 @@ Axes Reader::move_axes(const Values& val) {
     st_.pos[a] = st_.incremental ? st_.pos[a] + v : v;
     st_.axes[a] = AxisState::Set;
   }
+  if (val.polar()) polar_target(val, line_);
   return st_.pos;
+}
+
+// LinuxCNC's rules for @ and ^ (its interpreter's enhance_block): G17 only, never with X or Y, G53 or a
+// code of the non-modal group that takes axis words (`axis_code`: G10, G28, G30, G52 or G92).
+void Reader::check_polar(const Values& val, const std::optional<int>& axis_code, bool g53, int line) const {
+  const std::string word = val.has('@') ? val.word('@') : val.word('^');
+  if (st_.plane != 17) throw InputError(file_, line, word, "polar coordinates only in the G17 plane");
+  for (char c : std::string_view("XY"))
+    if (val.has(c)) throw InputError(file_, line, val.word(c), "polar coordinates (@, ^) and an " + std::string(1, c) + " word in one block");
+  if (g53) throw InputError(file_, line, word, "polar coordinates cannot be used with G53");
+  if (axis_code)
+    throw InputError(file_, line, word, "polar coordinates can only be used for motion, not with " + code_name('G', *axis_code));
+}
+
+// X and Y from the block's polar words, about the XY origin of the current coordinate system (LinuxCNC's
+// find_ends): absolute, @ the distance and ^ the angle (degrees, counterclockwise from +X), a word not
+// given taken from the present position; incremental, @ and ^ added to the present position's.
+void Reader::polar_target(const Values& val, int line) {
+  const bool both = val.has('@') && val.has('^');
+  if (st_.incremental || !both) {
+    assume_position(0);
+    assume_position(1);
+  }
+  double r = std::hypot(st_.pos[0], st_.pos[1]), theta = std::atan2(st_.pos[1], st_.pos[0]);
+  const bool at_origin = st_.pos[0] == 0.0 && st_.pos[1] == 0.0;
+  const double deg = std::numbers::pi / 180.0;
+  if (st_.incremental) {
+    if (at_origin)
+      throw InputError(file_, line, val.word(val.has('@') ? '@' : '^'), "incremental polar motion from the XY origin has no direction");
+    if (val.has('@')) r += *val['@'] * unit();
+    if (val.has('^')) theta += *val['^'] * deg;
+  } else {
+    if (val.has('@') && !val.has('^') && at_origin)
+      throw InputError(file_, line, val.word('@'), "polar distance without an angle at the XY origin");
+    if (val.has('@')) r = *val['@'] * unit();
+    if (val.has('^')) theta = *val['^'] * deg;
+  }
+  st_.pos[0] = r * std::cos(theta);
+  st_.pos[1] = r * std::sin(theta);
+  st_.axes[0] = st_.axes[1] = AxisState::Set;
+}
+
+// G33 (a straight move at K per spindle turn) and G33.1 (rigid tapping: in to the target at K per turn,
+// then back out to the start, I times as fast; LinuxCNC's RIGID_TAP). The feed is K times the spindle
+// speed; the swept volume is the straight move's.
+void Reader::spindle_synchronized(int motion, const Axes& start, const Values& val, int line) {
+  const std::string name = code_name('G', motion);
+  if (!val.has('K')) throw InputError(file_, line, name, "K (the distance per spindle turn) missing");
+  if (!(*val['K'] > 0)) throw InputError(file_, line, val.word('K'), "the distance per spindle turn must be positive");
+  if (st_.spindle_dir == 0) throw InputError(file_, line, name, "spindle not turning (M3 or M4 first)");
+  if (!(st_.spindle > 0)) throw InputError(file_, line, name, "spindle speed S is zero");
+  const double feed = st_.feed;
+  const bool inverse_time = st_.inverse_time;
+  st_.inverse_time = false;
+  st_.feed = *val['K'] * unit() * st_.spindle;
+  emit(Motion::Linear, st_.pos, line);
+  if (motion == 331) {
+    st_.feed *= std::max(1.0, val['I'].value_or(1.0));
+    st_.pos = start;  // LinuxCNC: the tap ends where it started
+    emit(Motion::Linear, st_.pos, line);
+  }
+  st_.feed = feed;
+  st_.inverse_time = inverse_time;
 }
 
 // An axis the program has not positioned yet, where a block needs its position (an incremental word, an

@@ -14,7 +14,9 @@ namespace gcode {
 namespace {
 
 // What a G code of the motion group or of the non-modal group 0 is, for the block dispatch.
-bool is_motion_code(int g) { return g == 0 || g == 10 || g == 20 || g == 30 || g == 800 || is_cycle(g); }
+bool is_motion_code(int g) {
+  return g == 0 || g == 10 || g == 20 || g == 30 || g == 330 || g == 331 || g == 800 || is_cycle(g);
+}
 bool is_nonmodal_axis_code(int g) {  // group 0 codes that take the block's axis words
   return g == 100 || g == 280 || g == 300 || g == 520 || g == 920;
 }
@@ -151,7 +153,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
       dwell = true;
     }
   }
-  bool axis_words = false;
+  bool axis_words = val.polar();
   for (char c : std::string_view("XYZABC")) axis_words |= val.has(c);
   const bool axes_taken = nonmodal && is_nonmodal_axis_code(*nonmodal);
   if (axes_taken && motion && axis_words && *motion != 800)
@@ -167,6 +169,7 @@ void Reader::block(const std::vector<Word>& words, int line) {
     st_.dwell += *val['P'];
   }
   apply_modal_g_codes(gs, val, line);
+  if (val.polar()) check_polar(val, axes_taken ? nonmodal : std::nullopt, g53, line);  // in the block's plane
   if (nonmodal) {
     if (*nonmodal == 100) g10(val, line);
     else if (*nonmodal == 280 || *nonmodal == 300) reference_return(*nonmodal, val, line);
@@ -230,8 +233,12 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
   auto refuse = [&](char c, const std::string& users) {
     throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no " + users + " to use it");
   };
-  for (char c : std::string_view("IJK"))
-    if (val.has(c) && !arc) refuse(c, "G2 or G3");
+  const bool synced = mode == 330 || mode == 331;  // G33, G33.1: K is the distance per turn, I G33.1's retract speed
+  if (val.has('I') && !arc && mode != 331) refuse('I', "G2, G3 or G33.1");
+  if (val.has('J') && !arc) refuse('J', "G2 or G3");
+  if (val.has('K') && !arc && !synced) refuse('K', "G2, G3, G33 or G33.1");
+  if (synced && val.has('F'))
+    throw InputError(file_, line, val.word('F'), "F word with " + code_name('G', mode) + " (its feed is K per spindle turn)");
   if (val.has('R') && !arc && !cycle && !g10 && !has_m({190}) && !has_g({411, 421}))
     refuse('R', "G2, G3, canned cycle, G10, G41.1, G42.1 or M19");
   const bool dwell_cycle = mode == 820 || mode == 840 || mode == 740 || mode == 860 || mode == 880 || mode == 890;
@@ -261,9 +268,10 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
 // ignored. Throws on a letter the machine or the reader does not know and on a word given twice.
 void Reader::sort_words(const std::vector<Word>& words, int line, Values& val, std::vector<int>& gs,
                         std::vector<int>& ms) const {
-  bool io = false;  // M66-M68 take an E word
+  bool io = false;  // M66-M68 take an E word (and G76, refused as a cycle the reader does not run)
   for (const Word& w : words)
-    if (w.letter == 'M' && (w.value == 66 || w.value == 67 || w.value == 68)) io = true;
+    if ((w.letter == 'M' && (w.value == 66 || w.value == 67 || w.value == 68)) || (w.letter == 'G' && w.value == 76))
+      io = true;
   const Word* previous = nullptr;
   for (const Word& w : words) {
     if (w.letter == 'G') { gs.push_back(code_key(w, file_, line)); previous = &w; continue; }
@@ -278,9 +286,9 @@ void Reader::sort_words(const std::vector<Word>& words, int line, Values& val, s
                            machine_.rotary_axes() + ")");
     if (std::string_view("UVW").find(w.letter) != std::string_view::npos)
       throw InputError(file_, line, w.text, "machine '" + machine_.name + "' has no " + std::string(1, w.letter) + " axis");
-    if (std::string_view("XYZABCIJKRFSTPQHDLE").find(w.letter) == std::string_view::npos)
+    if (std::string_view("XYZABCIJKRFSTPQHDLE@^").find(w.letter) == std::string_view::npos)
       throw InputError(file_, line, w.text, "unknown word letter");
-    const size_t k = size_t(w.letter - 'A');
+    const size_t k = Values::slot(w.letter);
     if (val.value[k]) throw InputError(file_, line, w.text, "word given twice in one block");
     val.value[k] = w.value;
     val.text[k] = w.text;
@@ -348,12 +356,15 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
       throw InputError(file_, line, code_name('G', g), "back boring and manual-retract cycles are not supported");
     if (g == 50 || g == 51 || g == 52 || g == 53)
       throw InputError(file_, line, code_name('G', g), "splines (G5, G5.1, G5.2, G5.3) are not supported");
-    if (g == 160) throw InputError(file_, line, "G16", "polar coordinates are not supported");
+    if (g == 160)
+      throw InputError(file_, line, "G16", "Fanuc's polar coordinate mode is not supported (LinuxCNC's @ and ^ words are)");
     if (g == 70) throw InputError(file_, line, "G7", "lathe diameter mode is not supported");
     if (g == 171 || g == 181 || g == 191)
       throw InputError(file_, line, code_name('G', g), "the U V W planes are not supported");
-    if (g == 330 || g == 331 || g == 760 || (g >= 382 && g <= 385))
-      throw InputError(file_, line, code_name('G', g), "is not supported");
+    if (g == 760) throw InputError(file_, line, "G76", "the lathe threading cycle is not supported");
+    if (g == 700 || g == 710 || g == 711 || g == 712 || g == 720 || g == 721 || g == 722)
+      throw InputError(file_, line, code_name('G', g), "lathe cycles (G70-G72) are not supported");
+    if (g >= 382 && g <= 385) throw InputError(file_, line, code_name('G', g), "probing is not supported");
     if (recognised(g)) continue;
     // Its axis words would run in the motion mode in force (a remapped cycle, polar coordinates).
     for (char c : std::string_view("XYZABC"))

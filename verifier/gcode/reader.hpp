@@ -4,8 +4,8 @@
 // the machine position programmed + work offset + G92 offset + tool length offset along Z.
 //
 // Split by subject: reader.cpp (lines, words, modal codes, M codes), motion.cpp (straight moves, arcs,
-// G53, the emitted blocks), offsets.cpp (coordinate systems, G92, G10, tool length offsets, G28/G30, and
-// the end of the program), cycles.cpp (canned cycles).
+// G53, polar coordinates, G33 and G33.1, the emitted blocks), offsets.cpp (coordinate systems, G92, G10,
+// tool length offsets, G28/G30, and the end of the program), cycles.cpp (canned cycles).
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -155,6 +155,9 @@ class Reader : private ParameterValues {
   // motion.cpp
   void motion_block(int motion, bool g53, const Values& val, int line);
   Axes move_axes(const Values& val);
+  void check_polar(const Values& val, const std::optional<int>& axis_code, bool g53, int line) const;
+  void polar_target(const Values& val, int line);
+  void spindle_synchronized(int motion, const Axes& start, const Values& val, int line);
   void check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
                           const std::vector<int>& gs, const std::vector<int>& ms, const Values& val, int line) const;
   void assume_position(int axis);

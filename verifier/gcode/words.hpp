@@ -28,13 +28,16 @@ std::string code_name(char letter, int key);
 // "M128" (or "m128", "M 128") -> key 1280; nullopt when the text names no M code.
 std::optional<int> machine_m_code(const std::string& code);
 
-// A block's value words (not G, M, N or O) by letter, with their text for messages.
+// A block's value words (not G, M, N or O) by letter, with their text for messages: A to Z, and LinuxCNC's
+// polar coordinates @ (the distance) and ^ (the angle).
 struct Values {
-  std::array<std::optional<double>, 26> value{};
-  std::array<std::string, 26> text{};
-  const std::optional<double>& operator[](char c) const { return value[size_t(c - 'A')]; }
-  bool has(char c) const { return value[size_t(c - 'A')].has_value(); }
-  std::string word(char c) const { return text[size_t(c - 'A')].empty() ? std::string(1, c) : text[size_t(c - 'A')]; }
+  static size_t slot(char c) { return c == '@' ? 26 : c == '^' ? 27 : size_t(c - 'A'); }
+  std::array<std::optional<double>, 28> value{};
+  std::array<std::string, 28> text{};
+  const std::optional<double>& operator[](char c) const { return value[slot(c)]; }
+  bool has(char c) const { return value[slot(c)].has_value(); }
+  bool polar() const { return has('@') || has('^'); }
+  std::string word(char c) const { return text[slot(c)].empty() ? std::string(1, c) : text[slot(c)]; }
 };
 
 }  // namespace tf::gcode
