@@ -257,6 +257,38 @@ TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
   EXPECT_FALSE(fs::exists(dir / "v.json"));
 }
 
+// O<name> subroutines from files: the program's directory, then --subroutine-path; an error inside one
+// names that file and its line; a directory that does not exist is refused.
+TEST_F(VerifyCli, SubroutinePath) {
+  fs::create_directories(dir / "lib");
+  write(dir / "lib" / "slot.ngc", "o<slot> sub\nG1 Z8 F100\nG1 X#1\nG0 Z20\no<slot> endsub\nM2\n");
+  write(dir / "p.ngc", "G0 X5 Y5 Z20\no<slot> call [15]\nM2\n");
+  const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +
+                           (dir / "v.json").string() + " --blocks " + (dir / "b.csv").string();
+  CliRun r = tiltfield(base, dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("O<SLOT>"), std::string::npos) << r.err;
+  r = tiltfield(base + " --subroutine-path " + (dir / "nowhere").string() + ":" + (dir / "lib").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--subroutine-path"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
+  r = tiltfield(base + " --subroutine-path " + (dir / "lib").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "v.json"));
+  EXPECT_GT(report["removed_volume_mm3"].get<double>(), 10.0);  // the slot the subroutine cuts
+  std::ifstream blocks(dir / "b.csv");
+  std::string header, line;
+  std::getline(blocks, header);
+  int rows = 0;
+  while (std::getline(blocks, line)) ++rows;
+  EXPECT_EQ(rows, 4);  // the rapid, then the subroutine's three moves
+  write(dir / "lib" / "slot.ngc", "o<slot> sub\nG1 Z8 F100\nG1 X#1 W2\no<slot> endsub\n");
+  r = tiltfield(base + " --subroutine-path " + (dir / "lib").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("slot.ngc:3"), std::string::npos) << r.err;
+}
+
 TEST_F(VerifyCli, OutputsThatCannotBeWrittenAreRefusedBeforeTheSimulation) {
   write(dir / "p.ngc", "G0 X5 Y15 Z20\nG1 Z8 F600\nG1 X35 F1200\nG0 Z20\nM30\n");
   const std::string base = "verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " +

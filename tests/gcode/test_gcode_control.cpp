@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gcode_test_util.hpp"
+#include "test_support.hpp"
 
 namespace tf {
 namespace {
@@ -121,6 +122,56 @@ TEST(GcodeControl, FanucSubprogramErrorsNameTheWord) {
       {"G0 X0\nM98 P10\nM30\nO10\nM99 X5\n", 5, "M99"},
       {"G0 X0\nM98 P1\nM30\nO1\nM98 P1\nM99\n", 5, "M98"},           // 9 levels at most
   });
+}
+
+}  // namespace
+}  // namespace tf
+
+namespace tf {
+namespace {
+
+// Subroutine files: O<name> not in the program is the file <name>.ngc (lower case) of the first
+// subroutine directory that has it; only its SUB ... ENDSUB runs (the M2 after it does not end the
+// program); errors and warnings name the file and its line, the blocks it makes the line of the call.
+TEST(GcodeControl, SubroutineFilesRunFromTheDirectories) {
+  test::TempDir first, second;
+  test::write_text(second.path() / "drill.ngc",
+                   "(a library file)\no<drill> sub\nG0 X#1 Y#2\nG1 Z-1 F50\nG0 Z1\no<drill> endsub\nM2\n");
+  test::write_text(first.path() / "row.ngc", "o<row> sub\no<drill> call [#1] [0]\no<drill> call [#1 + 10] [0]\no<row> endsub\n");
+  test::write_text(first.path() / "main.ngc", "G21 G90\nG0 X0 Y0 Z1\nO<ROW> call [5]\nG0 X50\nM2\n");
+  GcodeOptions options;
+  options.subroutine_dirs = {second.path()};
+  const Program p = read_gcode(first.path() / "main.ngc", MachineSpec{}, options);  // row.ngc: the program's own directory
+  EXPECT_EQ(xs(p), (std::vector<double>{0, 5, 5, 5, 15, 15, 15, 50}));
+  ASSERT_EQ(p.blocks.size(), 8u);
+  for (size_t k = 1; k < 7; ++k) EXPECT_EQ(p.blocks[k].line, 3) << k;
+  EXPECT_EQ(p.blocks[7].line, 4);
+
+  // An error in a file names the file and its line; a warning too.
+  test::write_text(second.path() / "bad.ngc", "o<bad> sub\nM123\nG1 X1 Q2 F100\no<bad> endsub\n");
+  test::write_text(first.path() / "calls_bad.ngc", "G21\nG0 X0 Y0 Z0\no<bad> call\nM2\n");
+  try {
+    read_gcode(first.path() / "calls_bad.ngc", MachineSpec{}, options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), (second.path() / "bad.ngc").string());
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "Q2");
+  }
+  test::write_text(second.path() / "warns.ngc", "o<warns> sub\nM123\no<warns> endsub\n");
+  test::write_text(first.path() / "calls_warns.ngc", "G21\no<warns> call\nG0 X0 Y0 Z0\nM2\n");
+  const Program w = read_gcode(first.path() / "calls_warns.ngc", MachineSpec{}, options);
+  ASSERT_FALSE(w.warnings.empty());
+  EXPECT_EQ(w.warnings.front().rfind((second.path() / "warns.ngc").string() + ":2: M123", 0), 0u) << w.warnings.front();
+
+  // Not found anywhere, or a file without the subroutine: errors naming the call.
+  test::write_text(first.path() / "calls_none.ngc", "G21\no<none> call\nM2\n");
+  EXPECT_THROW(read_gcode(first.path() / "calls_none.ngc", MachineSpec{}, options), InputError);
+  test::write_text(second.path() / "empty.ngc", "G0 X1\nM2\n");
+  test::write_text(first.path() / "calls_empty.ngc", "G21\no<empty> call\nM2\n");
+  EXPECT_THROW(read_gcode(first.path() / "calls_empty.ngc", MachineSpec{}, options), InputError);
+  // parse_gcode has no directory of its own: the call is an error unless the options give one.
+  expect_gcode_error("G21\no<row> call [1]\nM2\n", 2, "O<ROW>");
 }
 
 }  // namespace

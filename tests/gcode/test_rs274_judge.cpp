@@ -346,6 +346,23 @@ TEST(Rs274Judge, PolarCoordinatesAndSpindleSynchronisedMoves) {
   expect_same_motion(judge(kPolarAndSynchronised, library(), trt_joint()), "polar, G33, G33.1");
 }
 
+// Subroutine files, found by rs274 beside the program (its working directory) and by the reader in the
+// program's directory: nested calls between files, arguments, a loop and a numbered O-word inside one, a
+// name called in capitals.
+TEST(Rs274Judge, SubroutineFiles) {
+  TF_REQUIRE_RS274();
+  test::TempDir dir;
+  test::write_text(dir / "outer.ngc", "o<outer> sub\no<inner> call [#1 * 2]\nG1 X#1 F100\no<outer> endsub\nM2\n");
+  test::write_text(dir / "inner.ngc",
+                   "o<inner> sub\no100 repeat [2]\nG91 G1 Y#1 F200\no100 endrepeat\nG90 G1 X0 Y0\nG3 X0 Y0 I2 J0\no<inner> endsub\n");
+  const std::string program = "G21 G90 G17\nG0 X2 Y0 Z0 A0 C0\nO<OUTER> call [3]\nG0 Z10\no<inner> call [1]\nM2\n";
+  Judged j;
+  j.rs = test::run_rs274(dir, program, test::rs274_tool_table({}), test::rs274_var_file({}));
+  j.program = read_gcode(dir / "judge.ngc", trt_joint(), GcodeOptions{});
+  expect_same_motion(j, "subroutine files");
+  EXPECT_GT(j.program.blocks.size(), 8u);
+}
+
 // A path as a list of (position, feed or rapid, dwell before) with the moves that go nowhere left out (their
 // dwells carried to the next): rs274 makes a traverse of a lone "G0", the reader no block.
 struct PathPoint {

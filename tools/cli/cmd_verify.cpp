@@ -1,10 +1,12 @@
 // `tiltfield verify SCENE PROGRAM.ngc -o VERIFY.json [--blocks BLOCKS.csv] [--stock-mesh STOCK.ply]
 //  [--html REPORT.html] [--mesh-tolerance MM] [--resolution MM] [--gouge-tolerance MM] [--collision-tolerance MM]
-//  [--engagement PAIRS.csv]`: tri-dexel
+//  [--engagement PAIRS.csv] [--subroutine-path DIR:DIR]`: tri-dexel
 // material-removal simulation of a G-code program (docs/verifier.md), its compact stock mesh and its HTML
 // report (docs/report.md). With `--schedule-feed V`, -o names the rewritten program instead
 // (docs/engagement.md).
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <utility>
@@ -24,7 +26,7 @@ namespace tf::cli {
 namespace {
 
 struct VerifyArgs {
-  std::string scene, program, out, blocks, stock_mesh, pairs, report, html;
+  std::string scene, program, out, blocks, stock_mesh, pairs, report, html, subroutine_path;
   double mesh_tolerance = 0.01;
   double schedule_mrr = 0.0;
   FeedScheduleOptions schedule;
@@ -63,7 +65,17 @@ void run_verify(const VerifyArgs& a) {
   if (!a.stock_mesh.empty()) check_mesh_format(a.stock_mesh);
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
-  const Program program = read_gcode(a.program, machine, gcode_options(scene));
+  GcodeOptions gcode = gcode_options(scene);
+  // LinuxCNC's SUBROUTINE_PATH: directories separated by ':', searched after the program's own.
+  for (size_t from = 0; from < a.subroutine_path.size();) {
+    const size_t to = std::min(a.subroutine_path.find(':', from), a.subroutine_path.size());
+    const std::string dir = a.subroutine_path.substr(from, to - from);
+    if (!dir.empty() && !std::filesystem::is_directory(dir))
+      throw InputError("", 0, "--subroutine-path", "'" + dir + "' is not a directory");
+    if (!dir.empty()) gcode.subroutine_dirs.push_back(dir);
+    from = to + 1;
+  }
+  const Program program = read_gcode(a.program, machine, gcode);
   VerifyOptions opt;
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;
@@ -170,6 +182,9 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON");
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
+  cmd->add_option("--subroutine-path", args.subroutine_path,
+                  "directories (separated by ':') holding the files <name>.ngc of O<name> subroutines the program calls, "
+                  "searched after the program's own directory (LinuxCNC's SUBROUTINE_PATH)");
   cmd->callback([] { run_verify(args); });
 }
 

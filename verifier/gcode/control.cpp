@@ -3,10 +3,11 @@
 // return); their named parameters belong to the call (names beginning with "_" are global); RETURN or
 // ENDSUB [value] leaves the value in #<_value>. IF / ELSEIF / ELSE / ENDIF, WHILE / ENDWHILE, DO / WHILE,
 // REPEAT / ENDREPEAT, BREAK and CONTINUE: a label pairs the lines of one construct, as in LinuxCNC.
-// Subroutines are found in the program's own file: LinuxCNC also looks for O<name> in the files on its
-// SUBROUTINE_PATH, which are not read here (the call is an error naming it).
+// Subroutines are found in the program's own file, then O<name> in the file <name>.ngc of the
+// subroutine directories (subroutine_files.cpp), as LinuxCNC looks in PROGRAM_PREFIX and SUBROUTINE_PATH.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "reader.hpp"
 #include "tiltfield/core/error.hpp"
@@ -19,23 +20,32 @@ constexpr size_t kArguments = 30;
 }  // namespace
 
 void Reader::run(const std::vector<std::string_view>& lines) {
-  scan_o_words(lines);
-  long run_lines = 0;
-  for (size_t next = 0; next < lines.size() && !st_.ended;) {
-    const size_t at = next++;
-    const int number = static_cast<int>(at) + 1;
-    // The program's own lines, and as many again from its loops and calls.
-    if (++run_lines > options_.max_lines_run + static_cast<long>(lines.size()))
-      throw InputError(file_, number, "", "more than " + std::to_string(options_.max_lines_run) +
-                                             " lines run beyond the program's own (GcodeOptions::max_lines_run): a loop that does not end?");
-    const std::optional<std::string> code = code_of(lines[at], number);
-    if (!code || code->empty()) continue;
-    if (o_lines_[at]) {
-      line_ = number;
-      control(*o_lines_[at], at, next);
-    } else if (!fanuc_line(*code, at, next)) {
-      execute(*code, number);
+  lines_ = lines;
+  main_lines_ = lines.size();
+  try {
+    scan_o_words(0, main_lines_);
+    long run_lines = 0;
+    for (size_t next = 0; !st_.ended;) {
+      // The program's own lines; a subroutine file's only inside a call of it.
+      if (next >= (calls_.empty() ? main_lines_ : lines_.size())) break;
+      const size_t at = next++;
+      const int number = static_cast<int>(at) + 1;
+      // The program's own lines, and as many again from its loops and calls.
+      if (++run_lines > options_.max_lines_run + static_cast<long>(main_lines_))
+        throw InputError(file_, number, "", "more than " + std::to_string(options_.max_lines_run) +
+                                               " lines run beyond the program's own (GcodeOptions::max_lines_run): a loop that does not end?");
+      const std::optional<std::string> code = code_of(lines_[at], number);
+      if (!code || code->empty()) continue;
+      if (o_lines_[at]) {
+        line_ = number;
+        const OLine o = *o_lines_[at];  // a copy: a call may read a subroutine file, which grows o_lines_
+        control(o, at, next);
+      } else if (!fanuc_line(*code, at, next)) {
+        execute(*code, number);
+      }
     }
+  } catch (const InputError& e) {
+    throw in_source(e);
   }
   // A program M98 ran that reaches the end of the file without M99 or a program end: the caller's rest
   // would go unread (rs274: "File ended with no percent sign or program end").
@@ -48,12 +58,12 @@ void Reader::run(const std::vector<std::string_view>& lines) {
 // Every O-word line, each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
 // further down) and each Fanuc-style program's "O1000" line (the first, as rs274 finds it). A line that
 // cannot be read is left to the run, which reports it if it gets there.
-void Reader::scan_o_words(const std::vector<std::string_view>& lines) {
-  o_lines_.assign(lines.size(), std::nullopt);
+void Reader::scan_o_words(size_t begin, size_t end) {
+  o_lines_.resize(lines_.size());
   std::optional<std::pair<std::string, size_t>> open;  // the subroutine being defined: label, line
   int percent = 0;
-  for (size_t i = 0; i < lines.size() && percent < 2; ++i) {
-    std::string_view view = lines[i];
+  for (size_t i = begin; i < end && percent < 2; ++i) {
+    std::string_view view = lines_[i];
     while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
     if (!view.empty() && view.front() == '/') {
       if (options_.block_delete) continue;
@@ -142,13 +152,20 @@ void Reader::control(const OLine& o, size_t at, size_t& next) {
 }
 
 void Reader::call(const OLine& o, int number, size_t& next) {
-  const auto it = subs_.find(o.word.label);
-  if (it == subs_.end()) {
+  if (!subs_.count(o.word.label)) {
     if (programs_.count(o.word.label))
       throw InputError(file_, number, o.word.name(), "a Fanuc-style program (" + o.word.name() + " ... M99): M98 P" + o.word.label + " calls it");
-    throw InputError(file_, number, o.word.name(),
-                     "subroutine not defined in this file (subroutine files on LinuxCNC's SUBROUTINE_PATH are not read)");
+    if (!load_subroutine_file(o.word.label, number)) {
+      std::string what = "subroutine not defined in this file";
+      if (o.word.label.front() == '<') {
+        what.append(" nor found as a file in");
+        for (const std::filesystem::path& dir : options_.subroutine_dirs) what.append(" ").append((dir / "").string());
+        if (options_.subroutine_dirs.empty()) what.append(" no subroutine directory (none given)");
+      }
+      throw InputError(file_, number, o.word.name(), what);
+    }
   }
+  const auto it = subs_.find(o.word.label);
   const std::vector<double> args = o_word_values(o.code, o.word, file_, number, *this);  // in the caller's scope
   if (args.size() > kArguments) throw InputError(file_, number, o.word.name(), "more than 30 arguments");
   Frame f{next, {}, loops_.size()};
@@ -231,7 +248,7 @@ bool Reader::condition(const OLine& o, int number) {
 
 // The first line after `from` with o's label and one of the keywords.
 size_t Reader::find_o_word(size_t from, const OWord& o, std::initializer_list<std::string_view> keywords) const {
-  for (size_t j = from + 1; j < o_lines_.size(); ++j)
+  for (size_t j = from + 1; j < source_end(from); ++j)
     if (o_lines_[j] && o_lines_[j]->word.label == o.label &&
         std::find(keywords.begin(), keywords.end(), o_lines_[j]->word.keyword) != keywords.end())
       return j;

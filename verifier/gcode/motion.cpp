@@ -174,7 +174,7 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   check_tool(line);
   const Axes off = offset();
   Block b;
-  b.line = line;
+  b.line = block_line(line);
   b.motion = m;
   b.target = Joints{target[0] + off[0], target[1] + off[1], target[2] + off[2],
                     target[3] + off[3], target[4] + off[4], target[5] + off[5]};

@@ -201,7 +201,8 @@ void Reader::drop_blocks_sent_home(const std::vector<bool>& drop) {
   }
   program_.blocks.resize(k);
   block_tlo_.resize(k);
-  program_.warnings.push_back(file_ + ":" + std::to_string(reference_line_) + ": " + std::to_string(dropped) +
+  const auto [file, line] = source_of(reference_line_);
+  program_.warnings.push_back(file + ":" + std::to_string(line) + ": " + std::to_string(dropped) +
                               " motion blocks after the reference return move axes that stay at the reference"
                               " position: not simulated");
 }

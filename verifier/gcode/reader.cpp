@@ -91,7 +91,8 @@ void Reader::execute(const std::string& code, int number) {
 void Reader::warn(int line, const std::string& code, const std::string& what) {
   const std::string key = code + what;
   if (!warned_.insert(key).second) return;
-  program_.warnings.push_back(file_ + ":" + std::to_string(line) + ": " + key);
+  const auto [file, file_line] = source_of(line);
+  program_.warnings.push_back(file + ":" + std::to_string(file_line) + ": " + key);
 }
 
 namespace {
@@ -460,7 +461,10 @@ Program parse_gcode(std::string_view text, const std::string& file, const Machin
 }
 
 Program read_gcode(const std::filesystem::path& file, const MachineSpec& machine, const GcodeOptions& options) {
-  return parse_gcode(read_text_file(file, "G-code file"), file.string(), machine, options);
+  GcodeOptions with_dir = options;
+  const std::filesystem::path dir = file.parent_path();
+  with_dir.subroutine_dirs.insert(with_dir.subroutine_dirs.begin(), dir.empty() ? std::filesystem::path(".") : dir);
+  return parse_gcode(read_text_file(file, "G-code file"), file.string(), machine, with_dir);
 }
 
 }  // namespace tf

@@ -9,6 +9,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <array>
+#include <deque>
 #include <functional>
 #include <initializer_list>
 #include <map>
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "tiltfield/core/error.hpp"
 #include "tiltfield/gcode/gcode.hpp"
 #include "expressions.hpp"
 #include "words.hpp"
@@ -117,7 +119,7 @@ class Reader : private ParameterValues {
     size_t head;     // While: its WHILE line; Do, Repeat: the first line of the body
     long remaining;  // Repeat: passes left
   };
-  void scan_o_words(const std::vector<std::string_view>& lines);
+  void scan_o_words(size_t begin, size_t end);
   void control(const OLine& o, size_t at, size_t& next);
   void call(const OLine& o, int number, size_t& next);
   void enter_call(const Frame& f, int number, const std::string& field);
@@ -129,6 +131,19 @@ class Reader : private ParameterValues {
   void break_or_continue(const OLine& o, size_t at, size_t& next);
   bool condition(const OLine& o, int number);
   size_t find_o_word(size_t from, const OWord& o, std::initializer_list<std::string_view> keywords) const;
+
+  // subroutine_files.cpp: O<name> subroutines from the files <name>.ngc (GcodeOptions::subroutine_dirs),
+  // appended to lines_ as they are first called, and where each line of lines_ comes from
+  struct Source {
+    size_t begin, end;  // its lines in lines_
+    std::string file;
+    int first_line;     // the file's line number of lines_[begin]
+  };
+  bool load_subroutine_file(const std::string& label, int number);
+  std::pair<std::string, int> source_of(int number) const;  // the file and line of a line of lines_ (1-based)
+  InputError in_source(const InputError& e) const;
+  size_t source_end(size_t at) const;                         // the end of the lines of the file that holds `at`
+  int block_line(int number) const;
 
   std::optional<std::string> code_of(std::string_view raw, int number);
   void execute(const std::string& code, int number);
@@ -198,6 +213,10 @@ class Reader : private ParameterValues {
   std::map<std::string, double> globals_;                    // #<_name>
   std::vector<std::map<std::string, double>> locals_{1};      // #<name>, per call level (the main program's first)
   double value_ = 0.0, value_returned_ = 0.0;                 // #<_value>, #<_value_returned>
+  std::vector<std::string_view> lines_;                       // the program's lines, then the subroutine files'
+  size_t main_lines_ = 0;                                     // the program's own
+  std::deque<std::string> file_texts_;                        // the subroutine files read
+  std::vector<Source> sources_;                               // their lines in lines_
   std::vector<std::optional<OLine>> o_lines_;                 // per line (0-based)
   std::map<std::string, Sub> subs_;                           // by label
   std::map<std::string, size_t> programs_;                    // Fanuc-style "O1000" lines, by number

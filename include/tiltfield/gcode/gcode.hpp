@@ -9,8 +9,10 @@
 // Read (docs/verifier.md, "G-code reader", has the details): G0 G1 G2 G3 (I J K or R, P turns, planes
 // G17/G18/G19, G90.1/G91.1), G4 dwell, G20/G21, G90/G91, G93/G94, G53, G54-G59.3, G92 G92.1 G92.2 G92.3,
 // G10 L2/L20, G28/G30, G43 H/G49 tool length offsets, canned cycles G73 G74 G81-G86 G89 with G98/G99 and
-// G80, F, S, T, M3/M4/M5, M6, M61, M0/M1, M7/M8/M9, M2/M30 (end), X Y Z A B C, comments "( )" and ";", N
-// numbers, "%" lines (reading stops at the second), O program numbers and block delete "/".
+// G80, G33 and G33.1 (straight moves at K per spindle turn), F, S, T, M3/M4/M5, M6, M61, M0/M1, M7/M8/M9,
+// M2/M30 (end), X Y Z A B C, polar coordinates @ ^, comments "( )" and ";", N numbers, "%" lines (reading
+// stops at the second), O program numbers, block delete "/", parameters and expressions, O-word
+// subroutines (in the program or in files, subroutine_dirs) and control flow, Fanuc M98/M99.
 // Tool-centre-point control is switched on by G43.4, M128 or the machine's tcp_on_code and off by G49
 // (G43.4 only), M129 or tcp_off_code; while it is on, X Y Z are the tool tip in the part frame.
 // Codes that are read but not simulated and unknown G/M codes become warnings "file:line: ..." in
@@ -25,6 +27,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tiltfield/core/machine.hpp"
 #include "tiltfield/core/program.hpp"
@@ -53,6 +56,10 @@ struct GcodeOptions {
   std::map<int, double> tool_lengths;
   double tool_length = 0.0;  // the scene's `tool`: gauge length, mm
   int start_tool = 0;        // the tool number in the spindle before the first M6 (Block::tool)
+  // Directories searched in order for the file <name>.ngc (lower case) of a subroutine O<name> that a
+  // program calls but does not define, as LinuxCNC searches PROGRAM_PREFIX and then SUBROUTINE_PATH;
+  // read_gcode puts the program's own directory first. Default: none.
+  std::vector<std::filesystem::path> subroutine_dirs;
   // Lines a program's loops and calls may run beyond the file's own count (each pass of a loop counts its
   // lines again) before the program is refused as one whose loop does not end. Default 10 000 000.
   long max_lines_run = 10'000'000;
