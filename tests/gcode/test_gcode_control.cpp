@@ -148,14 +148,14 @@ TEST(GcodeControl, SubroutineFilesRunFromTheDirectories) {
   EXPECT_EQ(p.blocks[7].line, 4);
 
   // An error in a file names the file and its line; a warning too.
-  test::write_text(second.path() / "bad.ngc", "o<bad> sub\nM123\nG1 X1 Q2 F100\no<bad> endsub\n");
+  test::write_text(second.path() / "bad.ngc", "(library)\n\no<bad> sub\nM123\nG1 X1 Q2 F100\no<bad> endsub\n");
   test::write_text(first.path() / "calls_bad.ngc", "G21\nG0 X0 Y0 Z0\no<bad> call\nM2\n");
   try {
     read_gcode(first.path() / "calls_bad.ngc", MachineSpec{}, options);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), (second.path() / "bad.ngc").string());
-    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.line(), 5);
     EXPECT_EQ(e.field(), "Q2");
   }
   test::write_text(second.path() / "warns.ngc", "o<warns> sub\nM123\no<warns> endsub\n");
@@ -164,12 +164,29 @@ TEST(GcodeControl, SubroutineFilesRunFromTheDirectories) {
   ASSERT_FALSE(w.warnings.empty());
   EXPECT_EQ(w.warnings.front().rfind((second.path() / "warns.ngc").string() + ":2: M123", 0), 0u) << w.warnings.front();
 
-  // Not found anywhere, or a file without the subroutine: errors naming the call.
-  test::write_text(first.path() / "calls_none.ngc", "G21\no<none> call\nM2\n");
-  EXPECT_THROW(read_gcode(first.path() / "calls_none.ngc", MachineSpec{}, options), InputError);
+  // Not found anywhere, a file without the subroutine, a file that calls itself without end: errors
+  // naming the call (in a subroutine file: there).
+  auto expect_error = [&](const std::string& program, const std::string& file, int line, const std::string& field) {
+    test::write_text(first.path() / "calls.ngc", program);
+    try {
+      read_gcode(first.path() / "calls.ngc", MachineSpec{}, options);
+      ADD_FAILURE() << "no error for " << program;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), file) << program;
+      EXPECT_EQ(e.line(), line) << program;
+      EXPECT_EQ(e.field(), field) << program;
+    }
+  };
+  const std::string calls = (first.path() / "calls.ngc").string();
+  expect_error("G21\no<none> call\nM2\n", calls, 2, "O<NONE>");
   test::write_text(second.path() / "empty.ngc", "G0 X1\nM2\n");
-  test::write_text(first.path() / "calls_empty.ngc", "G21\no<empty> call\nM2\n");
-  EXPECT_THROW(read_gcode(first.path() / "calls_empty.ngc", MachineSpec{}, options), InputError);
+  expect_error("G21\n\no<empty> call\nM2\n", calls, 3, "O<EMPTY>");
+  test::write_text(second.path() / "again.ngc", "o<again> sub\nG0 X1\no<again> call\no<again> endsub\n");
+  expect_error("G21\no<again> call\nM2\n", (second.path() / "again.ngc").string(), 3, "O<AGAIN>");
+  // Numbered O-words are the file's own: the program's O100 loop and the file's O100 loop do not meet.
+  test::write_text(second.path() / "loop.ngc", "o<loop> sub\no100 repeat [2]\nG91 G0 X1\no100 endrepeat\nG90\no<loop> endsub\n");
+  test::write_text(first.path() / "loops.ngc", "G21 G90\nG0 X0 Y0 Z0\no100 repeat [3]\no<loop> call\no100 endrepeat\nM2\n");
+  EXPECT_EQ(xs(read_gcode(first.path() / "loops.ngc", MachineSpec{}, options)), (std::vector<double>{0, 1, 2, 3, 4, 5, 6}));
   // parse_gcode has no directory of its own: the call is an error unless the options give one.
   expect_gcode_error("G21\no<row> call [1]\nM2\n", 2, "O<ROW>");
 }

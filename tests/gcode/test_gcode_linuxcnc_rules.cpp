@@ -180,7 +180,10 @@ namespace {
 // check_other_codes); where they go is judged by rs274 in test_rs274_judge.cpp.
 TEST(GcodeLinuxcncRules, PolarAndSynchronisedMovesKeepTheirRules) {
   expect_refused({
-      {"G21\nG18 G0 @5 ^10\n", 2, "@5"},                 // G17 only
+      {"G21\nG18\nG0 @5 ^10\n", 3, "@5"},               // G17 only (the plane before the block, as LinuxCNC)
+      {"G21\nG18\nG17 G0 @5 ^10\n", 3, "@5"},
+      {"G21\nG0 X1 Y0 Z0\nG91 G0 @-1 ^10\n", 3, "^10"},  // at the origin after the distance
+      {"G21\nM3 S100\nG33.1 Z-3 K1\n", 3, "G33.1"},       // a tap from a Z not set yet: it returns there
       {"G21\nG0 X1 @5 ^10\n", 2, "X1"},                  // not with X or Y
       {"G21\nG53 G0 @5 ^10\n", 2, "@5"},                 // not with G53
       {"G21\nG92 @5 ^10\n", 2, "@5"},                    // motion only
@@ -190,7 +193,7 @@ TEST(GcodeLinuxcncRules, PolarAndSynchronisedMovesKeepTheirRules) {
       {"G21\nM3 S100\nG33 Z-5\n", 3, "G33"},            // K missing
       {"G21\nM3 S100\nG33 Z-5 K1 F100\n", 3, "F100"},   // F with G33
       {"G21\nS100\nG33 Z-5 K1\n", 3, "G33"},            // spindle stopped
-      {"G21\nM3 S100\nG33.1 Z-5 K-1\n", 3, "K-1"},      // K must be positive
+      {"G21\nG0 Z0\nM3 S100\nG33.1 Z-5 K-1\n", 4, "K-1"},  // K must be positive
       {"G21\nM3 S100\nG33 Z-5 K1 I2\n", 3, "I2"},       // I only with G33.1
       {"G21\nM3 S100\nG76 P1 Z-5 I-1 J1 K1 E0.5\n", 3, "G76"},  // a lathe cycle, not an exponent
       {"G21\nG0 X0 Y0 Z0\nG71.1 Q100 X1 Z1 D1\n", 3, "G71.1"},  // lathe roughing

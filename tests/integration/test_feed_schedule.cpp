@@ -138,6 +138,41 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 
+// Blocks whose feed no F on their line sets keep it: a subroutine file's (their line is the call's, where
+// an F would be refused) and G33's (K per spindle turn; F is refused with it). The schedule names them.
+TEST_F(ScheduleCli, FeedsOnlyWhereTheLineSetsThem) {
+  write_text(dir / "slot.ngc", "o<slot> sub\nG1 X30 F600\no<slot> endsub\n");
+  write_text(dir / "p.ngc", "G21 G90 G94\nG0 X-10 Y0 Z8\no<slot> call\nG0 Z15\nG0 X-10 Y5\nG0 Z8\nM3 S600\nG33 X30 K1\nM30\n");
+  const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                               " --schedule-feed 6000 -o " + (dir / "p2.ngc").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(read_text(dir / "p2.ngc"), read_text(dir / "p.ngc"));  // no line could take the new feeds
+  // The schedule names them: the same program's blocks over the limit.
+  GcodeOptions options;
+  options.subroutine_dirs = {dir.path()};
+  const Program p = parse_gcode(read_text(dir / "p.ngc"), "p.ngc", MachineSpec{}, options);
+  ASSERT_EQ(p.blocks.size(), 6u);
+  VerifyReport report;
+  for (size_t i = 0; i < p.blocks.size(); ++i) {
+    BlockResult b;
+    b.block = static_cast<int>(i) + 1;
+    b.line = p.blocks[i].line;
+    b.path_mm = 40.0;
+    b.minutes = 40.0 / 600.0;
+    b.removed_mm3 = 800.0;  // 12000 mm3/min
+    report.per_block.push_back(b);
+  }
+  FeedScheduleOptions o;
+  o.max_mrr = 6000.0;
+  const FeedSchedule fs = schedule_feeds(p, report, o);
+  EXPECT_TRUE(p.blocks[1].fixed_feed && p.blocks[5].fixed_feed);
+  EXPECT_DOUBLE_EQ(fs.feed[1], p.blocks[1].feed);
+  EXPECT_DOUBLE_EQ(fs.feed[5], p.blocks[5].feed);
+  ASSERT_EQ(fs.warnings.size(), 2u);
+  EXPECT_NE(fs.warnings[0].find("(line 3)"), std::string::npos) << fs.warnings[0];
+  EXPECT_NE(fs.warnings[1].find("(line 8)"), std::string::npos) << fs.warnings[1];
+}
+
 TEST_F(ScheduleCli, InverseTimeProgram) {
   write_text(dir / "p.ngc", "G21 G90\nG0 X-10 Y0 Z8\nG93 G1 X30 F15\nG1 X50 F30\nG1 Z15 F60\nG94\nM30\n");
   const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +

@@ -54,6 +54,13 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
     const double scale = std::pow(10.0, decimals);
     const double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) * scale) / scale;
     if (fixed(f, decimals) == fixed(b.feed, decimals)) continue;
+    if (b.fixed_feed) {
+      if (f < b.feed)
+        s.warnings.push_back("block " + std::to_string(r.block) + " (line " + std::to_string(r.line) + "): " +
+                             fixed(r.removed_mm3 / r.minutes, 1) +
+                             " mm3/min, above the limit, left at its feed (a G33/G33.1 move or a subroutine file's block)");
+      continue;
+    }
     s.feed[i] = f;
     if (f < b.feed) ++s.slowed;
     else ++s.sped_up;
@@ -125,7 +132,7 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
   std::map<int, std::pair<double, int>> per_line;  // line -> (feed, decimals)
   for (size_t i = 0; i < program.blocks.size() && i < schedule.feed.size(); ++i) {
     const Block& b = program.blocks[i];
-    if (b.motion == Motion::Rapid || b.line <= 0 || !(schedule.feed[i] > 0.0)) continue;
+    if (b.motion == Motion::Rapid || b.fixed_feed || b.line <= 0 || !(schedule.feed[i] > 0.0)) continue;
     const int decimals = b.feed_mode == FeedMode::InverseTime ? 4 : 2;
     auto [it, fresh] = per_line.try_emplace(b.line, schedule.feed[i], decimals);
     if (!fresh) it->second.first = std::min(it->second.first, schedule.feed[i]);

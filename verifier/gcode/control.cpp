@@ -25,9 +25,7 @@ void Reader::run(const std::vector<std::string_view>& lines) {
   try {
     scan_o_words(0, main_lines_);
     long run_lines = 0;
-    for (size_t next = 0; !st_.ended;) {
-      // The program's own lines; a subroutine file's only inside a call of it.
-      if (next >= (calls_.empty() ? main_lines_ : lines_.size())) break;
+    for (size_t next = 0; next < lines_.size() && !st_.ended;) {
       const size_t at = next++;
       const int number = static_cast<int>(at) + 1;
       // The program's own lines, and as many again from its loops and calls.
@@ -35,24 +33,26 @@ void Reader::run(const std::vector<std::string_view>& lines) {
         throw InputError(file_, number, "", "more than " + std::to_string(options_.max_lines_run) +
                                                " lines run beyond the program's own (GcodeOptions::max_lines_run): a loop that does not end?");
       const std::optional<std::string> code = code_of(lines_[at], number);
-      if (!code || code->empty()) continue;
-      if (o_lines_[at]) {
-        line_ = number;
-        const OLine o = *o_lines_[at];  // a copy: a call may read a subroutine file, which grows o_lines_
-        control(o, at, next);
-      } else if (!fanuc_line(*code, at, next)) {
-        execute(*code, number);
+      if (code && !code->empty()) {
+        if (o_lines_[at]) {
+          line_ = number;
+          const OLine o = *o_lines_[at];  // a copy: a call may read a subroutine file, which grows o_lines_
+          control(o, at, next);
+        } else if (!fanuc_line(*code, at, next)) {
+          execute(*code, number);
+        }
       }
+      if (next == at + 1 && next == source_end(at)) break;  // the end of the program's file (or a subroutine file's)
     }
+    // A program M98 ran that reaches the end of the file without M99 or a program end: the caller's rest
+    // would go unread (rs274: "File ended with no percent sign or program end").
+    for (const Frame& f : calls_)
+      if (f.fanuc && !st_.ended)
+        throw InputError(file_, static_cast<int>(f.return_to), "M98",
+                         "the program it runs (line " + std::to_string(f.start + 1) + ") reaches the end of the file without M99");
   } catch (const InputError& e) {
     throw in_source(e);
   }
-  // A program M98 ran that reaches the end of the file without M99 or a program end: the caller's rest
-  // would go unread (rs274: "File ended with no percent sign or program end").
-  for (const Frame& f : calls_)
-    if (f.fanuc && !st_.ended)
-      throw InputError(file_, static_cast<int>(f.return_to), "M98",
-                       "the program it runs (line " + std::to_string(f.start + 1) + ") reaches the end of the file without M99");
 }
 
 // Every O-word line, each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
@@ -156,12 +156,9 @@ void Reader::call(const OLine& o, int number, size_t& next) {
     if (programs_.count(o.word.label))
       throw InputError(file_, number, o.word.name(), "a Fanuc-style program (" + o.word.name() + " ... M99): M98 P" + o.word.label + " calls it");
     if (!load_subroutine_file(o.word.label, number)) {
-      std::string what = "subroutine not defined in this file";
-      if (o.word.label.front() == '<') {
-        what.append(" nor found as a file in");
-        for (const std::filesystem::path& dir : options_.subroutine_dirs) what.append(" ").append((dir / "").string());
-        if (options_.subroutine_dirs.empty()) what.append(" no subroutine directory (none given)");
-      }
+      std::string what = "subroutine not defined in this file nor found as a file in";
+      for (const std::filesystem::path& dir : options_.subroutine_dirs) what.append(" ").append((dir / "").string());
+      if (options_.subroutine_dirs.empty()) what.append(" no subroutine directory (none given)");
       throw InputError(file_, number, o.word.name(), what);
     }
   }

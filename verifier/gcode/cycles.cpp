@@ -89,8 +89,10 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   // taken from the present position; incremental, added to the polar position before each repeat.
   double polar_r = 0.0, polar_theta = 0.0;
   if (val.polar()) {
-    assume_position(0);
-    assume_position(1);
+    if (st_.incremental || !val.has('@') || !val.has('^')) {  // the present position is needed
+      assume_position(0);
+      assume_position(1);
+    }
     polar_r = val.has('@') ? *val['@'] * unit() : 0.0;
     polar_theta = val.has('^') ? *val['^'] * std::numbers::pi / 180.0 : 0.0;
     if (!st_.incremental) {

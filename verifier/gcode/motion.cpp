@@ -27,6 +27,10 @@ void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
     assume_position(pa.u);
     assume_position(pa.v);
   }
+  if (motion == 331)  // the tap comes back to where it started, which must be known
+    for (char c : std::string_view("XYZABC"))
+      if ((val.has(c) || ((c == 'X' || c == 'Y') && val.polar())) && st_.axes[size_t(axis_index(c))] != AxisState::Set)
+        throw InputError(file_, line, "G33.1", std::string("rigid tapping from a ") + c + " position not set yet (it returns there)");
   const Axes start = st_.pos;
   if (g53) {
     // G53: the axis words are machine coordinates for this block (the tool length offset included, as
@@ -97,22 +101,26 @@ void Reader::polar_target(const Values& val, int line) {
     assume_position(0);
     assume_position(1);
   }
-  double r = std::hypot(st_.pos[0], st_.pos[1]), theta = std::atan2(st_.pos[1], st_.pos[0]);
-  const bool at_origin = st_.pos[0] == 0.0 && st_.pos[1] == 0.0;
   const double deg = std::numbers::pi / 180.0;
-  if (st_.incremental) {
-    if (at_origin)
-      throw InputError(file_, line, val.word(val.has('@') ? '@' : '^'), "incremental polar motion from the XY origin has no direction");
-    if (val.has('@')) r += *val['@'] * unit();
-    if (val.has('^')) theta += *val['^'] * deg;
+  double& x = st_.pos[0];
+  double& y = st_.pos[1];
+  if (st_.incremental) {  // the distance, then the angle, each from the origin's direction (LinuxCNC's order)
+    for (const char w : {'@', '^'}) {
+      if (!val.has(w)) continue;
+      if (x == 0.0 && y == 0.0) throw InputError(file_, line, val.word(w), "incremental polar motion from the XY origin has no direction");
+      const double r = std::hypot(x, y) + (w == '@' ? *val['@'] * unit() : 0.0);
+      const double theta = std::atan2(y, x) + (w == '^' ? *val['^'] * deg : 0.0);
+      x = r * std::cos(theta);
+      y = r * std::sin(theta);
+    }
   } else {
-    if (val.has('@') && !val.has('^') && at_origin)
+    if (val.has('@') && !val.has('^') && x == 0.0 && y == 0.0)
       throw InputError(file_, line, val.word('@'), "polar distance without an angle at the XY origin");
-    if (val.has('@')) r = *val['@'] * unit();
-    if (val.has('^')) theta = *val['^'] * deg;
+    const double r = val.has('@') ? *val['@'] * unit() : std::hypot(x, y);
+    const double theta = val.has('^') ? *val['^'] * deg : std::atan2(y, x);
+    x = r * std::cos(theta);
+    y = r * std::sin(theta);
   }
-  st_.pos[0] = r * std::cos(theta);
-  st_.pos[1] = r * std::sin(theta);
   st_.axes[0] = st_.axes[1] = AxisState::Set;
 }
 
@@ -129,12 +137,14 @@ void Reader::spindle_synchronized(int motion, const Axes& start, const Values& v
   const bool inverse_time = st_.inverse_time;
   st_.inverse_time = false;
   st_.feed = *val['K'] * unit() * st_.spindle;
+  synchronized_ = true;
   emit(Motion::Linear, st_.pos, line);
   if (motion == 331) {
     st_.feed *= std::max(1.0, val['I'].value_or(1.0));
     st_.pos = start;  // LinuxCNC: the tap ends where it started
     emit(Motion::Linear, st_.pos, line);
   }
+  synchronized_ = false;
   st_.feed = feed;
   st_.inverse_time = inverse_time;
 }
@@ -157,13 +167,13 @@ void Reader::assume_position(int axis) {
 void Reader::check_tool(int line) const {
   if (options_.tool_lengths.empty()) return;
   if (st_.empty_spindle)
-    throw InputError(file_, line, "T0", "motion with no tool in the spindle (T0 loaded at line " +
-                                             std::to_string(st_.tool_line) + ")");
+    throw InputError(file_, line, "T0", "motion with no tool in the spindle (T0 loaded at " +
+                                             line_name(st_.tool_line) + ")");
   if (st_.tool != 0 && !options_.tool_lengths.count(st_.tool)) {
     std::string numbers;
     for (const auto& [n, length] : options_.tool_lengths) numbers += (numbers.empty() ? "" : ", ") + std::to_string(n);
     throw InputError(file_, line, "T" + std::to_string(st_.tool),
-                     "tool " + std::to_string(st_.tool) + " (loaded at line " + std::to_string(st_.tool_line) +
+                     "tool " + std::to_string(st_.tool) + " (loaded at " + line_name(st_.tool_line) +
                          ") is not in the scene's tools (" + numbers + ")");
   }
 }
@@ -175,6 +185,7 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   const Axes off = offset();
   Block b;
   b.line = block_line(line);
+  b.fixed_feed = synchronized_ || line > static_cast<int>(main_lines_);
   b.motion = m;
   b.target = Joints{target[0] + off[0], target[1] + off[1], target[2] + off[2],
                     target[3] + off[3], target[4] + off[4], target[5] + off[5]};

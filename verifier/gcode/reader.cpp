@@ -169,8 +169,10 @@ void Reader::block(const std::vector<Word>& words, int line) {
     if (*val['P'] < 0) throw InputError(file_, line, val.word('P'), "negative dwell");
     st_.dwell += *val['P'];
   }
+  // Before the block's codes: LinuxCNC checks the polar words when it reads the block, in the plane then
+  // in force.
+  if (val.polar()) check_polar(val, axes_taken ? nonmodal : std::nullopt, g53, line);
   apply_modal_g_codes(gs, val, line);
-  if (val.polar()) check_polar(val, axes_taken ? nonmodal : std::nullopt, g53, line);  // in the block's plane
   if (nonmodal) {
     if (*nonmodal == 100) g10(val, line);
     else if (*nonmodal == 280 || *nonmodal == 300) reference_return(*nonmodal, val, line);

@@ -144,6 +144,7 @@ class Reader : private ParameterValues {
   InputError in_source(const InputError& e) const;
   size_t source_end(size_t at) const;                         // the end of the lines of the file that holds `at`
   int block_line(int number) const;
+  std::string line_name(int number) const;  // "line 12", or "sub.ngc:3" for a subroutine file's line
 
   std::optional<std::string> code_of(std::string_view raw, int number);
   void execute(const std::string& code, int number);
@@ -223,6 +224,7 @@ class Reader : private ParameterValues {
   std::vector<Frame> calls_;
   std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
+  bool synchronized_ = false;  // emitting a G33/G33.1 move
 };
 
 }  // namespace tf::gcode

@@ -1,5 +1,5 @@
-// The G-code reader's subroutine files: a call of O<name> that the program does not define runs the
-// subroutine of the file <name>.ngc (the name in lower case, as LinuxCNC stores it) from the first of
+// The G-code reader's subroutine files: a call of O<name> (or O100) that the program does not define runs
+// the subroutine of the file <name>.ngc (100.ngc; the name in lower case, as LinuxCNC stores it) from the first of
 // GcodeOptions::subroutine_dirs that has one, as LinuxCNC looks in its PROGRAM_PREFIX and SUBROUTINE_PATH.
 // The file's lines from "O<name> SUB" to its ENDSUB are appended to the program's lines the first time it
 // is called (what else the file holds is not run, as in LinuxCNC), so that the call, the loops and the
@@ -32,8 +32,9 @@ std::vector<std::string_view> split_lines(std::string_view text) {
 }  // namespace
 
 bool Reader::load_subroutine_file(const std::string& label, int number) {
-  if (label.size() < 3 || label.front() != '<') return false;  // a numbered subroutine has no file
-  std::string name = label.substr(1, label.size() - 2);
+  // O<name>: name.ngc; a numbered O100: 100.ngc (LinuxCNC looks for both).
+  std::string name = label.front() == '<' ? label.substr(1, label.size() - 2) : label;
+  if (name.empty()) return false;
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   std::filesystem::path path;
   for (const std::filesystem::path& dir : options_.subroutine_dirs) {
@@ -55,9 +56,8 @@ bool Reader::load_subroutine_file(const std::string& label, int number) {
     if (o->keyword == "SUB" && sub == lines.size()) sub = i;
     else if (o->keyword == "ENDSUB" && sub < lines.size()) endsub = i;
   }
-  if (endsub == lines.size())
-    throw InputError(file, 0, "O" + label, "the subroutine file (called at " + file_ + ":" + std::to_string(number) +
-                                               ") has no " + "O" + label + " SUB ... ENDSUB");
+  if (endsub == lines.size())  // at the call (the caller maps a subroutine file's line to its own)
+    throw InputError(file_, number, "O" + label, "the subroutine file " + file + " holds no O" + label + " SUB ... ENDSUB");
   const size_t begin = lines_.size();
   lines_.insert(lines_.end(), lines.begin() + static_cast<std::ptrdiff_t>(sub), lines.begin() + static_cast<std::ptrdiff_t>(endsub) + 1);
   sources_.push_back({begin, lines_.size(), file, static_cast<int>(sub) + 1});
@@ -79,6 +79,12 @@ InputError Reader::in_source(const InputError& e) const {
   return InputError(file, line, e.field(), e.reason());
 }
 
+std::string Reader::line_name(int number) const {
+  if (number <= static_cast<int>(main_lines_)) return "line " + std::to_string(number);
+  const auto [file, line] = source_of(number);
+  return file + ":" + std::to_string(line);
+}
+
 size_t Reader::source_end(size_t at) const {
   if (at < main_lines_) return main_lines_;
   for (const Source& s : sources_)
@@ -86,10 +92,13 @@ size_t Reader::source_end(size_t at) const {
   return lines_.size();
 }
 
-// A block made by a line of a subroutine file carries the line of the program's call that led there.
+// A block made by a line of a subroutine file carries the line of the program's call that led there: the
+// innermost call made from the program's own lines (a frame's return_to is the line after its call).
 int Reader::block_line(int number) const {
-  if (number <= static_cast<int>(main_lines_) || calls_.empty()) return number;
-  return static_cast<int>(calls_.front().return_to);
+  if (number <= static_cast<int>(main_lines_)) return number;
+  for (auto f = calls_.rbegin(); f != calls_.rend(); ++f)
+    if (f->return_to <= main_lines_) return static_cast<int>(f->return_to);
+  return number;
 }
 
 }  // namespace tf::gcode

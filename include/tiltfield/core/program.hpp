@@ -32,6 +32,9 @@ struct Block {
   int tool = 0;
   // Seconds the controller waits before this block moves (G4, a canned cycle's P at the hole bottom).
   double dwell_s = 0.0;
+  // No F word on its line sets its feed: a G33/G33.1 move (K per spindle turn) or a block of a subroutine
+  // file (its `line` is the program's call). A feed schedule leaves it as it is.
+  bool fixed_feed = false;
 };
 
 struct Program {

@@ -6,7 +6,9 @@
 // max(t, V / max_mrr), so the feed never rises above the programmed one while cutting; it is capped by
 // the minimum feed (a block that still exceeds the limit there is named in the warnings). Feed blocks
 // that remove nothing (air moves) run at the air feed. Rapids keep their G0. The feed words follow the
-// block's mode: mm/min under G94, 1/min (1 / block time) under G93.
+// block's mode: mm/min under G94, 1/min (1 / block time) under G93. A block whose feed no F on its line
+// sets (Block::fixed_feed: G33/G33.1, a subroutine file's block) keeps it, named in the warnings when it
+// is above the limit.
 #pragma once
 #include <filesystem>
 #include <string>
