@@ -24,6 +24,7 @@ struct CanonMove {
   bool feed = false;           // STRAIGHT_FEED or ARC_FEED
   std::array<double, 6> m{};   // machine X Y Z (mm) A B C (deg)
   double dwell_before = 0.0;   // seconds of DWELL since the previous move
+  bool spline = false;         // NURBS_FEED (G5, G5.1): rs274 prints no point of it, m is unknown
 };
 
 struct Rs274Run {
@@ -123,6 +124,10 @@ inline Rs274Run run_rs274(const TempDir& dir, const std::string& program, const 
       for (int k = 0; k < 6; ++k) mv.m[k] = pos[k] + g5x[k] + g92[k] + (k == 2 ? tlo : 0.0);
       mv.dwell_before = dwell;
       dwell = 0.0;
+      run.moves.push_back(mv);
+    } else if (name == "NURBS_FEED") {
+      CanonMove mv;
+      mv.feed = mv.spline = true;
       run.moves.push_back(mv);
     } else if (name == "RIGID_TAP" && v.size() >= 3) {
       // In to the point and back out to where the tap started (the position does not change).

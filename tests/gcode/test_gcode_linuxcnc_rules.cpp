@@ -4,6 +4,7 @@
 // uses, splines.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <initializer_list>
 #include <numbers>
 
@@ -164,10 +165,75 @@ TEST(GcodeLinuxcncRules, CodesWithoutEffectKeepTheirRules) {
   EXPECT_NE(remapped.warnings.front().find("M400"), std::string::npos);
 }
 
-TEST(GcodeLinuxcncRules, SplinesAreRefused) {
-  // Their axis words would otherwise run in the previous motion mode.
-  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG5 I0 J3 P0 Q-3 X1 Y1\n", 3, "G5");
-  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG5.2 X1 Y1 P1\n", 3, "G5.2");
+// G5 and G5.1 as LinuxCNC reads them (its interpreter's convert_spline and rs274's answers): XY only, no
+// Z or rotary motion, I and J together (G5: or neither, continuing the previous G5), G5 with P and Q;
+// NURBS are refused.
+TEST(GcodeLinuxcncRules, SplinesKeepTheirRules) {
+  expect_refused({
+      {"G21\nG0 X0 Y0 Z0\nG5.2 X1 Y1 P1\n", 3, "G5.2"},
+      {"G21 F100\nG0 X0 Y0 Z0\nG18\nG5.1 X5 Z5 I2 J0\n", 4, "G5.1"},
+      {"G21 F100\nG0 X0 Y0 Z0\nG5 I1 J1 P-1 Q1 X20 Y0 Z3\n", 3, "Z3"},
+      {"G21 F100\nG0 X0 Y0 Z0\nG5.1 X5 Y5 I2\n", 3, "I2"},
+      {"G21 F100\nG0 X0 Y0 Z0\nG5 I1 J1 X5 Y5\n", 3, "G5"},        // P and Q
+      {"G21 F100\nG0 X0 Y0 Z0\nG5 P-1 Q1 X15 Y0\n", 3, "G5"},      // no G5 to continue from
+      {"G21\nG0 X0 Y0 Z0\nG5 I0 J3 P0 Q-3 X1 Y1\n", 3, "F"},       // no feed
+      {"G21 F100\nG0 X0 Y0 Z0\nG5.1 I1 J1\n", 3, "G5.1"},          // no end
+      {"G21 F100\nG0 X0 Y0 Z0\nG41 D1\nG5.1 X5 Y5 I2 J0\n", 4, "G5.1"},  // cutter compensation
+      {"G21 F100\nG0 X0 Y0 Z0\nG5.1 X5 Y5 I2 J0 K1\n", 3, "K1"},
+  });
+}
+
+// G5.1 from (0, 0) over the control point (5, 10) to (10, 0) is the parabola y = 2x - x^2/5: every chord
+// ends on it and stands off it by at most 0.0005 mm. The motion mode stays G1.
+TEST(GcodeLinuxcncRules, QuadraticSplineFollowsItsParabola) {
+  const Program p = parse_program("G21 G90 G17\nG0 X0 Y0 Z0\nG1 F100 Z-1\nG5.1 X10 Y0 I5 J10\nX12\nM2\n");
+  ASSERT_GT(p.blocks.size(), 20u);
+  auto parabola = [](double x) { return 2.0 * x - x * x / 5.0; };
+  double x0 = 0.0, y0 = 0.0, worst = 0.0;
+  for (size_t k = 2; k + 1 < p.blocks.size(); ++k) {
+    const Block& b = p.blocks[k];
+    EXPECT_EQ(b.motion, Motion::Linear);
+    EXPECT_EQ(b.line, 4);
+    EXPECT_NEAR(b.target.y, parabola(b.target.x), 1e-9);
+    EXPECT_DOUBLE_EQ(b.target.z, -1.0);
+    for (double f = 0.05; f < 1.0; f += 0.05) {  // the chord against the curve between its ends
+      const double x = x0 + f * (b.target.x - x0), y = y0 + f * (b.target.y - y0);
+      worst = std::max(worst, std::abs(y - parabola(x)) / std::sqrt(1.0 + std::pow(2.0 - 2.0 * x / 5.0, 2)));
+    }
+    x0 = b.target.x, y0 = b.target.y;
+  }
+  EXPECT_LE(worst, 5e-4);
+  EXPECT_DOUBLE_EQ(p.blocks[p.blocks.size() - 2].target.x, 10.0);
+  EXPECT_EQ(p.blocks.back().motion, Motion::Linear);  // "X12": still G1
+  EXPECT_DOUBLE_EQ(p.blocks.back().target.x, 12.0);
+}
+
+// G5 continues smoothly without I J (the previous second control point mirrored), and under G93 its
+// chords share the block's one F: their minutes add up to 1/F.
+TEST(GcodeLinuxcncRules, CubicSplineContinuesSmoothlyAndKeepsItsTime) {
+  const Program p = parse_program("G21 G90 G17\nG0 X0 Y0 Z0\nG93\nG5 I3 J3 P-3 Q3 X10 Y0 F2\nG5 P-3 Q-3 X20 Y0 F4\nM2\n");
+  std::vector<const Block*> first, second;
+  for (const Block& b : p.blocks) (b.line == 4 ? first : b.line == 5 ? second : first).push_back(&b);
+  first.erase(first.begin());  // the G0
+  ASSERT_GT(first.size(), 3u);
+  ASSERT_GT(second.size(), 3u);
+  auto minutes = [](const std::vector<const Block*>& blocks) {
+    double sum = 0.0;
+    for (const Block* b : blocks) {
+      EXPECT_EQ(b->feed_mode, FeedMode::InverseTime);
+      sum += 1.0 / b->feed;
+    }
+    return sum;
+  };
+  EXPECT_NEAR(minutes(first), 0.5, 1e-9);
+  EXPECT_NEAR(minutes(second), 0.25, 1e-9);
+  // The tangent at the joint: the last chord of the first and the first of the second point the same way.
+  const Block& a = *first[first.size() - 2];
+  const Block& b = *first.back();
+  const Block& c = *second.front();
+  const Eigen::Vector2d in(b.target.x - a.target.x, b.target.y - a.target.y), out(c.target.x - b.target.x, c.target.y - b.target.y);
+  EXPECT_GT(in.normalized().dot(out.normalized()), std::cos(0.1));
+  EXPECT_DOUBLE_EQ(second.back()->target.x, 20.0);
 }
 
 }  // namespace

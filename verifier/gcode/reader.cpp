@@ -15,7 +15,7 @@ namespace {
 
 // What a G code of the motion group or of the non-modal group 0 is, for the block dispatch.
 bool is_motion_code(int g) {
-  return g == 0 || g == 10 || g == 20 || g == 30 || g == 330 || g == 331 || g == 800 || is_cycle(g);
+  return g == 0 || g == 10 || g == 20 || g == 30 || g == 50 || g == 51 || g == 330 || g == 331 || g == 800 || is_cycle(g);
 }
 bool is_nonmodal_axis_code(int g) {  // group 0 codes that take the block's axis words
   return g == 100 || g == 280 || g == 300 || g == 520 || g == 920;
@@ -193,15 +193,19 @@ void Reader::block(const std::vector<Word>& words, int line) {
       if (is_cycle(mode)) {
         if (g53) throw InputError(file_, line, "G53", "G53 cannot modify a canned cycle");
         canned_cycle(mode, val, line);
+      } else if (mode == 50 || mode == 51) {
+        if (g53) throw InputError(file_, line, "G53", "G53 cannot be used with a spline");
+        spline(mode, val, line);
       } else {
         motion_block(mode, g53, val, line);
       }
-      st_.motion = mode;
+      if (mode != 50 && mode != 51) st_.motion = mode;  // a spline leaves the motion mode as it was (LinuxCNC)
     } else if (motion && (*motion == 20 || *motion == 30) && !axis_words && !axes_taken) {
       motion_block(*motion, g53, val, line);  // G2/G3 with a centre and no axis words: a full circle
       st_.motion = *motion;
     } else {
       if (is_cycle(mode)) throw InputError(file_, line, code_name('G', mode), "canned cycle without axis words");
+      if (mode == 50 || mode == 51) throw InputError(file_, line, code_name('G', mode), "spline without its end (X, Y)");
       st_.motion = mode;
     }
   } else if (g53) {
@@ -237,19 +241,21 @@ void Reader::check_unused_words(const std::optional<int>& motion, const std::opt
     throw InputError(file_, line, val.word(c), std::string(1, c) + " word with no " + users + " to use it");
   };
   const bool synced = mode == 330 || mode == 331;  // G33, G33.1: K is the distance per turn, I G33.1's retract speed
-  if (val.has('I') && !arc && mode != 331) refuse('I', "G2, G3 or G33.1");
-  if (val.has('J') && !arc) refuse('J', "G2 or G3");
+  const bool spline = mode == 50 || mode == 51;     // G5, G5.1: I J (and G5's P Q) place the control points
+  if (val.has('I') && !arc && !spline && mode != 331) refuse('I', "G2, G3, G5, G5.1 or G33.1");
+  if (val.has('J') && !arc && !spline) refuse('J', "G2, G3, G5 or G5.1");
   if (val.has('K') && !arc && !synced) refuse('K', "G2, G3, G33 or G33.1");
   if (synced && val.has('F'))
     throw InputError(file_, line, val.word('F'), "F word with " + code_name('G', mode) + " (its feed is K per spindle turn)");
   if (val.has('R') && !arc && !cycle && !g10 && !has_m({190}) && !has_g({411, 421}))
     refuse('R', "G2, G3, canned cycle, G10, G41.1, G42.1 or M19");
   const bool dwell_cycle = mode == 820 || mode == 840 || mode == 740 || mode == 860 || mode == 880 || mode == 890;
-  if (val.has('P') && !arc && !dwell_cycle && !g10 && !user_m && !has_g({40, 640}) &&
+  if (val.has('P') && !arc && !dwell_cycle && !g10 && !user_m && mode != 50 && !has_g({40, 640}) &&
       !has_m({190, 500, 510, 520, 530, 620, 630, 640, 650, 660, 980}))
-    refuse('P', "G2, G3, G4, G10, G64, G74, G82, G84, G86, G89, M19, M50-M53, M62-M66 or user M code");
-  if (val.has('Q') && mode != 830 && mode != 730 && !g10 && !user_m && !has_g({640}) && !has_m({190, 610, 660, 670, 680}))
-    refuse('Q', "G10, G64, G73, G83, M19, M61, M66-M68 or user M code");
+    refuse('P', "G2, G3, G4, G5, G10, G64, G74, G82, G84, G86, G89, M19, M50-M53, M62-M66 or user M code");
+  if (val.has('Q') && mode != 830 && mode != 730 && mode != 50 && !g10 && !user_m && !has_g({640}) &&
+      !has_m({190, 610, 660, 670, 680}))
+    refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66-M68 or user M code");
   // G74 takes no repeats in LinuxCNC, and G41.1/G42.1 an L (the orientation) only in the G18 plane.
   if (val.has('L') && !g10 && !(cycle && mode != 740) && !has_g({410, 420}) && !(has_g({411, 421}) && st_.plane == 18) &&
       !has_m({660, 980}))
@@ -357,8 +363,7 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
   for (int g : gs) {
     if (g == 870 || g == 880)
       throw InputError(file_, line, code_name('G', g), "back boring and manual-retract cycles are not supported");
-    if (g == 50 || g == 51 || g == 52 || g == 53)
-      throw InputError(file_, line, code_name('G', g), "splines (G5, G5.1, G5.2, G5.3) are not supported");
+    if (g == 52 || g == 53) throw InputError(file_, line, code_name('G', g), "NURBS (G5.2, G5.3) are not supported");
     if (g == 160)
       throw InputError(file_, line, "G16", "Fanuc's polar coordinate mode is not supported (LinuxCNC's @ and ^ words are)");
     if (g == 70) throw InputError(file_, line, "G7", "lathe diameter mode is not supported");

@@ -195,6 +195,9 @@ class Reader : private ParameterValues {
   void fill_unknown_axes();
   void tool_tip_targets();
 
+  // splines.cpp
+  void spline(int motion, const Values& val, int line);
+
   // cycles.cpp
   void canned_cycle(int motion, const Values& val, int line);
   void cycle_move(bool feed, const std::array<int, 3>& plane_axes, double a, double b, double c, int line);
@@ -225,6 +228,7 @@ class Reader : private ParameterValues {
   std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
   bool synchronized_ = false;  // emitting a G33/G33.1 move
+  std::optional<Eigen::Vector2d> spline_mirror_;  // the last G5's second control point mirrored, from its end
 };
 
 }  // namespace tf::gcode

@@ -9,7 +9,7 @@
 // Read (docs/verifier.md, "G-code reader", has the details): G0 G1 G2 G3 (I J K or R, P turns, planes
 // G17/G18/G19, G90.1/G91.1), G4 dwell, G20/G21, G90/G91, G93/G94, G53, G54-G59.3, G92 G92.1 G92.2 G92.3,
 // G10 L2/L20, G28/G30, G43 H/G49 tool length offsets, canned cycles G73 G74 G81-G86 G89 with G98/G99 and
-// G80, G33 and G33.1 (straight moves at K per spindle turn), F, S, T, M3/M4/M5, M6, M61, M0/M1, M7/M8/M9,
+// G80, G33 and G33.1 (straight moves at K per spindle turn), G5 and G5.1 splines (as chords), F, S, T, M3/M4/M5, M6, M61, M0/M1, M7/M8/M9,
 // M2/M30 (end), X Y Z A B C, polar coordinates @ ^, comments "( )" and ";", N numbers, "%" lines (reading
 // stops at the second), O program numbers, block delete "/", parameters and expressions, O-word
 // subroutines (in the program or in files, subroutine_dirs) and control flow, Fanuc M98/M99.
