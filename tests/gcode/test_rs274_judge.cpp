@@ -447,7 +447,9 @@ TEST(Rs274Judge, LinuxcncSamplePrograms) {
       for (int k = 0; k < 6; ++k)
         ASSERT_NEAR(ours[j].m[k], theirs[i].m[k], tol) << name << ": move " << i + 1 << ", axis " << "XYZABC"[k];
       ASSERT_EQ(ours[j].feed, theirs[i].feed) << name << ": move " << i + 1;
-      if (i == 0 || !theirs[i - 1].spline) ASSERT_NEAR(ours[j].dwell, theirs[i].dwell, 1e-9) << name << ": move " << i + 1;
+      if (i == 0 || !theirs[i - 1].spline) {
+        ASSERT_NEAR(ours[j].dwell, theirs[i].dwell, 1e-9) << name << ": move " << i + 1;
+      }
       ++j;
     }
     ASSERT_EQ(j, ours.size()) << name << ": moves beyond rs274's";
