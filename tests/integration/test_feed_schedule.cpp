@@ -51,6 +51,19 @@ TEST(FeedSchedule, RewriteTouchesOnlyFeedWords) {
   EXPECT_DOUBLE_EQ(q.blocks[3].feed, 5000.0);
 }
 
+// Under G93 one F times an arc's P turns (or a spline's chords) together: unchanged blocks write back the
+// same F, and a block slowed to twice its time makes the line's F as slow as that block needs.
+TEST(FeedSchedule, InverseTimeLineSharesItsF) {
+  const std::string text = "G21 G90 G17\nG0 X10 Y0 Z0\nG93 G3 X10 Y0 I-10 J0 P3 F2\nG94\nM30\n";
+  const Program p = parse_gcode(text, "t.ngc", MachineSpec{});
+  ASSERT_EQ(p.blocks.size(), 4u);  // the rapid and three turns, each a third of the minutes (F 6 each)
+  FeedSchedule fs;
+  for (const Block& b : p.blocks) fs.feed.push_back(b.motion == Motion::Rapid ? 0.0 : b.feed);
+  EXPECT_EQ(rewrite_feeds(text, p, fs), text);
+  fs.feed[2] = 3.0;  // the second turn at twice its time
+  EXPECT_EQ(rewrite_feeds(text, p, fs), "G21 G90 G17\nG0 X10 Y0 Z0\nG93 G3 X10 Y0 I-10 J0 P3 F1\nG94\nM30\n");
+}
+
 TEST(FeedSchedule, RejectsBadLimits) {
   FeedScheduleOptions o;
   o.max_mrr = -1.0;
@@ -185,6 +198,20 @@ TEST_F(ScheduleCli, InverseTimeProgram) {
   TF_REQUIRE_RS274();
   const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
+}
+
+// Under G93 a spline's one F times all its chords: the rewritten F keeps every chord under the limit.
+TEST_F(ScheduleCli, InverseTimeSplineKeepsEveryChordUnderTheLimit) {
+  write_text(dir / "p.ngc", "G21 G90 G17\nG0 X-10 Y0 Z8\nG93 G5.1 X60 Y12 I35 J-25 F3\nG1 Z15 F60\nG94\nM30\n");
+  const double before = max_mrr((dir / "p.ngc").string());
+  const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                               " --schedule-feed 3000 -o " + (dir / "p2.ngc").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const double after = max_mrr((dir / "p2.ngc").string());
+  std::cout << "G93 spline: max MRR " << before << " -> " << after << "\n";
+  EXPECT_GT(before, 3000.0);
+  EXPECT_LE(after, 3000.0 + 0.005);
+  EXPECT_GE(after, 3000.0 * 0.97);
 }
 
 TEST_F(ScheduleCli, PostMaxMrr) {

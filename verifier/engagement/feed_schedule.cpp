@@ -129,13 +129,26 @@ std::string rewrite_line(const std::string& line, const std::string& f) {
 }  // namespace
 
 std::string rewrite_feeds(std::string_view text, const Program& program, const FeedSchedule& schedule) {
-  std::map<int, std::pair<double, int>> per_line;  // line -> (feed, decimals)
-  for (size_t i = 0; i < program.blocks.size() && i < schedule.feed.size(); ++i) {
+  auto counted = [&](size_t i) {
     const Block& b = program.blocks[i];
-    if (b.motion == Motion::Rapid || b.fixed_feed || b.line <= 0 || !(schedule.feed[i] > 0.0)) continue;
-    const int decimals = b.feed_mode == FeedMode::InverseTime ? 4 : 2;
-    auto [it, fresh] = per_line.try_emplace(b.line, schedule.feed[i], decimals);
-    if (!fresh) it->second.first = std::min(it->second.first, schedule.feed[i]);
+    return b.motion != Motion::Rapid && !b.fixed_feed && b.line > 0 && schedule.feed[i] > 0.0 && b.feed > 0.0;
+  };
+  // Under G93 one F on a line times all of its blocks together (a spline's chords, an arc's turns), each
+  // its share of the programmed minutes: the line's F is the largest that gives every block at least
+  // its scheduled time. Under G94 a line takes the smallest of its blocks' feeds.
+  std::map<int, double> programmed;  // G93 lines: their programmed minutes (the sum of 1 / F)
+  const size_t n = std::min(program.blocks.size(), schedule.feed.size());
+  for (size_t i = 0; i < n; ++i)
+    if (counted(i) && program.blocks[i].feed_mode == FeedMode::InverseTime) programmed[program.blocks[i].line] += 1.0 / program.blocks[i].feed;
+  std::map<int, std::pair<double, int>> per_line;  // line -> (feed, decimals)
+  for (size_t i = 0; i < n; ++i) {
+    if (!counted(i)) continue;
+    const Block& b = program.blocks[i];
+    const bool inverse_time = b.feed_mode == FeedMode::InverseTime;
+    double f = schedule.feed[i];
+    if (inverse_time) f = std::floor(f / b.feed / programmed[b.line] * 1e4) / 1e4;  // share x scheduled F, rounded down
+    auto [it, fresh] = per_line.try_emplace(b.line, f, inverse_time ? 4 : 2);
+    if (!fresh) it->second.first = std::min(it->second.first, f);
   }
   std::string out;
   out.reserve(text.size() + 8 * per_line.size());

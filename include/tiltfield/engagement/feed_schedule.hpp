@@ -44,7 +44,8 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
 
 // The program's G-code text with the F word of every feed block replaced by the schedule's (inserted
 // where the block had none, before a trailing comment); every other character is kept. Blocks sharing a
-// line take the smallest of their feeds.
+// line take the smallest of their feeds (G93, where one F times a spline's chords or an arc's turns
+// together: the largest F that gives each of them at least its scheduled time).
 std::string rewrite_feeds(std::string_view text, const Program& program, const FeedSchedule& schedule);
 
 }  // namespace tf
