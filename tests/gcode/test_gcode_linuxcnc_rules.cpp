@@ -4,6 +4,7 @@
 // uses, splines.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <numbers>
@@ -166,8 +167,8 @@ TEST(GcodeLinuxcncRules, CodesWithoutEffectKeepTheirRules) {
 }
 
 // G5 and G5.1 as LinuxCNC reads them (its interpreter's convert_spline and rs274's answers): XY only, no
-// Z or rotary motion, I and J together (G5: or neither, continuing the previous G5), G5 with P and Q;
-// NURBS are refused.
+// Z or rotary motion, I and J together (G5: or neither, continuing the previous G5), G5 with P and Q, an
+// end; NURBS are refused. Stricter than rs274: a spline under G93, whose F LinuxCNC does not apply.
 TEST(GcodeLinuxcncRules, SplinesKeepTheirRules) {
   expect_refused({
       {"G21\nG0 X0 Y0 Z0\nG5.2 X1 Y1 P1\n", 3, "G5.2"},
@@ -175,7 +176,7 @@ TEST(GcodeLinuxcncRules, SplinesKeepTheirRules) {
       {"G21 F100\nG0 X0 Y0 Z0\nG5 I1 J1 P-1 Q1 X20 Y0 Z3\n", 3, "Z3"},
       {"G21 F100\nG0 X0 Y0 Z0\nG5.1 X5 Y5 I2\n", 3, "I2"},
       {"G21 F100\nG0 X0 Y0 Z0\nG5 I1 J1 X5 Y5\n", 3, "G5"},        // P and Q
-      {"G21 F100\nG0 X0 Y0 Z0\nG5 P-1 Q1 X15 Y0\n", 3, "G5"},      // no G5 to continue from
+      {"G21 F100\nG0 X0 Y0 Z0\nG93\nG5.1 X5 Y5 I1 J1 F2\n", 4, "G5.1"},  // G93
       {"G21\nG0 X0 Y0 Z0\nG5 I0 J3 P0 Q-3 X1 Y1\n", 3, "F"},       // no feed
       {"G21 F100\nG0 X0 Y0 Z0\nG5.1 I1 J1\n", 3, "G5.1"},          // no end
       {"G21 F100\nG0 X0 Y0 Z0\nG41 D1\nG5.1 X5 Y5 I2 J0\n", 4, "G5.1"},  // cutter compensation
@@ -208,32 +209,47 @@ TEST(GcodeLinuxcncRules, QuadraticSplineFollowsItsParabola) {
   EXPECT_DOUBLE_EQ(p.blocks.back().target.x, 12.0);
 }
 
-// G5 continues smoothly without I J (the previous second control point mirrored), and under G93 its
-// chords share the block's one F: their minutes add up to 1/F.
-TEST(GcodeLinuxcncRules, CubicSplineContinuesSmoothlyAndKeepsItsTime) {
-  const Program p = parse_program("G21 G90 G17\nG0 X0 Y0 Z0\nG93\nG5 I3 J3 P-3 Q3 X10 Y0 F2\nG5 P-3 Q-3 X20 Y0 F4\nM2\n");
-  std::vector<const Block*> first, second;
-  for (const Block& b : p.blocks) (b.line == 4 ? first : b.line == 5 ? second : first).push_back(&b);
-  first.erase(first.begin());  // the G0
-  ASSERT_GT(first.size(), 3u);
-  ASSERT_GT(second.size(), 3u);
-  auto minutes = [](const std::vector<const Block*>& blocks) {
-    double sum = 0.0;
-    for (const Block* b : blocks) {
-      EXPECT_EQ(b->feed_mode, FeedMode::InverseTime);
-      sum += 1.0 / b->feed;
+// G5's curve, independently: B(1/2) = (P0 + 3 P1 + 3 P2 + P3) / 8 lies on the chords (within 0.0005 mm),
+// in inches and in G91 (I J P Q are offsets either way). Without I J, G5 mirrors the previous G5's P Q
+// (LinuxCNC's cycle_i, cycle_j: 0 before any G5), so consecutive G5s join without a kink.
+TEST(GcodeLinuxcncRules, CubicSplineMidpointAndSmoothContinuation) {
+  auto distance_to_chords = [](const Program& p, int line, Eigen::Vector2d q, Eigen::Vector2d from) {
+    double best = 1e9;
+    for (const Block& b : p.blocks) {
+      if (b.line != line) continue;
+      const Eigen::Vector2d to(b.target.x, b.target.y), d = to - from;
+      const double t = std::clamp((q - from).dot(d) / std::max(d.squaredNorm(), 1e-30), 0.0, 1.0);
+      best = std::min(best, (from + t * d - q).norm());
+      from = to;
     }
-    return sum;
+    return best;
   };
-  EXPECT_NEAR(minutes(first), 0.5, 1e-9);
-  EXPECT_NEAR(minutes(second), 0.25, 1e-9);
-  // The tangent at the joint: the last chord of the first and the first of the second point the same way.
-  const Block& a = *first[first.size() - 2];
-  const Block& b = *first.back();
-  const Block& c = *second.front();
-  const Eigen::Vector2d in(b.target.x - a.target.x, b.target.y - a.target.y), out(c.target.x - b.target.x, c.target.y - b.target.y);
-  EXPECT_GT(in.normalized().dot(out.normalized()), std::cos(0.1));
-  EXPECT_DOUBLE_EQ(second.back()->target.x, 20.0);
+  // G20 G91 from (1, 1) inch: P0 (1, 1), P1 P0 + (1, 2), P3 P0 + (4, 0), P2 P3 + (-1, 2).
+  const Program p = parse_program("G20 G90 G17\nG0 X1 Y1 Z0\nG91 G1 F10\nG5 I1 J2 P-1 Q2 X4 Y0\nG5 P-1 Q-2 X4 Y0\nM2\n");
+  const double in = 25.4;
+  const Eigen::Vector2d p0(in, in), p1 = p0 + in * Eigen::Vector2d(1, 2), p3 = p0 + in * Eigen::Vector2d(4, 0),
+                        p2 = p3 + in * Eigen::Vector2d(-1, 2);
+  EXPECT_LE(distance_to_chords(p, 4, (p0 + 3 * p1 + 3 * p2 + p3) / 8.0, p0), 5e-4);
+  // The second: from P3 through P3 + (1, -2) (the mirror) and end + (-1, -2) to P3 + (4, 0).
+  const Eigen::Vector2d q1 = p3 + in * Eigen::Vector2d(1, -2), q3 = p3 + in * Eigen::Vector2d(4, 0),
+                        q2 = q3 + in * Eigen::Vector2d(-1, -2);
+  EXPECT_LE(distance_to_chords(p, 5, (p3 + 3 * q1 + 3 * q2 + q3) / 8.0, p3), 5e-4);
+  EXPECT_NEAR(p.blocks.back().target.x, 9 * in, 1e-9);
+  EXPECT_NEAR(p.blocks.back().target.y, in, 1e-9);
+  // The joint: the last chord of the first and the first chord of the second point the same way.
+  const Block* last_first = nullptr;
+  const Block* first_second = nullptr;
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    if (p.blocks[k].line == 4) last_first = &p.blocks[k];
+    if (p.blocks[k].line == 5 && !first_second) first_second = &p.blocks[k];
+  }
+  ASSERT_TRUE(last_first && first_second);
+  const Block& before = *(last_first - 1);
+  const Eigen::Vector2d a(last_first->target.x - before.target.x, last_first->target.y - before.target.y);
+  const Eigen::Vector2d b(first_second->target.x - last_first->target.x, first_second->target.y - last_first->target.y);
+  EXPECT_GT(a.normalized().dot(b.normalized()), std::cos(0.1));
+  // A first G5 without I J starts along its start (P1 = P0): accepted, as by rs274.
+  EXPECT_GT(parse_program("G21 F100\nG0 X0 Y0 Z0\nG5 P-1 Q1 X15 Y0\n").blocks.size(), 2u);
 }
 
 }  // namespace

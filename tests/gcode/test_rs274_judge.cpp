@@ -440,7 +440,8 @@ TEST(Rs274Judge, LinuxcncSamplePrograms) {
     for (size_t i = 0; i < theirs.size(); ++i) {
       if (theirs[i].spline) {
         ASSERT_LT(i + 1, theirs.size()) << name << ": a spline last";
-        while (j < ours.size() && !same(ours[j], theirs[i + 1])) ++j;  // the chords
+        for (; j < ours.size() && !same(ours[j], theirs[i + 1]); ++j)  // the chords: feed moves only
+          ASSERT_TRUE(ours[j].feed) << name << ": a rapid among the chords of the spline before move " << i + 2;
         continue;
       }
       ASSERT_LT(j, ours.size()) << name << ": rs274's move " << i + 1 << " is missing";

@@ -62,6 +62,22 @@ TEST(FeedSchedule, InverseTimeLineSharesItsF) {
   EXPECT_EQ(rewrite_feeds(text, p, fs), text);
   fs.feed[2] = 3.0;  // the second turn at twice its time
   EXPECT_EQ(rewrite_feeds(text, p, fs), "G21 G90 G17\nG0 X10 Y0 Z0\nG93 G3 X10 Y0 I-10 J0 P3 F1\nG94\nM30\n");
+  // A G93 line run four times (a loop) is one F for each run, not for the four together.
+  const std::string loop = "G21 G91\nG0 X0 Y0 Z0\no1 repeat [4]\nG93 G1 X10 F6\no1 endrepeat\nG94\nM30\n";
+  const Program l = parse_gcode(loop, "l.ngc", MachineSpec{});
+  ASSERT_EQ(l.blocks.size(), 5u);
+  FeedSchedule ls;
+  for (const Block& b : l.blocks) ls.feed.push_back(b.motion == Motion::Rapid ? 0.0 : b.feed);
+  EXPECT_EQ(rewrite_feeds(loop, l, ls), loop);
+  ls.feed[3] = 3.0;  // the third run at twice its time
+  EXPECT_NE(rewrite_feeds(loop, l, ls).find("G93 G1 X10 F3\n"), std::string::npos);
+  // A subroutine's line run under G94 and under G93 keeps its F (schedule_feeds warns).
+  const std::string mixed = "G21 G91\nG0 X0 Y0 Z0\no<s> sub\nG1 X10 F6\no<s> endsub\nG94\no<s> call\nG93\no<s> call\nG94\nM30\n";
+  const Program m = parse_gcode(mixed, "m.ngc", MachineSpec{});
+  ASSERT_EQ(m.blocks.size(), 3u);
+  FeedSchedule ms;
+  ms.feed = {0.0, 3.0, 3.0};
+  EXPECT_EQ(rewrite_feeds(mixed, m, ms), mixed);
 }
 
 TEST(FeedSchedule, RejectsBadLimits) {
@@ -181,7 +197,8 @@ TEST_F(ScheduleCli, FeedsOnlyWhereTheLineSetsThem) {
   EXPECT_TRUE(p.blocks[1].fixed_feed && p.blocks[5].fixed_feed);
   EXPECT_DOUBLE_EQ(fs.feed[1], p.blocks[1].feed);
   EXPECT_DOUBLE_EQ(fs.feed[5], p.blocks[5].feed);
-  ASSERT_EQ(fs.warnings.size(), 2u);
+  ASSERT_EQ(fs.warnings.size(), 3u);  // the two blocks, and what is not rescheduled
+  EXPECT_NE(fs.warnings[2].find("2 feed blocks"), std::string::npos) << fs.warnings[2];
   EXPECT_NE(fs.warnings[0].find("(line 3)"), std::string::npos) << fs.warnings[0];
   EXPECT_NE(fs.warnings[1].find("(line 8)"), std::string::npos) << fs.warnings[1];
 }
@@ -200,15 +217,15 @@ TEST_F(ScheduleCli, InverseTimeProgram) {
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 
-// Under G93 a spline's one F times all its chords: the rewritten F keeps every chord under the limit.
-TEST_F(ScheduleCli, InverseTimeSplineKeepsEveryChordUnderTheLimit) {
-  write_text(dir / "p.ngc", "G21 G90 G17\nG0 X-10 Y0 Z8\nG93 G5.1 X60 Y12 I35 J-25 F3\nG1 Z15 F60\nG94\nM30\n");
+// A spline's one F covers all its chords: the rewritten F keeps every chord under the limit.
+TEST_F(ScheduleCli, SplineKeepsEveryChordUnderTheLimit) {
+  write_text(dir / "p.ngc", "G21 G90 G17\nG0 X-10 Y0 Z8\nG5.1 X60 Y12 I35 J-25 F240\nG1 Z15\nM30\n");
   const double before = max_mrr((dir / "p.ngc").string());
   const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
                                " --schedule-feed 3000 -o " + (dir / "p2.ngc").string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const double after = max_mrr((dir / "p2.ngc").string());
-  std::cout << "G93 spline: max MRR " << before << " -> " << after << "\n";
+  std::cout << "spline: max MRR " << before << " -> " << after << "\n";
   EXPECT_GT(before, 3000.0);
   EXPECT_LE(after, 3000.0 + 0.005);
   EXPECT_GE(after, 3000.0 * 0.97);

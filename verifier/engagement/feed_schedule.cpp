@@ -65,6 +65,17 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
     if (f < b.feed) ++s.slowed;
     else ++s.sped_up;
   }
+  const auto fixed_blocks = std::count_if(program.blocks.begin(), program.blocks.end(),
+                                          [](const Block& b) { return b.fixed_feed && b.motion != Motion::Rapid; });
+  if (fixed_blocks > 0)
+    s.warnings.push_back(std::to_string(fixed_blocks) + " feed blocks (G33/G33.1, or subroutine files') are not rescheduled; a " +
+                         "subroutine file's block without its own F runs at the F in force, which the rewritten lines before its call set");
+  // A line run under both G93 and G94 (a subroutine's) takes no one F: it keeps its own.
+  std::map<int, int> modes;  // line -> bit 1 G94, bit 2 G93
+  for (const Block& b : program.blocks)
+    if (b.motion != Motion::Rapid && b.line > 0) modes[b.line] |= b.feed_mode == FeedMode::InverseTime ? 2 : 1;
+  for (const auto& [line, m] : modes)
+    if (m == 3) s.warnings.push_back("line " + std::to_string(line) + " runs under both G93 and G94: its F is left as it is");
   return s;
 }
 
@@ -129,26 +140,25 @@ std::string rewrite_line(const std::string& line, const std::string& f) {
 }  // namespace
 
 std::string rewrite_feeds(std::string_view text, const Program& program, const FeedSchedule& schedule) {
-  auto counted = [&](size_t i) {
-    const Block& b = program.blocks[i];
-    return b.motion != Motion::Rapid && !b.fixed_feed && b.line > 0 && schedule.feed[i] > 0.0 && b.feed > 0.0;
+  // Per line, over every run of it (loops, calls): G94, the smallest of its blocks' feeds; G93, where one F
+  // times a line's blocks together (an arc's P turns), the largest F that gives each at least its scheduled
+  // time: its scheduled F times its share of the line's minutes. Every feed line gets its F written (F is
+  // modal: a line left without one would run at the F of the line before it), but a line that runs under
+  // both G93 and G94 (a subroutine's), which is left as it is (schedule_feeds warns).
+  struct Line {
+    double feed = 0.0;
+    bool inverse_time = false, mixed = false;
   };
-  // Under G93 one F on a line times all of its blocks together (a spline's chords, an arc's turns), each
-  // its share of the programmed minutes: the line's F is the largest that gives every block at least
-  // its scheduled time. Under G94 a line takes the smallest of its blocks' feeds.
-  std::map<int, double> programmed;  // G93 lines: their programmed minutes (the sum of 1 / F)
-  const size_t n = std::min(program.blocks.size(), schedule.feed.size());
-  for (size_t i = 0; i < n; ++i)
-    if (counted(i) && program.blocks[i].feed_mode == FeedMode::InverseTime) programmed[program.blocks[i].line] += 1.0 / program.blocks[i].feed;
-  std::map<int, std::pair<double, int>> per_line;  // line -> (feed, decimals)
-  for (size_t i = 0; i < n; ++i) {
-    if (!counted(i)) continue;
+  std::map<int, Line> per_line;
+  for (size_t i = 0; i < program.blocks.size() && i < schedule.feed.size(); ++i) {
     const Block& b = program.blocks[i];
+    if (b.motion == Motion::Rapid || b.fixed_feed || b.line <= 0 || !(schedule.feed[i] > 0.0)) continue;
     const bool inverse_time = b.feed_mode == FeedMode::InverseTime;
-    double f = schedule.feed[i];
-    if (inverse_time) f = std::floor(f / b.feed / programmed[b.line] * 1e4) / 1e4;  // share x scheduled F, rounded down
-    auto [it, fresh] = per_line.try_emplace(b.line, f, inverse_time ? 4 : 2);
-    if (!fresh) it->second.first = std::min(it->second.first, f);
+    const double f = inverse_time ? schedule.feed[i] * b.time_share : schedule.feed[i];
+    auto [it, fresh] = per_line.try_emplace(b.line, Line{f, inverse_time});
+    Line& l = it->second;
+    if (!fresh) l.feed = std::min(l.feed, f);
+    l.mixed |= l.inverse_time != inverse_time;
   }
   std::string out;
   out.reserve(text.size() + 8 * per_line.size());
@@ -158,8 +168,13 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
     const size_t nl = text.find('\n', pos);
     const size_t end = nl == std::string_view::npos ? text.size() : nl;
     const std::string line(text.substr(pos, end - pos));
-    auto it = per_line.find(line_no);
-    out += it == per_line.end() ? line : rewrite_line(line, fixed(it->second.first, it->second.second));
+    const auto it = per_line.find(line_no);
+    if (it == per_line.end() || it->second.mixed) {
+      out += line;
+    } else {  // rounded down to what is written (+1e-6 of a digit: a share's own rounding costs none)
+      const double scale = it->second.inverse_time ? 1e4 : 1e2;
+      out += rewrite_line(line, fixed(std::floor(it->second.feed * scale + 1e-6) / scale, it->second.inverse_time ? 4 : 2));
+    }
     if (nl == std::string_view::npos) break;
     out += '\n';
     pos = nl + 1;

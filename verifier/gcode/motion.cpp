@@ -186,6 +186,7 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   Block b;
   b.line = block_line(line);
   b.fixed_feed = synchronized_ || line > static_cast<int>(main_lines_);
+  b.time_share = st_.inverse_time ? time_share_ : 1.0;
   b.motion = m;
   b.target = Joints{target[0] + off[0], target[1] + off[1], target[2] + off[2],
                     target[3] + off[3], target[4] + off[4], target[5] + off[5]};
@@ -228,6 +229,7 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
     // Under G93 F is one over the whole arc's minutes: each turn takes its share of them.
     const double feed = st_.feed;
     if (st_.inverse_time) st_.feed = feed * total / two_pi;
+    time_share_ = two_pi / total;
     for (int k = 1; k < turns; ++k) {
       Axes p = start;
       const double f = two_pi * k / total;
@@ -236,7 +238,9 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
       emit(m, p, line, &c);
     }
     if (st_.inverse_time) st_.feed = feed * total / sweep;
+    time_share_ = sweep / total;
     emit(m, end, line, &c);
+    time_share_ = 1.0;
     st_.feed = feed;
     return;
   }

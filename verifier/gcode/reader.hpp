@@ -228,7 +228,8 @@ class Reader : private ParameterValues {
   std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
   bool synchronized_ = false;  // emitting a G33/G33.1 move
-  std::optional<Eigen::Vector2d> spline_mirror_;  // the last G5's second control point mirrored, from its end
+  double time_share_ = 1.0;    // emitting one of the blocks one G93 F times together (Block::time_share)
+  Eigen::Vector2d spline_mirror_ = Eigen::Vector2d::Zero();  // the last G5's -P, -Q as written (LinuxCNC's cycle_i, cycle_j)
 };
 
 }  // namespace tf::gcode

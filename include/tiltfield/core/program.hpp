@@ -35,6 +35,9 @@ struct Block {
   // No F word on its line sets its feed: a G33/G33.1 move (K per spindle turn) or a block of a subroutine
   // file (its `line` is the program's call). A feed schedule leaves it as it is.
   bool fixed_feed = false;
+  // Under G93, the share of the minutes of its line's F that this block takes (an arc of P turns: each
+  // turn's; otherwise 1): its F is the line's F / time_share.
+  double time_share = 1.0;
 };
 
 struct Program {
