@@ -451,19 +451,8 @@ GcodeOptions gcode_options(const Scene& scene) {
 }
 
 Program parse_gcode(std::string_view text, const std::string& file, const MachineSpec& machine, const GcodeOptions& options) {
-  std::vector<std::string_view> lines;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view raw = text.substr(pos, end - pos);
-    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-    lines.push_back(raw);
-    if (end == text.size()) break;
-    pos = end + 1;
-  }
   gcode::Reader reader(file, machine, options);
-  reader.run(lines);
+  reader.run(gcode::split_lines(text));
   return reader.finish();
 }
 

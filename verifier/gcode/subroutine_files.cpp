@@ -14,22 +14,6 @@
 #include "tiltfield/core/io.hpp"
 
 namespace tf::gcode {
-namespace {
-
-std::vector<std::string_view> split_lines(std::string_view text) {
-  std::vector<std::string_view> lines;
-  for (size_t pos = 0; pos <= text.size();) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
-    pos = end + 1;
-  }
-  return lines;
-}
-
-}  // namespace
 
 bool Reader::load_subroutine_file(const std::string& label, int number) {
   // O<name>: name.ngc; a numbered O100: 100.ngc (LinuxCNC looks for both).

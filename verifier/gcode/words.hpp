@@ -15,6 +15,9 @@ struct Word {
   std::string text;  // as written (letter + number), for messages
 };
 
+// The lines of a program's text, without their line ends ("\n" or "\r\n"); views into `text`.
+std::vector<std::string_view> split_lines(std::string_view text);
+
 // Strips "( ... )" and "; ..." comments and whitespace; returns the code part in upper case.
 // Throws InputError on an unclosed "(".
 std::string strip_line(std::string_view raw, const std::string& file, int line);
