@@ -87,17 +87,14 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   double b = val.has(lb) ? length(lb, *val[lb]) : st_.pos[ax[1]];
   // Polar words (G17 only): absolute, the hole's distance and angle about the XY origin, a word not given
   // taken from the present position; incremental, added to the polar position before each repeat.
-  double polar_r = 0.0, polar_theta = 0.0;
   if (val.polar()) {
     if (st_.incremental || !val.has('@') || !val.has('^')) {  // the present position is needed
       assume_position(0);
       assume_position(1);
     }
-    polar_r = val.has('@') ? *val['@'] * unit() : 0.0;
-    polar_theta = val.has('^') ? *val['^'] * std::numbers::pi / 180.0 : 0.0;
     if (!st_.incremental) {
-      const double rho = val.has('@') ? polar_r : std::hypot(st_.pos[1], st_.pos[0]);
-      const double theta = val.has('^') ? polar_theta : std::atan2(st_.pos[1], st_.pos[0]);
+      const double rho = val.has('@') ? *val['@'] * unit() : std::hypot(st_.pos[1], st_.pos[0]);
+      const double theta = val.has('^') ? *val['^'] * std::numbers::pi / 180.0 : std::atan2(st_.pos[1], st_.pos[0]);
       a = rho * std::cos(theta);
       b = rho * std::sin(theta);
     }
@@ -128,16 +125,7 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   for (int rep = repeats; rep > 0; --rep) {
     a += a_inc;
     b += b_inc;
-    if (st_.incremental) {  // LinuxCNC's CYCLE_MACRO: the distance, then the angle
-      for (const char w : {'@', '^'}) {
-        const double step = w == '@' ? polar_r : polar_theta;
-        if (step == 0.0) continue;
-        if (a == 0.0 && b == 0.0) throw InputError(file_, line, val.word(w), "incremental polar motion from the XY origin has no direction");
-        const double rho = std::hypot(a, b) + (w == '@' ? step : 0.0), theta = std::atan2(b, a) + (w == '^' ? step : 0.0);
-        a = rho * std::cos(theta);
-        b = rho * std::sin(theta);
-      }
-    }
+    if (st_.incremental) polar_step(a, b, val, true, line);  // LinuxCNC's CYCLE_MACRO
     if (rep == repeats && current_cc > r) {
       cycle_move(false, ax, a, b, current_cc, line);
       cycle_move(false, ax, a, b, r, line);

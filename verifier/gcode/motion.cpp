@@ -80,6 +80,20 @@ Axes Reader::move_axes(const Values& val) {
   return st_.pos;
 }
 
+// (x, y) moved by the block's @ and then its ^, each about the XY origin (LinuxCNC's order, in find_ends
+// and in a cycle's repeats); `skip_zero`: a zero step is no step (the cycle loop's test), else any word
+// given is one. A step from the origin has no direction.
+void Reader::polar_step(double& x, double& y, const Values& val, bool skip_zero, int line) const {
+  for (const char w : {'@', '^'}) {
+    if (!val.has(w) || (skip_zero && *val[w] == 0.0)) continue;
+    if (x == 0.0 && y == 0.0) throw InputError(file_, line, val.word(w), "incremental polar motion from the XY origin has no direction");
+    const double r = std::hypot(x, y) + (w == '@' ? *val['@'] * unit() : 0.0);
+    const double theta = std::atan2(y, x) + (w == '^' ? *val['^'] * std::numbers::pi / 180.0 : 0.0);
+    x = r * std::cos(theta);
+    y = r * std::sin(theta);
+  }
+}
+
 // LinuxCNC's rules for @ and ^ (its interpreter's enhance_block): G17 only, never with X or Y, G53 or a
 // code of the non-modal group that takes axis words (`axis_code`: G10, G28, G30, G52 or G92).
 void Reader::check_polar(const Values& val, const std::optional<int>& axis_code, bool g53, int line) const {
@@ -104,15 +118,8 @@ void Reader::polar_target(const Values& val, int line) {
   const double deg = std::numbers::pi / 180.0;
   double& x = st_.pos[0];
   double& y = st_.pos[1];
-  if (st_.incremental) {  // the distance, then the angle, each from the origin's direction (LinuxCNC's order)
-    for (const char w : {'@', '^'}) {
-      if (!val.has(w)) continue;
-      if (x == 0.0 && y == 0.0) throw InputError(file_, line, val.word(w), "incremental polar motion from the XY origin has no direction");
-      const double r = std::hypot(x, y) + (w == '@' ? *val['@'] * unit() : 0.0);
-      const double theta = std::atan2(y, x) + (w == '^' ? *val['^'] * deg : 0.0);
-      x = r * std::cos(theta);
-      y = r * std::sin(theta);
-    }
+  if (st_.incremental) {
+    polar_step(x, y, val, false, line);
   } else {
     if (val.has('@') && !val.has('^') && x == 0.0 && y == 0.0)
       throw InputError(file_, line, val.word('@'), "polar distance without an angle at the XY origin");

@@ -173,6 +173,7 @@ class Reader : private ParameterValues {
   Axes move_axes(const Values& val);
   void check_polar(const Values& val, const std::optional<int>& axis_code, bool g53, int line) const;
   void polar_target(const Values& val, int line);
+  void polar_step(double& x, double& y, const Values& val, bool skip_zero, int line) const;
   void spindle_synchronized(int motion, const Axes& start, const Values& val, int line);
   void check_unused_words(const std::optional<int>& motion, const std::optional<int>& nonmodal, bool moves,
                           const std::vector<int>& gs, const std::vector<int>& ms, const Values& val, int line) const;
