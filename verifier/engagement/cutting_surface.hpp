@@ -16,6 +16,28 @@ namespace tf::engagement {
 
 inline constexpr double kPi = std::numbers::pi;
 
+// cos and sin of a small angle x (radians, |x| <= kSmallTurn): the series to the 7th power, exact to
+// about 1e-12 there, and a few multiply-adds where std::sin and std::cos cost a call each.
+inline constexpr double kSmallTurn = 0.2;
+inline void small_cos_sin(double x, double& c, double& s) {
+  const double x2 = x * x;
+  c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0));
+  s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)));
+}
+
+// a mod 2 pi, as std::fmod gives it (the same value: a - 2 pi is exact for a in [2 pi, 4 pi]), without its
+// call for the angles around a ring, which lie below two turns.
+inline double wrap_turn(double a) {
+  constexpr double turn = 2.0 * kPi;
+  if (a >= 0.0 && a < turn) return a;
+  if (a >= turn && a < 2.0 * turn) return a - turn;
+  return std::fmod(a, turn);
+}
+
+// std::remainder(a, 2 pi): a itself within half a turn, as it nearly always is for the angle between two
+// neighbouring rings' arc ends.
+inline double remainder_turn(double a) { return std::abs(a) <= kPi ? a : std::remainder(a, 2.0 * kPi); }
+
 // A point of the profile: radius r and height z above the tip, and the outward normal's radial and axial
 // components.
 struct ProfilePoint {
@@ -52,17 +74,22 @@ class Profile {
     if (rc_ > 0.0 && length_ > flat_ + arc_) j[n++] = {flat_ + arc_, false};
     return j;
   }
-  ProfilePoint at(double s) const {
+  ProfilePoint at(double s) const { return at(s, nullptr, 0.0); }
+  // The same, given a point of the profile `near` at arc length s_near (a ring's): on the corner, within a
+  // small turn of it, the angle's sine and cosine come from its normal by the series.
+  ProfilePoint at(double s, const ProfilePoint* near, double s_near) const {
     s = std::clamp(s, 0.0, length_);
     if (s < flat_) return {s, 0.0, 0.0, -1.0};  // end face (flat and bull)
     if (s < flat_ + arc_) {                     // ball or torus corner, angle from the tip's normal
-      const double th = (s - flat_) / rc_;
-      return {flat_ + rc_ * std::sin(th), rc_ - rc_ * std::cos(th), std::sin(th), -std::cos(th)};
+      double sn, cs;
+      corner_sin_cos(s, near, s_near, sn, cs);
+      return {flat_ + rc_ * sn, rc_ - rc_ * cs, sn, -cs};
     }
     return {R_, rc_ + (s - flat_ - arc_), 1.0, 0.0};  // flutes
   }
-  // Area of the band [s0, s1] over the full turn, exact for each piece of the profile, mm^2.
-  double band_area(double s0, double s1) const {
+  // Area of the band [s0, s1] over the full turn, exact for each piece of the profile, mm^2 (`near` as for
+  // at()).
+  double band_area(double s0, double s1, const ProfilePoint* near = nullptr, double s_near = 0.0) const {
     double a = 0.0;
     auto piece = [&](double lo, double hi, auto&& antiderivative) {
       const double x0 = std::clamp(s0, lo, hi), x1 = std::clamp(s1, lo, hi);
@@ -70,8 +97,9 @@ class Profile {
     };
     piece(0.0, flat_, [](double s) { return kPi * s * s; });
     piece(flat_, flat_ + arc_, [&](double s) {
-      const double th = (s - flat_) / rc_;
-      return 2.0 * kPi * rc_ * (flat_ * th - rc_ * std::cos(th));
+      double sn, cs;
+      corner_sin_cos(s, near, s_near, sn, cs);
+      return 2.0 * kPi * rc_ * (flat_ * (s - flat_) / rc_ - rc_ * cs);
     });
     piece(flat_ + arc_, length_, [&](double s) { return 2.0 * kPi * R_ * s; });
     return a;
@@ -106,6 +134,21 @@ class Profile {
   double radius() const { return R_; }
 
  private:
+  // sin and cos of the corner's angle at s (on the corner), from `near`'s normal where it is on the corner
+  // within a small turn.
+  void corner_sin_cos(double s, const ProfilePoint* near, double s_near, double& sn, double& cs) const {
+    const double th = (s - flat_) / rc_, d = (s - s_near) / rc_;
+    if (near && near->nr > 0.0 && s_near >= flat_ && s_near <= flat_ + arc_ && std::abs(d) <= kSmallTurn) {
+      double cd, sd;
+      small_cos_sin(d, cd, sd);
+      sn = near->nr * cd - near->nz * sd;  // near: (sin, -cos) of its angle
+      cs = -near->nz * cd - near->nr * sd;
+      return;
+    }
+    sn = std::sin(th);
+    cs = std::cos(th);
+  }
+
   double top_, R_, rc_ = 0.0, flat_ = 0.0, arc_ = 0.0, length_ = 0.0;
 };
 

@@ -68,11 +68,16 @@ void active_rings(const SampleGrid& g, const Sampler& sampler, BlockSamples& b) 
 }
 
 // cos and sin of phi_of(j) + t dphi, t in [0, 1]: the sample's from the table, turned by t dphi (a few
-// degrees: the series to the 7th power is exact to 1e-12).
+// degrees: the series is exact to 1e-12; a step coarser than kSmallTurn calls std::cos and std::sin).
 void angle_at(const SampleGrid& g, int j, double t, double& c, double& s) {
-  const double x = t * g.dphi, x2 = x * x;
-  const double cx = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0));
-  const double sx = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)));
+  const double x = t * g.dphi;
+  double cx, sx;
+  if (std::abs(x) <= engagement::kSmallTurn) {
+    engagement::small_cos_sin(x, cx, sx);
+  } else {
+    cx = std::cos(x);
+    sx = std::sin(x);
+  }
   const int k = g.wrap(j);
   c = g.cos_phi[k] * cx - g.sin_phi[k] * sx;
   s = g.sin_phi[k] * cx + g.cos_phi[k] * sx;
@@ -253,7 +258,7 @@ void set_engaged_arc(const std::vector<RingResult>& rings, Engagement& out) {
         out.exit_deg = 360.0;
         return;
       }
-      const double a0 = std::fmod(a, 2.0 * kPi), b0 = a0 + (b - a);
+      const double a0 = engagement::wrap_turn(a), b0 = a0 + (b - a);
       if (b0 > 2.0 * kPi) {
         all.push_back({a0, 2.0 * kPi});
         all.push_back({0.0, b0 - 2.0 * kPi});

@@ -18,7 +18,7 @@ void cos_range(double a, double b, double& lo, double& hi) {
   hi = std::max(ca, cb);
   const double k0 = std::ceil(a / kPi), k1 = std::floor(b / kPi);
   for (double k = k0; k <= k1; ++k) {
-    if (std::fmod(std::abs(k), 2.0) == 0.0) hi = 1.0;
+    if (static_cast<long long>(std::abs(k)) % 2 == 0) hi = 1.0;
     else lo = -1.0;
   }
 }
@@ -62,7 +62,7 @@ void for_each_change(const uint8_t* below, const uint8_t* above, int na, F&& f) 
 template <class F>
 void for_each_covered(const RingResult& rr, double c0, double c1, F&& f) {
   for (const auto& [lo, hi] : rr.arcs) {
-    const double a0 = std::fmod(lo, 2.0 * kPi), a1 = a0 + (hi - lo);
+    const double a0 = wrap_turn(lo), a1 = a0 + (hi - lo);
     for (int m = -1; m <= 1; ++m) {
       const double x0 = std::max(a0 + 2.0 * kPi * m, c0), x1 = std::min(a1 + 2.0 * kPi * m, c1);
       if (x0 < x1) f(x0, x1);
@@ -98,7 +98,10 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const std::vect
     const bool a = below && below[j] != 0;
     double s0 = g.s_of(i), s1 = g.s_of(i + 1);
     const Sampler::Column col = sampler.column(g.cos_phi[j], g.sin_phi[j]);
-    auto at = [&](double s) { return sampler.state(col, prof.at(s)); };
+    // Profile points between the rings: from ring i's by the series where the corner turns little.
+    const ProfilePoint& base = g.ring[size_t(i)];
+    const double s_base = g.s_of(i);
+    auto at = [&](double s) { return sampler.state(col, prof.at(s, &base, s_base)); };
     // A ring outside i0..i1 was not classified, and the rear's facing value was not measured: measure.
     auto end = [&](int k) {
       const PointState s = k >= b.i0 && k <= b.i1 ? b.at(k, j) : PointState{};
@@ -130,9 +133,9 @@ void meridian_strips(const SampleGrid& g, const BlockSamples& b, const std::vect
     // than a cell from moving a cell's worth of area.
     const double cell0 = g.phi_of(j) - 0.5 * g.dphi, cell1 = cell0 + g.dphi;
     const double gained = cell_cover(rings[size_t(i)], cell0, cell1) - cell_cover(rings[size_t(i + 1)], cell0, cell1);
-    const double strip = prof.band_area(std::min(sb, edge), std::max(sb, edge)) / (2.0 * kPi);
+    const double strip = prof.band_area(std::min(sb, edge), std::max(sb, edge), &base, s_base) / (2.0 * kPi);
     x.area += gained * (sb > edge ? strip : -strip);
-    const ProfilePoint p = prof.at(sb);
+    const ProfilePoint p = prof.at(sb, &base, s_base);
     x.zmin = std::min(x.zmin, p.z);
     x.zmax = std::max(x.zmax, p.z);
     // The boundary point reaches across the cell as far as the engaged ring's arcs do there (the sample's
@@ -148,8 +151,8 @@ bool full_turn(const RingResult& rr) { return rr.angle >= 2.0 * kPi - 1e-12; }
 
 // Whether two arcs (radians, entry < exit, less than a turn) overlap somewhere around the circle.
 bool arcs_overlap(const std::pair<double, double>& p, const std::pair<double, double>& q) {
-  const double p0 = std::fmod(p.first, 2.0 * kPi), p1 = p0 + (p.second - p.first);
-  const double q0 = std::fmod(q.first, 2.0 * kPi), q1 = q0 + (q.second - q.first);
+  const double p0 = wrap_turn(p.first), p1 = p0 + (p.second - p.first);
+  const double q0 = wrap_turn(q.first), q1 = q0 + (q.second - q.first);
   for (int m = -1; m <= 1; ++m)
     if (p0 < q1 + 2.0 * kPi * m && q0 + 2.0 * kPi * m < p1) return true;
   return false;
@@ -160,8 +163,8 @@ bool arcs_overlap(const std::pair<double, double>& p, const std::pair<double, do
 // the tool rather than along it (a step of the stock facing the axis): the engaged angle may jump there,
 // between the rings, and no polynomial through the rings' fractions would see where.
 bool partner(const std::pair<double, double>& p, const std::pair<double, double>& q, double max_move) {
-  return arcs_overlap(p, q) && std::abs(std::remainder(p.first - q.first, 2.0 * kPi)) <= max_move &&
-         std::abs(std::remainder(p.second - q.second, 2.0 * kPi)) <= max_move;
+  return arcs_overlap(p, q) && std::abs(remainder_turn(p.first - q.first)) <= max_move &&
+         std::abs(remainder_turn(p.second - q.second)) <= max_move;
 }
 
 // Whether the engaged arcs of two neighbouring rings are the same pieces of the engaged region, as far as

@@ -8,7 +8,7 @@ namespace {
 
 // Signed along-ray distance from coordinate t to the nearest material boundary of a ray (sorted, disjoint
 // intervals): negative inside material, positive outside, +inf for no material.
-double along_ray_distance(const Interval* b, const Interval* e, float t) {
+[[gnu::always_inline]] inline double along_ray_distance(const Interval* b, const Interval* e, float t) {
   // The intervals are sorted and disjoint: the first one ending at or after t, and the one before it.
   const Interval* it = first_ending_after(b, e, t);
   if (it != e && t >= it->lo) return -std::min(t - it->lo, it->hi - t);
