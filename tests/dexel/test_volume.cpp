@@ -221,6 +221,26 @@ TEST(Volume, StockMeshAfterCutsIsClosedAndMatchesTheDexels) {
   EXPECT_GT(blue_side, 0);
 }
 
+// The surface nets are built in chunks of lattice layers on the threads (8 or more here: 244 layers) and
+// joined: every quad across a chunk's first layer must find the previous chunk's vertices. A slot down the
+// whole height crosses every chunk's boundary; the mesh stays closed, of genus 0 (V - E + F = 2), and
+// holds the dexels' volume.
+TEST(Volume, TallStockMeshIsClosedAcrossTheBuildChunks) {
+  const Scene s = test::box_scene({0, 0, 0}, {6, 6, 60}, test::ball_tool(1.5, 70, 1.5, 80, {}));
+  const Program p = test::Moves().rapid({0, 3, 65}).line({.z = 5}, 500).program();
+  VerifyOptions o;
+  o.resolution = 0.25;
+  const VerifyResult r = verify_program(s, p, forward_xyz, o);
+  ASSERT_GE(r.stock.lattice().n[2], 240);
+  StockMeshOptions mo;
+  mo.colour_by_deviation = false;
+  const Mesh m = reconstruct_stock(r.stock, nullptr, mo);
+  EXPECT_TRUE(is_closed(m));
+  EXPECT_EQ(int(m.n_vertices()) - int(m.n_edges()) + int(m.n_faces()), 2);
+  EXPECT_NEAR(signed_volume(m), r.report.stock_volume_end_mm3, r.report.stock_volume_end_mm3 * 0.01);
+  EXPECT_GT(r.report.removed_volume_mm3, 100.0);
+}
+
 }  // namespace
 }  // namespace tf
 

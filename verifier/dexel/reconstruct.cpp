@@ -12,11 +12,15 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <functional>
 #include <map>
+#include <memory>
+#include <mutex>
 
 #include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "raycast.hpp"
 #include "tiltfield/core/internal/quiet_openmesh.hpp"
@@ -33,6 +37,9 @@ float crossing(const Dexel& r, float a, float b) {
   }
   return 0.5f * (a + b);  // occupancy and ray disagree (a sub-cell feature): the edge midpoint
 }
+
+// A cell without a vertex.
+constexpr int kNone = std::numeric_limits<int>::min();
 
 struct Builder {
   const TriDexel& td;
@@ -107,50 +114,72 @@ struct Builder {
   }
 
   void quad(int a, int b, int c, int d, bool flip) {
-    if (a < 0 || b < 0 || c < 0 || d < 0) return;  // cannot happen inside the padded lattice
+    // kNone cannot happen inside the padded lattice.
+    if (a == kNone || b == kNone || c == kNone || d == kNone) return;
     if (flip) std::swap(b, d);
     faces.emplace_back(a, b, c);
     faces.emplace_back(a, c, d);
   }
 
-  void run(const Progress& progress) {
+  // The vertices of cell layer k into cells_cur (their ids), from node layers occ0 (k) and occ1 (k + 1).
+  void cell_layer(int k) {
     const size_t layer = size_t(nx) * ny;
-    cells_prev.assign(layer, -1);
-    std::vector<uint8_t> occ_next;
-    fill_layer(occ0, 0);
-    for (int k = 0; k + 1 < nz; ++k) {
-      fill_layer(occ1, k + 1);
-      cells_cur.assign(layer, -1);
-      // Per node column of this cell layer: 0 (both nodes out), 3 (both in), else mixed.
-      column.resize(layer);
-      for (size_t c = 0; c < layer; ++c) column[c] = static_cast<uint8_t>(occ0[c] | (occ1[c] << 1));
-      for (int j = 0; j + 1 < ny; ++j) {
-        const uint8_t *r0 = &column[size_t(j) * nx], *r1 = r0 + nx;
-        for (int i = 0; i + 1 < nx;) {
-          // Eight cells at once where their nine columns on both rows are alike and not mixed (most of the
-          // lattice is wholly in or out): a, b, c, d equal means r0[i..i+8] and r1[i..i+8] all one value.
-          if (i + 9 <= nx) {
-            uint64_t a, b, c, d;
-            std::memcpy(&a, r0 + i, 8);
-            std::memcpy(&b, r0 + i + 1, 8);
-            std::memcpy(&c, r1 + i, 8);
-            std::memcpy(&d, r1 + i + 1, 8);
-            if (a == b && c == d && a == c && (a == 0 || a == 0x0303030303030303ull)) {
-              i += 8;
-              continue;
-            }
+    cells_cur.assign(layer, kNone);
+    // Per node column of this cell layer: 0 (both nodes out), 3 (both in), else mixed.
+    column.resize(layer);
+    for (size_t c = 0; c < layer; ++c) column[c] = static_cast<uint8_t>(occ0[c] | (occ1[c] << 1));
+    for (int j = 0; j + 1 < ny; ++j) {
+      const uint8_t *r0 = &column[size_t(j) * nx], *r1 = r0 + nx;
+      for (int i = 0; i + 1 < nx;) {
+        // Eight cells at once where their nine columns on both rows are alike and not mixed (most of the
+        // lattice is wholly in or out): a, b, c, d equal means r0[i..i+8] and r1[i..i+8] all one value.
+        if (i + 9 <= nx) {
+          uint64_t a, b, c, d;
+          std::memcpy(&a, r0 + i, 8);
+          std::memcpy(&b, r0 + i + 1, 8);
+          std::memcpy(&c, r1 + i, 8);
+          std::memcpy(&d, r1 + i + 1, 8);
+          if (a == b && c == d && a == c && (a == 0 || a == 0x0303030303030303ull)) {
+            i += 8;
+            continue;
           }
-          Eigen::Vector3d p;
-          if (cell_vertex(i, j, k, p)) {
-            cells_cur[size_t(j) * nx + i] = static_cast<int>(vertices.size());
-            vertices.push_back(p);
-            point_start.push_back(static_cast<uint32_t>(points.size()));
-          }
-          ++i;
         }
+        Eigen::Vector3d p;
+        if (cell_vertex(i, j, k, p)) {
+          cells_cur[size_t(j) * nx + i] = static_cast<int>(vertices.size());
+          vertices.push_back(p);
+          point_start.push_back(static_cast<uint32_t>(points.size()));
+        }
+        ++i;
       }
+    }
+  }
+
+  // Cell layers k0..k1-1 (node layers k0..k1): their vertices, the quads of the z edges through them and of
+  // the x and y edges on node layers k0..k1-1. A chunk that starts above the first layer makes cell layer
+  // k0 - 1 again for those quads, and numbers its vertices -m..-1: they are the previous chunk's last m
+  // (the same cells in the same order), so that vertex id + the chunk's first id is the global id for all.
+  void run(int k0, int k1, const std::function<void()>& layer_done) {
+    const size_t layer = size_t(nx) * ny;
+    cells_prev.assign(layer, kNone);
+    if (k0 > 0) {
+      fill_layer(occ0, k0 - 1);
+      fill_layer(occ1, k0);
+      cell_layer(k0 - 1);
+      const int m = static_cast<int>(vertices.size());
+      for (int& id : cells_cur)
+        if (id != kNone) id -= m;
+      std::swap(cells_prev, cells_cur);
+      vertices.clear();
+      points.clear();
+      point_start.assign(1, 0);
+    }
+    fill_layer(occ0, k0);
+    for (int k = k0; k < k1; ++k) {
+      fill_layer(occ1, k + 1);
+      cell_layer(k);
       auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
-        if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return -1;
+        if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return kNone;
         return layer_ids[size_t(j) * nx + i];
       };
       // z edges (i, j, k)-(i, j, k+1): cells (i-1..i, j-1..j) of layer k. Material below: normal +z.
@@ -179,11 +208,64 @@ struct Builder {
       }
       std::swap(cells_prev, cells_cur);
       std::swap(occ0, occ1);
-      // The layers are most of the time; the fits and colours after them the rest.
-      if (k % 32 == 0) report(progress, "mesh", 0.7 * k / nz);
+      layer_done();
     }
   }
+
+  void release_layers() {
+    for (auto* v : {&occ0, &occ1, &column}) std::vector<uint8_t>().swap(*v);
+    for (auto* v : {&cells_prev, &cells_cur}) std::vector<int>().swap(*v);
+    std::vector<uint32_t>().swap(cursor);
+  }
 };
+
+// The surface nets of the whole lattice: chunks of cell layers built on the threads, then joined in
+// order (the same vertices and faces, in the same order, as one pass over the layers).
+struct Surface {
+  std::vector<Eigen::Vector3d> vertices, points;
+  std::vector<Eigen::Vector3i> faces;
+  std::vector<uint32_t> point_start;  // vertex v owns points[point_start[v], point_start[v + 1])
+  double h = 0.0;
+};
+
+Surface build_surface(const TriDexel& td, const Progress& progress) {
+  const Lattice& L = td.lattice();
+  const int layers = L.n[2] - 1;
+  // A few chunks a thread, for balance (the material is not spread evenly over the layers), each at
+  // least 16 layers (a chunk makes its first layer's lower neighbour again).
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const int chunks = std::clamp(layers / 16, 1, 4 * threads);
+  std::vector<std::unique_ptr<Builder>> parts(size_t(std::max(chunks, 0)));
+  std::mutex report_mutex;
+  int done = 0;
+  auto layer_done = [&] {
+    const std::lock_guard<std::mutex> lock(report_mutex);
+    // The layers are most of the time; the fits and colours after them the rest.
+    if (++done % 32 == 0) report(progress, "mesh", 0.7 * done / std::max(layers, 1));
+  };
+  tbb::parallel_for(0, chunks, [&](int c) {
+    auto b = std::make_unique<Builder>(td);
+    b->run(int(int64_t(layers) * c / chunks), int(int64_t(layers) * (c + 1) / chunks), layer_done);
+    b->release_layers();  // a layer's buffers per chunk would add up over the chunks waiting to be joined
+    parts[size_t(c)] = std::move(b);
+  });
+  Surface out;
+  out.h = L.h;
+  size_t nv = 0, nf = 0, np = 0;
+  for (const auto& b : parts) nv += b->vertices.size(), nf += b->faces.size(), np += b->points.size();
+  out.vertices.reserve(nv), out.faces.reserve(nf), out.points.reserve(np), out.point_start.reserve(nv + 1);
+  for (auto& b : parts) {
+    const int base = static_cast<int>(out.vertices.size());
+    const auto first_point = static_cast<uint32_t>(out.points.size());
+    for (const Eigen::Vector3i& f : b->faces) out.faces.push_back(f + Eigen::Vector3i::Constant(base));
+    out.vertices.insert(out.vertices.end(), b->vertices.begin(), b->vertices.end());
+    out.points.insert(out.points.end(), b->points.begin(), b->points.end());
+    for (size_t v = 0; v < b->vertices.size(); ++v) out.point_start.push_back(first_point + b->point_start[v]);
+    b.reset();  // its layers' buffers go as it is copied
+  }
+  out.point_start.push_back(static_cast<uint32_t>(out.points.size()));
+  return out;
+}
 
 // A local algebraic sphere (a plane when flat) fitted to the exact crossings around a vertex (the
 // vertex's cell and its neighbours): u0 + u.x + u4 |x|^2 = 0 on points centred and scaled for conditioning.
@@ -211,12 +293,13 @@ LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
   for (const auto& p : P) scale += (p - mean).squaredNorm();
   scale = std::sqrt(scale / double(P.size()));
   if (scale <= 0) return f;
+  // The solver reads only the lower triangle of the symmetric M: only it is summed.
   Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
   for (const auto& p : P) {
     const Eigen::Vector3d q = (p - mean) / scale;
-    Eigen::Matrix<double, 5, 1> a;
-    a << 1.0, q.x(), q.y(), q.z(), q.squaredNorm();
-    M += a * a.transpose();
+    const double a[5] = {1.0, q.x(), q.y(), q.z(), q.squaredNorm()};
+    for (int j = 0; j < 5; ++j)
+      for (int i = j; i < 5; ++i) M(i, j) += a[i] * a[j];
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(M);
   const Eigen::Matrix<double, 5, 1> u = es.eigenvectors().col(0);
@@ -242,7 +325,7 @@ LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
 
 // Moves each vertex onto the surface fitted to its neighbourhood's exact crossings where that fit is
 // good (smooth regions); keeps the mass point near edges and corners, where no sphere fits.
-std::vector<LocalFit> smooth_vertices(Builder& b) {
+std::vector<LocalFit> smooth_vertices(Surface& b) {
   const size_t nv = b.vertices.size();
   std::vector<std::vector<int>> ring(nv);
   for (const auto& f : b.faces)
@@ -251,7 +334,7 @@ std::vector<LocalFit> smooth_vertices(Builder& b) {
       ring[f[k]].push_back(f[(k + 2) % 3]);
     }
   std::vector<LocalFit> fits(nv);
-  const double tol = 0.05 * b.L.h;
+  const double tol = 0.05 * b.h;
   // Each vertex's fit depends on its own neighbourhood only: in parallel.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 1024), [&](const tbb::blocked_range<size_t>& range) {
     std::vector<Eigen::Vector3d> P;
@@ -272,7 +355,7 @@ std::vector<LocalFit> smooth_vertices(Builder& b) {
   for (size_t v = 0; v < nv; ++v) {
     if (!fits[v].valid) continue;
     const Eigen::Vector3d q = fits[v].project(b.vertices[v]);
-    if ((q - b.vertices[v]).norm() <= b.L.h) b.vertices[v] = q;
+    if ((q - b.vertices[v]).norm() <= b.h) b.vertices[v] = q;
     else fits[v].valid = false;
   }
   return fits;
@@ -332,8 +415,7 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
 }  // namespace
 
 Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options) {
-  Builder b(stock);
-  b.run(options.progress);
+  Surface b = build_surface(stock, options.progress);
   if (options.smooth || options.refine > 0) {
     std::vector<LocalFit> fits = smooth_vertices(b);
     if (!options.smooth)
