@@ -7,6 +7,9 @@
 #include <optional>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "report_internal.hpp"
 #include "report_mesh.hpp"
 #include "tiltfield/core/io.hpp"
@@ -298,16 +301,25 @@ std::vector<double> stock_deviation(const Mesh& stock, const Mesh& design) {
   std::vector<double> dev(stock.n_vertices(), 0.0);
   if (design.n_faces() == 0) return dev;
   const TriangleBvh bvh({&design});
-  int hint = -1;
-  for (auto vh : stock.vertices()) {
-    const Eigen::Vector3d p = to_eigen(stock.point(vh));
-    const ClosestHit hit = bvh.closest(p, std::numeric_limits<double>::infinity(), hint);
-    if (hit.triangle < 0) continue;
-    hint = hit.triangle;
-    const Triangle& t = bvh.triangle(hit.triangle);
-    const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
-    dev[size_t(vh.idx())] = (p - hit.point).dot(n) >= 0.0 ? hit.distance : -hit.distance;
-  }
+  // On the threads, in fixed runs of vertices (simple_partitioner), each run's queries starting from the
+  // previous vertex's triangle: where two triangles are equally close (an edge), the one taken, and so
+  // the sign, does not depend on the scheduling.
+  constexpr size_t kRun = 4096;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, stock.n_vertices(), kRun),
+      [&](const tbb::blocked_range<size_t>& range) {
+        int hint = -1;
+        for (size_t v = range.begin(); v != range.end(); ++v) {
+          const Eigen::Vector3d p = to_eigen(stock.point(Mesh::VertexHandle(static_cast<int>(v))));
+          const ClosestHit hit = bvh.closest(p, std::numeric_limits<double>::infinity(), hint);
+          if (hit.triangle < 0) continue;
+          hint = hit.triangle;
+          const Triangle& t = bvh.triangle(hit.triangle);
+          const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
+          dev[v] = (p - hit.point).dot(n) >= 0.0 ? hit.distance : -hit.distance;
+        }
+      },
+      tbb::simple_partitioner());
   return dev;
 }
 
