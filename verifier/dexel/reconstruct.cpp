@@ -293,14 +293,25 @@ LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
   for (const auto& p : P) scale += (p - mean).squaredNorm();
   scale = std::sqrt(scale / double(P.size()));
   if (scale <= 0) return f;
-  // The solver reads only the lower triangle of the symmetric M: only it is summed.
-  Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
+  // M = sum of a a^T over the points, a = (1, q, |q|^2). The solver reads only its lower triangle, so only
+  // that is summed, in scalars: summed into the matrix in memory, each entry waited on its own last store.
+  double sx = 0, sy = 0, sz = 0, sw = 0, xx = 0, xy = 0, xz = 0, xw = 0, yy = 0, yz = 0, yw = 0, zz = 0, zw = 0, ww = 0;
   for (const auto& p : P) {
     const Eigen::Vector3d q = (p - mean) / scale;
-    const double a[5] = {1.0, q.x(), q.y(), q.z(), q.squaredNorm()};
-    for (int j = 0; j < 5; ++j)
-      for (int i = j; i < 5; ++i) M(i, j) += a[i] * a[j];
+    const double x = q.x(), y = q.y(), z = q.z(), w = q.squaredNorm();
+    sx += x, sy += y, sz += z, sw += w;
+    xx += x * x, xy += y * x, xz += z * x, xw += w * x;
+    yy += y * y, yz += z * y, yw += w * y;
+    zz += z * z, zw += w * z;
+    ww += w * w;
   }
+  Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
+  M(0, 0) = double(P.size());
+  M(1, 0) = sx, M(2, 0) = sy, M(3, 0) = sz, M(4, 0) = sw;
+  M(1, 1) = xx, M(2, 1) = xy, M(3, 1) = xz, M(4, 1) = xw;
+  M(2, 2) = yy, M(3, 2) = yz, M(4, 2) = yw;
+  M(3, 3) = zz, M(4, 3) = zw;
+  M(4, 4) = ww;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(M);
   const Eigen::Matrix<double, 5, 1> u = es.eigenvectors().col(0);
   const Eigen::Vector3d g = u.segment<3>(1);
