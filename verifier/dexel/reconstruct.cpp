@@ -41,6 +41,14 @@ float crossing(const Dexel& r, float a, float b) {
 // A cell without a vertex.
 constexpr int kNone = std::numeric_limits<int>::min();
 
+// Whether a[0..8) and b[0..8) hold the same bytes.
+inline bool same8(const uint8_t* a, const uint8_t* b) {
+  uint64_t x, y;
+  std::memcpy(&x, a, 8);
+  std::memcpy(&y, b, 8);
+  return x == y;
+}
+
 struct Builder {
   const TriDexel& td;
   const Lattice& L;
@@ -55,6 +63,49 @@ struct Builder {
   std::vector<uint8_t> column;             // per node column of the cell layer: occ0 | occ1 << 1
 
   explicit Builder(const TriDexel& t) : td(t), L(t.lattice()), nx(L.n[0]), ny(L.n[1]), nz(L.n[2]) {}
+
+  // The layer of the nodes at t_k = k h: an interval end e changes a ray's occupancy at the first layer
+  // with t_k >= e (inside is lo <= t < hi), in the same float arithmetic as fill_layer's.
+  float layer_t(int k) const { return float(k * L.h); }
+  int first_layer_at(float e) const {
+    int k = static_cast<int>(std::clamp(std::ceil(double(e) / L.h), 0.0, double(nz)));
+    while (k > 0 && layer_t(k - 1) >= e) --k;
+    while (k < nz && layer_t(k) < e) ++k;
+    return k;
+  }
+
+  // Per node layer k in (k_first, k_last]: the z rays (row-major index) whose occupancy differs from
+  // layer k - 1's, one entry an interval end between them (an even count changes nothing), in
+  // flips[flip_start[k - k_first - 1], flip_start[k - k_first]).
+  std::vector<uint32_t> flips, flip_start;
+  void find_flips(int k_first, int k_last) {
+    const int n = k_last - k_first;
+    flip_start.assign(size_t(n) + 1, 0);
+    auto each_end = [&](auto&& f) {
+      const float t0 = layer_t(k_first), t1 = layer_t(k_last);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const Dexel& r = td.ray(2, i, j);
+          for (const Interval& iv : r) {
+            if (iv.hi <= t0) continue;
+            if (iv.lo > t1) break;
+            for (const float e : {iv.lo, iv.hi})
+              if (e > t0 && e <= t1) f(first_layer_at(e) - k_first - 1, uint32_t(size_t(j) * nx + i));
+          }
+        }
+    };
+    each_end([&](int b, uint32_t) { ++flip_start[size_t(b) + 1]; });
+    for (int b = 0; b < n; ++b) flip_start[size_t(b) + 1] += flip_start[size_t(b)];
+    flips.resize(flip_start[size_t(n)]);
+    std::vector<uint32_t> next(flip_start.begin(), flip_start.end() - 1);
+    each_end([&](int b, uint32_t ray) { flips[next[size_t(b)]++] = ray; });
+  }
+  // Layer k's occupancy from layer k - 1's (occ holds it): its flips (find_flips from k_first).
+  void next_layer(std::vector<uint8_t>& occ, const std::vector<uint8_t>& below, int k, int k_first) {
+    occ = below;
+    const size_t b = size_t(k - k_first - 1);
+    for (uint32_t f = flip_start[b]; f < flip_start[b + 1]; ++f) occ[flips[f]] ^= 1;
+  }
 
   // Node occupancy of layer k from the z rays. Layers come in increasing k, so each ray keeps a cursor
   // to its first interval not wholly below the layer: O(1) a node, not a walk along the ray.
@@ -162,9 +213,12 @@ struct Builder {
   void run(int k0, int k1, const std::function<void()>& layer_done) {
     const size_t layer = size_t(nx) * ny;
     cells_prev.assign(layer, kNone);
+    // Only the first layer is read from the rays; each next one is the one below with its flips.
+    const int k_first = std::max(k0 - 1, 0);
+    find_flips(k_first, k1);
     if (k0 > 0) {
       fill_layer(occ0, k0 - 1);
-      fill_layer(occ1, k0);
+      next_layer(occ1, occ0, k0, k_first);
       cell_layer(k0 - 1);
       const int m = static_cast<int>(vertices.size());
       for (int& id : cells_cur)
@@ -174,18 +228,25 @@ struct Builder {
       points.clear();
       point_start.assign(1, 0);
     }
-    fill_layer(occ0, k0);
+    if (k0 > 0) std::swap(occ0, occ1);  // layer k0, made above
+    else fill_layer(occ0, k0);
     for (int k = k0; k < k1; ++k) {
-      fill_layer(occ1, k + 1);
+      next_layer(occ1, occ0, k + 1, k_first);
       cell_layer(k);
       auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
         if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return kNone;
         return layer_ids[size_t(j) * nx + i];
       };
+      // Each edge loop skips eight nodes at once where none of their edges is crossed (most of the lattice).
       // z edges (i, j, k)-(i, j, k+1): cells (i-1..i, j-1..j) of layer k. Material below: normal +z.
       for (int j = 1; j + 1 < ny; ++j)
         for (int i = 1; i + 1 < nx; ++i) {
-          const bool lo = occ0[size_t(j) * nx + i], hi = occ1[size_t(j) * nx + i];
+          const size_t at = size_t(j) * nx + i;
+          if (i + 9 <= nx && same8(&occ0[at], &occ1[at])) {
+            i += 7;
+            continue;
+          }
+          const bool lo = occ0[at], hi = occ1[at];
           if (lo == hi) continue;
           quad(cell(cells_cur, i - 1, j - 1), cell(cells_cur, i, j - 1), cell(cells_cur, i, j), cell(cells_cur, i - 1, j), !lo);
         }
@@ -194,14 +255,24 @@ struct Builder {
         for (int j = 1; j + 1 < ny; ++j)
           for (int i = 0; i + 1 < nx; ++i) {
             // x edge (i, j, k)-(i+1, j, k): cells (i, j-1..j, k-1..k). Material at i: normal +x.
-            const bool lo = occ0[size_t(j) * nx + i], hi = occ0[size_t(j) * nx + i + 1];
+            const size_t at = size_t(j) * nx + i;
+            if (i + 9 <= nx && same8(&occ0[at], &occ0[at + 1])) {
+              i += 7;
+              continue;
+            }
+            const bool lo = occ0[at], hi = occ0[at + 1];
             if (lo == hi) continue;
             quad(cell(cells_prev, i, j - 1), cell(cells_prev, i, j), cell(cells_cur, i, j), cell(cells_cur, i, j - 1), !lo);
           }
         for (int j = 0; j + 1 < ny; ++j)
           for (int i = 1; i + 1 < nx; ++i) {
             // y edge (i, j, k)-(i, j+1, k): cells (i-1..i, j, k-1..k). Material at j: normal +y.
-            const bool lo = occ0[size_t(j) * nx + i], hi = occ0[size_t(j + 1) * nx + i];
+            const size_t at = size_t(j) * nx + i;
+            if (i + 9 <= nx && same8(&occ0[at], &occ0[at + nx])) {
+              i += 7;
+              continue;
+            }
+            const bool lo = occ0[at], hi = occ0[at + nx];
             if (lo == hi) continue;
             quad(cell(cells_prev, i - 1, j), cell(cells_cur, i - 1, j), cell(cells_cur, i, j), cell(cells_prev, i, j), !lo);
           }
