@@ -286,14 +286,17 @@ BENCHMARK(BM_LinuxcncImpeller)->Args({5, 1})->Args({5, 0})->Args({10, 1})->Itera
 // (e) The compact stock mesh of verify --stock-mesh / --html: LinuxCNC's demo simulated at the argument's
 // spacing (1/100 mm; not timed), its full dual-contoured stock mesh, then decimate_within at the default
 // bound of 0.01 mm (timed). Counters: the full and compact vertex counts.
-void BM_StockMeshDecimate(benchmark::State& state) {
-  const std::filesystem::path scene_file = linuxcnc_demo_scene();
-  if (!have_linuxcnc_demo(state)) return;
-  const tf::Scene scene = tf::load_scene(scene_file);
+// LinuxCNC's demo simulated at `resolution` mm with default options (the stock meshes' input).
+tf::VerifyResult simulate_linuxcnc_demo(double resolution) {
+  const tf::Scene scene = tf::load_scene(linuxcnc_demo_scene());
   tf::VerifyOptions opt;
-  opt.resolution = state.range(0) / 100.0;
-  const tf::VerifyResult r =
-      tf::verify_program(scene, tf::read_gcode(kLinuxcncDemo, *scene.machine), tf::scene_forward(scene), opt);
+  opt.resolution = resolution;
+  return tf::verify_program(scene, tf::read_gcode(kLinuxcncDemo, *scene.machine), tf::scene_forward(scene), opt);
+}
+
+void BM_StockMeshDecimate(benchmark::State& state) {
+  if (!have_linuxcnc_demo(state)) return;
+  const tf::VerifyResult r = simulate_linuxcnc_demo(state.range(0) / 100.0);
   const tf::Mesh full = tf::reconstruct_stock(r.stock, nullptr);
   size_t vertices = 0;
   for (auto _ : state) {
@@ -310,13 +313,8 @@ BENCHMARK(BM_StockMeshDecimate)->Arg(20)->Arg(10)->Iterations(1)->Unit(benchmark
 // the vertices' fits, no colours): LinuxCNC's demo simulated at the argument's spacing (1/100 mm; not
 // timed). Counters: vertices and faces.
 void BM_StockMeshReconstruct(benchmark::State& state) {
-  const std::filesystem::path scene_file = linuxcnc_demo_scene();
   if (!have_linuxcnc_demo(state)) return;
-  const tf::Scene scene = tf::load_scene(scene_file);
-  tf::VerifyOptions opt;
-  opt.resolution = state.range(0) / 100.0;
-  const tf::VerifyResult r =
-      tf::verify_program(scene, tf::read_gcode(kLinuxcncDemo, *scene.machine), tf::scene_forward(scene), opt);
+  const tf::VerifyResult r = simulate_linuxcnc_demo(state.range(0) / 100.0);
   size_t vertices = 0, faces = 0;
   for (auto _ : state) {
     const tf::Mesh full = tf::reconstruct_stock(r.stock, nullptr);
