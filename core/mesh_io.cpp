@@ -4,6 +4,7 @@
 #include <cctype>
 #include <fstream>
 #include <ostream>
+#include <stdexcept>
 #include <streambuf>
 
 #include "mesh_readers.hpp"
@@ -182,6 +183,26 @@ void append_mesh(Mesh& a, const Mesh& b) {
     }
   }
   a.update_face_normals();
+}
+
+namespace {
+constexpr const char* kDeviationProperty = "tiltfield:deviation_mm";
+}  // namespace
+
+void set_vertex_deviation(Mesh& mesh, const std::vector<double>& deviation_mm) {
+  if (deviation_mm.size() != mesh.n_vertices())
+    throw std::invalid_argument("set_vertex_deviation: one value a vertex is needed");
+  OpenMesh::VPropHandleT<double> h;
+  if (!mesh.get_property_handle(h, kDeviationProperty)) mesh.add_property(h, kDeviationProperty);
+  for (auto v : mesh.vertices()) mesh.property(h, v) = deviation_mm[size_t(v.idx())];
+}
+
+std::vector<double> vertex_deviation(const Mesh& mesh) {
+  OpenMesh::VPropHandleT<double> h;
+  if (!mesh.get_property_handle(h, kDeviationProperty)) return {};
+  std::vector<double> out(mesh.n_vertices());
+  for (auto v : mesh.vertices()) out[size_t(v.idx())] = mesh.property(h, v);
+  return out;
 }
 
 }  // namespace tf

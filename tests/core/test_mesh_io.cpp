@@ -39,6 +39,23 @@ TEST(MeshIO, RoundTripEveryFormat) {
   }
 }
 
+TEST(MeshIO, AVertexDeviationStaysWithTheMeshButNotInItsFile) {
+  tf::test::TempDir dir;
+  tf::Mesh box = unit_box();
+  EXPECT_TRUE(tf::vertex_deviation(box).empty());
+  std::vector<double> dev(box.n_vertices());
+  for (size_t i = 0; i < dev.size(); ++i) dev[i] = 0.25 * double(i) - 1.0;
+  tf::set_vertex_deviation(box, dev);
+  const tf::Mesh copy = box;
+  EXPECT_EQ(tf::vertex_deviation(copy), dev);
+  dev[0] = 7.0;  // set again: the property is replaced, not added twice
+  tf::set_vertex_deviation(box, dev);
+  EXPECT_EQ(tf::vertex_deviation(box), dev);
+  EXPECT_THROW(tf::set_vertex_deviation(box, std::vector<double>(3, 0.0)), std::invalid_argument);
+  tf::write_mesh(box, dir / "box.ply");
+  EXPECT_TRUE(tf::vertex_deviation(tf::load_mesh(dir / "box.ply")).empty());
+}
+
 TEST(MeshIO, AsciiStlIsRead) {
   tf::test::TempDir dir;
   tf::test::write_text(dir / "t.stl",

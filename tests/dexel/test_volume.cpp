@@ -5,6 +5,7 @@
 
 #include "helpers.hpp"
 #include "moves.hpp"
+#include "tiltfield/core/triangle_bvh.hpp"
 #include "tiltfield/dexel/verify.hpp"
 
 namespace tf {
@@ -219,6 +220,17 @@ TEST(Volume, StockMeshAfterCutsIsClosedAndMatchesTheDexels) {
   }
   EXPECT_EQ(blue_top, 0);
   EXPECT_GT(blue_side, 0);
+  // The deviation the colours came from stays on the mesh for the report: each vertex's distance to the
+  // design, as core's own closest-point tree measures it (the colours' come from Embree).
+  const std::vector<double> dev = vertex_deviation(m);
+  ASSERT_EQ(dev.size(), m.n_vertices());
+  const TriangleBvh design({&s.design});
+  double worst = 0.0;
+  for (auto v : m.vertices()) {
+    const ClosestHit hit = design.closest(to_eigen(m.point(v)));
+    worst = std::max(worst, std::abs(std::abs(dev[size_t(v.idx())]) - hit.distance));
+  }
+  EXPECT_LT(worst, 1e-9);
 }
 
 // The surface nets are built in chunks of lattice layers on the threads (8 or more here: 244 layers) and

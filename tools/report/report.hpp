@@ -108,7 +108,8 @@ std::vector<BlockAxes> block_axes(const Program& program);
 
 // The verification's part of the inputs: the program's axes per block, the per-block rows, collisions and
 // gouges of `report`, and `stock` (not owned; may be null) with its deviation from `design` when the
-// design has faces. What `run` and `verify --html` share.
+// design has faces (the mesh's own, vertex_deviation, when it carries one: it must then be from the same
+// design). What `run` and `verify --html` share.
 void set_verification(ReportInputs& inputs, const Program& program, const VerifyReport& report, const Mesh* stock,
                       const Mesh& design);
 

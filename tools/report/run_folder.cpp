@@ -17,7 +17,11 @@ void set_verification(ReportInputs& in, const Program& program, const VerifyRepo
   in.gouges = report.gouges;
   in.stock = stock;
   in.stock_deviation_mm.clear();
-  if (stock && design.n_faces() > 0) in.stock_deviation_mm = stock_deviation(*stock, design);
+  if (!stock || design.n_faces() == 0) return;
+  // The deviation the stock mesh was coloured by, when it carries it (reconstruct_stock's, from the same
+  // design); else measured here.
+  in.stock_deviation_mm = vertex_deviation(*stock);
+  if (in.stock_deviation_mm.empty()) in.stock_deviation_mm = stock_deviation(*stock, design);
 }
 
 std::vector<BlockAxes> block_axes(const Program& program) {

@@ -522,6 +522,7 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
     double largest = 0.0;
     for (const double x : dev) largest = std::max(largest, std::abs(x));
     const double range = options.colour_range_mm > 0 ? options.colour_range_mm : std::max(0.05, largest);
+    set_vertex_deviation(mesh, dev);
     mesh.request_vertex_colors();
     for (auto v : mesh.vertices()) {
       const double t = std::clamp(dev[v.idx()] / range, -1.0, 1.0);

@@ -56,6 +56,14 @@ double signed_volume(const Mesh& mesh);
 // Appends b to a (no vertex welding).
 void append_mesh(Mesh& a, const Mesh& b);
 
+// Each vertex's signed distance from a design surface (mm: + material left, - cut into the design), kept
+// on the mesh as a vertex property, so that what colours a stock mesh need not be measured again by the
+// report (reconstruct_stock sets it when it colours by deviation). Copies of the mesh keep it; files,
+// and meshes built anew from it (a decimation), do not.
+void set_vertex_deviation(Mesh& mesh, const std::vector<double>& deviation_mm);
+// The property's values per vertex, or empty when the mesh has none.
+std::vector<double> vertex_deviation(const Mesh& mesh);
+
 inline Eigen::Vector3d to_eigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 inline OpenMesh::Vec3d to_om(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
