@@ -358,6 +358,12 @@ BoundedDecimation decimate_within(const Mesh& in, const BoundedDecimateOptions& 
     for (auto v : joined.mesh.vertices())
       joined.mesh.set_color(v, in.color(Mesh::VertexHandle(joined.source_vertex[size_t(v.idx())])));
   }
+  // The kept vertices are the input's: so are their deviations from the design, when it has them.
+  if (const std::vector<double> dev = vertex_deviation(in); !dev.empty()) {
+    std::vector<double> kept(joined.mesh.n_vertices());
+    for (size_t v = 0; v < kept.size(); ++v) kept[v] = dev[size_t(joined.source_vertex[v])];
+    set_vertex_deviation(joined.mesh, kept);
+  }
   return joined;
 }
 

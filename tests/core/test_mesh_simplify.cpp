@@ -164,8 +164,12 @@ TEST(MeshSimplify, SlabsJoinOnTheirLockedCutsAndKeepTheBound) {
 TEST(MeshSimplify, ZeroBoundCopiesAndColoursFollowTheirVertices) {
   tf::Mesh input = torus(120, 40);
   input.request_vertex_colors();
-  for (auto v : input.vertices())
+  std::vector<double> dev(input.n_vertices());
+  for (auto v : input.vertices()) {
     input.set_color(v, tf::Mesh::Color(static_cast<unsigned char>(v.idx() % 251), 7, static_cast<unsigned char>(v.idx() % 13)));
+    dev[size_t(v.idx())] = 0.001 * v.idx();
+  }
+  tf::set_vertex_deviation(input, dev);
   tf::BoundedDecimateOptions o;
   o.max_error_mm = 0.0;
   const tf::BoundedDecimation same = tf::decimate_within(input, o);
@@ -175,8 +179,13 @@ TEST(MeshSimplify, ZeroBoundCopiesAndColoursFollowTheirVertices) {
   const tf::BoundedDecimation d = tf::decimate_within(input, o);
   ASSERT_TRUE(d.mesh.has_vertex_colors());
   EXPECT_LT(d.mesh.n_vertices(), input.n_vertices());
-  for (auto v : d.mesh.vertices())
+  const std::vector<double> kept = tf::vertex_deviation(d.mesh);
+  ASSERT_EQ(kept.size(), d.mesh.n_vertices());
+  EXPECT_EQ(tf::vertex_deviation(same.mesh), dev);
+  for (auto v : d.mesh.vertices()) {
     EXPECT_EQ(d.mesh.color(v), input.color(tf::Mesh::VertexHandle(d.source_vertex[size_t(v.idx())])));
+    EXPECT_EQ(kept[size_t(v.idx())], dev[size_t(d.source_vertex[size_t(v.idx())])]);
+  }
   o.max_error_mm = std::nan("");
   EXPECT_THROW(tf::decimate_within(input, o), std::invalid_argument);
 }

@@ -41,7 +41,7 @@ struct BoundedDecimateOptions {
 };
 
 struct BoundedDecimation {
-  Mesh mesh;                        // vertex colours copied when the input has them
+  Mesh mesh;                        // vertex colours and deviations (vertex_deviation) copied when the input has them
   std::vector<int> source_vertex;   // per output vertex: the input vertex it is
   size_t input_vertices = 0, input_faces = 0;
 };
