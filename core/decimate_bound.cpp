@@ -12,9 +12,15 @@ InputSurface::InputSurface(const Mesh& in) : bvh({&in}) {
   for (int i = 0; i < int(bvh.size()); ++i) of_face[size_t(bvh.input_index(i))] = i;
   neighbours.assign(bvh.size(), {-1, -1, -1});
   for (int i = 0; i < int(bvh.size()); ++i) {
-    int k = 0;
-    for (auto g : in.ff_range(Mesh::FaceHandle(bvh.input_index(i))))
-      if (k < 3) neighbours[size_t(i)][size_t(k++)] = of_face[size_t(g.idx())];
+    const Triangle& t = bvh.triangle(i);
+    for (auto g : in.ff_range(Mesh::FaceHandle(bvh.input_index(i)))) {
+      // Across the edge opposite the corner of t that g does not share (the same mesh points, exactly).
+      const int j = of_face[size_t(g.idx())];
+      const Triangle& u = bvh.triangle(j);
+      auto shared = [&](const Eigen::Vector3d& p) { return p == u.a || p == u.b || p == u.c; };
+      const int k = !shared(t.a) ? 0 : !shared(t.b) ? 1 : !shared(t.c) ? 2 : -1;
+      if (k >= 0 && neighbours[size_t(i)][size_t(k)] < 0) neighbours[size_t(i)][size_t(k)] = j;
+    }
   }
 }
 
@@ -183,25 +189,30 @@ double ModSurfaceDistance::distance2(const Eigen::Vector3d& q, int i) const {
   return (closest_point_on_triangle(q, surface_->bvh.triangle(i)) - q).squaredNorm();
 }
 
-// A greedy walk over the input's triangles from at_ toward q: each step moves to the neighbouring triangle
-// nearest q while that comes nearer. True only when it reaches a triangle within `limit` (squared), which
-// is then where the next walk starts; a walk that stalls (a crease, a gap) proves nothing.
+// A walk over the input's triangles from at_ toward q's projection. True only when the triangle it ends
+// on lies within `limit` (squared) of q, which is then where the next walk starts; a walk that ends
+// elsewhere (a crease, a gap, a surface bending toward q) proves nothing, and the tree answers. So the
+// walk decides nothing: it only finds a yes sooner, and the decimation is the same whatever path it takes.
 bool ModSurfaceDistance::walk(const Eigen::Vector3d& q, double limit) {
   if (at_ < 0) return false;
   int f = at_;
-  double best = distance2(q, f);
-  const bool graph = !surface_->neighbours.empty();
-  for (int step = 0; graph && best >= limit && step < kWalkSteps; ++step) {
-    int next = -1;
-    for (const int g : surface_->neighbours[size_t(f)]) {
-      if (g < 0) continue;
-      const double d = distance2(q, g);
-      if (d < best) best = d, next = g;
+  if (!surface_->neighbours.empty()) {
+    // Toward q's projection: across the edge that q lies beyond, seen along the triangle's normal (the
+    // corner whose barycentric weight is the most negative), until the projection falls inside. One
+    // orientation test a step instead of three distances.
+    for (int step = 0; step < kWalkSteps; ++step) {
+      const Triangle& t = surface_->bvh.triangle(f);
+      const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
+      const double w[3] = {(t.c - t.b).cross(q - t.b).dot(n), (t.a - t.c).cross(q - t.c).dot(n),
+                           (t.b - t.a).cross(q - t.a).dot(n)};
+      const int k = w[0] <= w[1] && w[0] <= w[2] ? 0 : w[1] <= w[2] ? 1 : 2;
+      if (!(w[k] < 0.0)) break;
+      const int g = surface_->neighbours[size_t(f)][size_t(k)];
+      if (g < 0) break;
+      f = g;
     }
-    if (next < 0) return false;
-    f = next;
   }
-  if (best >= limit) return false;
+  if (!(distance2(q, f) < limit)) return false;
   at_ = f;
   return true;
 }

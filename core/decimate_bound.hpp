@@ -20,7 +20,7 @@ namespace tf::internal {
 struct InputSurface {
   TriangleBvh bvh;
   std::vector<int> of_face;                    // input face -> its triangle in bvh; empty: no walks
-  std::vector<std::array<int, 3>> neighbours;  // per triangle of bvh: the triangles across its edges, or -1
+  std::vector<std::array<int, 3>> neighbours;  // per triangle of bvh: across the edge opposite a, b, c; or -1
   explicit InputSurface(const Mesh& in);
 };
 
@@ -77,7 +77,7 @@ class ModSurfaceDistance : public OpenMesh::Decimater::ModBaseT<Mesh> {
   double distance2(const Eigen::Vector3d& q, int i) const;
   bool walk(const Eigen::Vector3d& q, double limit);
 
-  static constexpr int kWalkSteps = 8;
+  static constexpr int kWalkSteps = 32;  // triangles crossed at most
   const InputSurface* surface_ = nullptr;
   const Mesh* input_ = nullptr;
   OpenMesh::VPropHandleT<int> source_;
