@@ -58,8 +58,7 @@ struct Builder {
   std::vector<Eigen::Vector3d> points;   // the exact crossings of every vertex's cell
   std::vector<uint32_t> point_start{0};  // vertex v owns points[point_start[v], point_start[v + 1])
   std::vector<uint8_t> occ0, occ1;   // node layers k and k+1
-  std::vector<int> cells_prev, cells_cur;  // vertex ids of cell layers k-1 and k (-1: none)
-  std::vector<uint32_t> cursor;            // per z ray: its first interval not below the current layer
+  std::vector<int> cells_prev, cells_cur;  // vertex ids of cell layers k-1 and k (kNone: none)
   std::vector<uint8_t> column;             // per node column of the cell layer: occ0 | occ1 << 1
 
   explicit Builder(const TriDexel& t) : td(t), L(t.lattice()), nx(L.n[0]), ny(L.n[1]), nz(L.n[2]) {}
@@ -100,25 +99,26 @@ struct Builder {
     std::vector<uint32_t> next(flip_start.begin(), flip_start.end() - 1);
     each_end([&](int b, uint32_t ray) { flips[next[size_t(b)]++] = ray; });
   }
-  // Layer k's occupancy from layer k - 1's (occ holds it): its flips (find_flips from k_first).
+  // Layer k's occupancy into occ: layer k - 1's (below) with its flips (find_flips from k_first).
   void next_layer(std::vector<uint8_t>& occ, const std::vector<uint8_t>& below, int k, int k_first) {
     occ = below;
     const size_t b = size_t(k - k_first - 1);
     for (uint32_t f = flip_start[b]; f < flip_start[b + 1]; ++f) occ[flips[f]] ^= 1;
   }
 
-  // Node occupancy of layer k from the z rays. Layers come in increasing k, so each ray keeps a cursor
-  // to its first interval not wholly below the layer: O(1) a node, not a walk along the ray.
+  // Node occupancy of layer k from the z rays (a chunk's first layer; next_layer makes the others).
   void fill_layer(std::vector<uint8_t>& occ, int k) {
     occ.assign(size_t(nx) * ny, 0);
-    cursor.resize(size_t(nx) * ny, 0);
-    const float t = float(k * L.h);
+    const float t = layer_t(k);
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        const Dexel& r = td.ray(2, i, j);
-        uint32_t& c = cursor[size_t(j) * nx + i];
-        while (c < r.size() && r.begin()[c].hi <= t) ++c;
-        occ[size_t(j) * nx + i] = c < r.size() && t >= r.begin()[c].lo;
+        for (const Interval& iv : td.ray(2, i, j)) {
+          if (iv.lo > t) break;
+          if (t < iv.hi) {  // inside: lo <= t < hi
+            occ[size_t(j) * nx + i] = 1;
+            break;
+          }
+        }
       }
   }
 
@@ -286,7 +286,7 @@ struct Builder {
   void release_layers() {
     for (auto* v : {&occ0, &occ1, &column}) std::vector<uint8_t>().swap(*v);
     for (auto* v : {&cells_prev, &cells_cur}) std::vector<int>().swap(*v);
-    std::vector<uint32_t>().swap(cursor);
+    for (auto* v : {&flips, &flip_start}) std::vector<uint32_t>().swap(*v);
   }
 };
 

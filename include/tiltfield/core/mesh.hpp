@@ -58,8 +58,8 @@ void append_mesh(Mesh& a, const Mesh& b);
 
 // Each vertex's signed distance from a design surface (mm: + material left, - cut into the design), kept
 // on the mesh as a vertex property, so that what colours a stock mesh need not be measured again by the
-// report (reconstruct_stock sets it when it colours by deviation). Copies of the mesh keep it; files,
-// and meshes built anew from it (a decimation), do not.
+// report (reconstruct_stock sets it when it colours by deviation). Copies of the mesh keep it, and
+// decimate_within gives it to the vertices it keeps; files and other meshes built from it do not.
 void set_vertex_deviation(Mesh& mesh, const std::vector<double>& deviation_mm);
 // The property's values per vertex, or empty when the mesh has none.
 std::vector<double> vertex_deviation(const Mesh& mesh);
