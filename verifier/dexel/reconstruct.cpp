@@ -227,59 +227,65 @@ struct Builder {
       vertices.clear();
       points.clear();
       point_start.assign(1, 0);
+      std::swap(occ0, occ1);  // layer k0, made above
+    } else {
+      fill_layer(occ0, k0);
     }
-    if (k0 > 0) std::swap(occ0, occ1);  // layer k0, made above
-    else fill_layer(occ0, k0);
     for (int k = k0; k < k1; ++k) {
       next_layer(occ1, occ0, k + 1, k_first);
       cell_layer(k);
-      auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
-        if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return kNone;
-        return layer_ids[size_t(j) * nx + i];
-      };
-      // Each edge loop skips eight nodes at once where none of their edges is crossed (most of the lattice).
-      // z edges (i, j, k)-(i, j, k+1): cells (i-1..i, j-1..j) of layer k. Material below: normal +z.
-      for (int j = 1; j + 1 < ny; ++j)
-        for (int i = 1; i + 1 < nx; ++i) {
-          const size_t at = size_t(j) * nx + i;
-          if (i + 9 <= nx && same8(&occ0[at], &occ1[at])) {
-            i += 7;
-            continue;
-          }
-          const bool lo = occ0[at], hi = occ1[at];
-          if (lo == hi) continue;
-          quad(cell(cells_cur, i - 1, j - 1), cell(cells_cur, i, j - 1), cell(cells_cur, i, j), cell(cells_cur, i - 1, j), !lo);
-        }
-      // x and y edges on node layer k (k >= 1): cells of layers k-1 and k.
-      if (k >= 1) {
-        for (int j = 1; j + 1 < ny; ++j)
-          for (int i = 0; i + 1 < nx; ++i) {
-            // x edge (i, j, k)-(i+1, j, k): cells (i, j-1..j, k-1..k). Material at i: normal +x.
-            const size_t at = size_t(j) * nx + i;
-            if (i + 9 <= nx && same8(&occ0[at], &occ0[at + 1])) {
-              i += 7;
-              continue;
-            }
-            const bool lo = occ0[at], hi = occ0[at + 1];
-            if (lo == hi) continue;
-            quad(cell(cells_prev, i, j - 1), cell(cells_prev, i, j), cell(cells_cur, i, j), cell(cells_cur, i, j - 1), !lo);
-          }
-        for (int j = 0; j + 1 < ny; ++j)
-          for (int i = 1; i + 1 < nx; ++i) {
-            // y edge (i, j, k)-(i, j+1, k): cells (i-1..i, j, k-1..k). Material at j: normal +y.
-            const size_t at = size_t(j) * nx + i;
-            if (i + 9 <= nx && same8(&occ0[at], &occ0[at + nx])) {
-              i += 7;
-              continue;
-            }
-            const bool lo = occ0[at], hi = occ0[at + nx];
-            if (lo == hi) continue;
-            quad(cell(cells_prev, i - 1, j), cell(cells_cur, i - 1, j), cell(cells_cur, i, j), cell(cells_prev, i, j), !lo);
-          }
-      }
+      layer_quads(k);
       std::swap(cells_prev, cells_cur);
       std::swap(occ0, occ1);
       layer_done();
+    }
+  }
+
+  // The quads of the z edges through cell layer k and of the x and y edges on node layer k (k >= 1).
+  void layer_quads(int k) {
+    auto cell = [&](const std::vector<int>& layer_ids, int i, int j) {
+      if (i < 0 || j < 0 || i + 1 >= nx || j + 1 >= ny) return kNone;
+      return layer_ids[size_t(j) * nx + i];
+    };
+    // Each edge loop skips eight nodes at once where none of their edges is crossed (most of the lattice).
+    // z edges (i, j, k)-(i, j, k+1): cells (i-1..i, j-1..j) of layer k. Material below: normal +z.
+    for (int j = 1; j + 1 < ny; ++j)
+      for (int i = 1; i + 1 < nx; ++i) {
+        const size_t at = size_t(j) * nx + i;
+        if (i + 9 <= nx && same8(&occ0[at], &occ1[at])) {
+          i += 7;
+          continue;
+        }
+        const bool lo = occ0[at], hi = occ1[at];
+        if (lo == hi) continue;
+        quad(cell(cells_cur, i - 1, j - 1), cell(cells_cur, i, j - 1), cell(cells_cur, i, j), cell(cells_cur, i - 1, j), !lo);
+      }
+    // x and y edges on node layer k (k >= 1): cells of layers k-1 and k.
+    if (k >= 1) {
+      for (int j = 1; j + 1 < ny; ++j)
+        for (int i = 0; i + 1 < nx; ++i) {
+          // x edge (i, j, k)-(i+1, j, k): cells (i, j-1..j, k-1..k). Material at i: normal +x.
+          const size_t at = size_t(j) * nx + i;
+          if (i + 9 <= nx && same8(&occ0[at], &occ0[at + 1])) {
+            i += 7;
+            continue;
+          }
+          const bool lo = occ0[at], hi = occ0[at + 1];
+          if (lo == hi) continue;
+          quad(cell(cells_prev, i, j - 1), cell(cells_prev, i, j), cell(cells_cur, i, j), cell(cells_cur, i, j - 1), !lo);
+        }
+      for (int j = 0; j + 1 < ny; ++j)
+        for (int i = 1; i + 1 < nx; ++i) {
+          // y edge (i, j, k)-(i, j+1, k): cells (i-1..i, j, k-1..k). Material at j: normal +y.
+          const size_t at = size_t(j) * nx + i;
+          if (i + 9 <= nx && same8(&occ0[at], &occ0[at + nx])) {
+            i += 7;
+            continue;
+          }
+          const bool lo = occ0[at], hi = occ0[at + nx];
+          if (lo == hi) continue;
+          quad(cell(cells_prev, i - 1, j), cell(cells_cur, i - 1, j), cell(cells_cur, i, j), cell(cells_prev, i, j), !lo);
+        }
     }
   }
 

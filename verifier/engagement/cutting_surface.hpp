@@ -137,14 +137,15 @@ class Profile {
   // sin and cos of the corner's angle at s (on the corner), from `near`'s normal where it is on the corner
   // within a small turn.
   void corner_sin_cos(double s, const ProfilePoint* near, double s_near, double& sn, double& cs) const {
-    const double th = (s - flat_) / rc_, d = (s - s_near) / rc_;
-    if (near && near->nr > 0.0 && s_near >= flat_ && s_near <= flat_ + arc_ && std::abs(d) <= kSmallTurn) {
+    const double d = (s - s_near) / rc_;
+    if (near && s_near >= flat_ && s_near <= flat_ + arc_ && std::abs(d) <= kSmallTurn) {
       double cd, sd;
       small_cos_sin(d, cd, sd);
       sn = near->nr * cd - near->nz * sd;  // near: (sin, -cos) of its angle
       cs = -near->nz * cd - near->nr * sd;
       return;
     }
+    const double th = (s - flat_) / rc_;
     sn = std::sin(th);
     cs = std::cos(th);
   }
