@@ -73,7 +73,8 @@ bool Simulator::subtract(Dexel& ray, const RayAt& at, const Interval* cut, size_
     acc.mat.swap(acc.whole);
     k0 = 0, k1 = static_cast<uint32_t>(total);
   }
-  if (!acc.defer || !reads_[size_t(at.d)].holds(at.iu, at.iv)) {
+  if (acc.defer_rays == Accum::DeferRays::None ||
+      (acc.defer_rays == Accum::DeferRays::Some && !reads_[size_t(at.d)].holds(at.iu, at.iv))) {
     ray.replace(k0, k1, acc.mat.data(), static_cast<uint32_t>(acc.mat.size()));
     return true;
   }
@@ -106,6 +107,14 @@ void Simulator::process_tile(const Task& task, bool rapid, Accum& acc) {
                    std::min(lattice_.n[v], (task.tv + 1) * kTile)};
   acc.t0.resize(acc.parts.size() * kTile);
   acc.t1.resize(acc.parts.size() * kTile);
+  // Most tiles of a deferring block lie wholly inside the footprint or outside it: no test per ray.
+  const Footprint& reads = reads_[size_t(d)];
+  if (!acc.defer || reads.iu1 < t.iu0 || reads.iu0 >= t.iu_end || reads.iv1 < t.iv0 || reads.iv0 >= t.iv_end)
+    acc.defer_rays = Accum::DeferRays::None;
+  else if (reads.iu0 <= t.iu0 && reads.iu1 >= t.iu_end - 1 && reads.iv0 <= t.iv0 && reads.iv1 >= t.iv_end - 1)
+    acc.defer_rays = Accum::DeferRays::All;
+  else
+    acc.defer_rays = Accum::DeferRays::Some;
   std::array<Interval, kTile> row_ext;
   row_extents(t, row_ext);
   part_shadows(t, row_ext, acc);

@@ -99,16 +99,23 @@ struct Accum {
     std::vector<Interval> pool;  // pool[0, n_pool): their new intervals
     size_t n_rays = 0, n_pool = 0;
     std::vector<std::array<int, 3>> rows;  // grid, tile column, row
-    // The storage only grows, kept from block to block, so an addition is a few copies.
+    // The storage only grows, kept from block to block, so an addition is a few copies (the sizes are
+    // kept apart: a vector's size is a division by the element's).
     void add(Dexel& ray, uint32_t k0, uint32_t k1, const Interval* p, size_t n) {
-      if (n_rays == rays.size()) [[unlikely]]
+      if (n_rays == rays_held) [[unlikely]] {
         rays.resize(std::max<size_t>(256, 2 * rays.size()));
-      if (n_pool + n > pool.size()) [[unlikely]]
+        rays_held = rays.size();
+      }
+      if (n_pool + n > pool_held) [[unlikely]] {
         pool.resize(std::max(2 * pool.size(), n_pool + n + 1024));
+        pool_held = pool.size();
+      }
       rays[n_rays++] = {&ray, k0, k1, static_cast<uint32_t>(n_pool), static_cast<uint32_t>(n)};
-      for (size_t k = 0; k < n; ++k) pool[n_pool + k] = p[k];
+      Interval* to = pool.data() + n_pool;  // a few intervals: a loop, not a call to memcpy
+      for (size_t k = 0; k < n; ++k) to[k] = p[k];
       n_pool += n;
     }
+    size_t rays_held = 0, pool_held = 0;
     void clear() { n_rays = n_pool = 0, rows.clear(); }
   };
   // One tile's deferred changes: rays[ray0, ray1) and rows[row0, row1) of `list`; `tile`: its extents change.
@@ -119,6 +126,8 @@ struct Accum {
     bool tile;
   };
   bool defer = false;         // set by process_tile (a thread's first task may come after the block's reset)
+  // Which rays of the tile being cut defer their changes: none, all, or those the footprint holds.
+  enum class DeferRays : uint8_t { None, All, Some } defer_rays = DeferRays::None;
   DeferredList* writing = nullptr;  // this block's list (process_tile)
   std::array<DeferredList, 2> lists;
   std::vector<Span> spans;  // this block's, per tile
