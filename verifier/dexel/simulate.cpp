@@ -313,7 +313,16 @@ void Simulator::collect_pending() {
 // Makes the changes a block deferred in one tile, and the extents of its rows and the tile follow.
 void Simulator::apply(const Accum::Span& span) {
   const Accum::DeferredList& l = *span.list;
+  // The rays were last touched a block ago, often by the other thread: their headers, then the intervals
+  // the change writes, are fetched ahead, so that the misses overlap instead of coming one by one (across
+  // a long raster's grooves, rays of hundreds of intervals, they made Dexel::replace a seventh of the run).
+  constexpr uint32_t kHeaderAhead = 16, kDataAhead = 8;
   for (uint32_t k = span.ray0; k < span.ray1; ++k) {
+    if (k + kHeaderAhead < span.ray1) __builtin_prefetch(l.rays[k + kHeaderAhead].ray, 1);
+    if (k + kDataAhead < span.ray1) {
+      const Accum::Deferred& a = l.rays[k + kDataAhead];
+      __builtin_prefetch(a.ray->data() + a.k0, 1);
+    }
     const Accum::Deferred& c = l.rays[k];
     c.ray->replace(c.k0, c.k1, l.pool.data() + c.offset, c.n);
   }
