@@ -315,7 +315,8 @@ void Simulator::apply(const Accum::Span& span) {
   const Accum::DeferredList& l = *span.list;
   // The rays were last touched a block ago, often by the other thread: their headers, then the intervals
   // the change writes, are fetched ahead, so that the misses overlap instead of coming one by one (across
-  // a long raster's grooves, rays of hundreds of intervals, they made Dexel::replace a seventh of the run).
+  // a long raster's grooves, rays of hundreds of intervals, Dexel::replace took 7 % of the run's samples,
+  // against 1.5 % where the cut makes the changes at once).
   constexpr uint32_t kHeaderAhead = 16, kDataAhead = 8;
   for (uint32_t k = span.ray0; k < span.ray1; ++k) {
     if (k + kHeaderAhead < span.ray1) __builtin_prefetch(l.rays[k + kHeaderAhead].ray, 1);
