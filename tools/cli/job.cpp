@@ -55,7 +55,8 @@ void write_job_report(const Scene& scene, const OrientedPath& first_plan, const 
   in.summary.stages = {{"plan", summary.seconds.plan},
                        {"post", summary.seconds.post},
                        {"verify", summary.seconds.verify},
-                       {"replan", summary.seconds.replan}};
+                       {"replan", summary.seconds.replan},
+                       {"stock mesh", summary.seconds.mesh}};
   write_html_report(in, file);
 }
 
@@ -213,8 +214,10 @@ void write_outputs(const Scene& scene, const OrientedPath& first_plan, const Rou
   write_file_atomic(wrote("program.ngc"), [&](std::ostream& out) { out << current.program_text; });
   write_verify_json(report, wrote("verify.json"));
   write_blocks_csv(report, wrote("blocks.csv"));
+  const auto t_mesh = std::chrono::steady_clock::now();
   const Mesh stock_mesh = reconstruct_stock(current.verified.stock, scene.design.n_faces() ? &scene.design : nullptr);
   write_mesh(stock_mesh, wrote("stock.ply"));
+  summary.seconds.mesh = seconds_since(t_mesh);
   if (options.write_report) {
     const auto t = std::chrono::steady_clock::now();
     write_job_report(scene, first_plan, current, replanned, stock_mesh, summary, options.resolution_mm,
@@ -282,7 +285,7 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
     << "  gouges       " << s.gouges_final << " (max " << fixed(s.max_gouge_mm, 3) << " mm)\n"
     << "  removed      " << fixed(s.removed_volume_mm3, 1) << " mm3\n"
     << "  time (s)     plan " << fixed(s.seconds.plan, 2) << ", post " << fixed(s.seconds.post, 2) << ", verify "
-    << fixed(s.seconds.verify, 2) << ", replan " << fixed(s.seconds.replan, 2) << ", report " << fixed(s.seconds.report, 2)
+    << fixed(s.seconds.verify, 2) << ", replan " << fixed(s.seconds.replan, 2) << ", stock mesh " << fixed(s.seconds.mesh, 2) << ", report " << fixed(s.seconds.report, 2)
     << "\n";
   for (const auto& f : s.files) o << "  wrote        " << f << "\n";
   return o.str();

@@ -19,7 +19,7 @@ struct JobOptions {
 };
 
 struct StageSeconds {
-  double plan = 0, post = 0, verify = 0, replan = 0, report = 0;
+  double plan = 0, post = 0, verify = 0, replan = 0, mesh = 0, report = 0;  // mesh: stock.ply, made and written
 };
 
 // Collisions left after the last round, grouped by kind and by why they were not fixed.

@@ -13,21 +13,23 @@
 #include <cstring>
 #include <limits>
 #include <functional>
-#include <map>
 #include <memory>
 #include <mutex>
 
-#include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "raycast.hpp"
+#include "stock_surface.hpp"
 #include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/dexel/verify.hpp"
 
 namespace tf {
 namespace {
+
+using stock_mesh::LocalFit;
+using stock_mesh::Surface;
 
 // The coordinate (relative to the lattice origin) where ray r has an interval end within [a, b].
 float crossing(const Dexel& r, float a, float b) {
@@ -298,13 +300,6 @@ struct Builder {
 
 // The surface nets of the whole lattice: chunks of cell layers built on the threads, then joined in
 // order (the same vertices and faces, in the same order, as one pass over the layers).
-struct Surface {
-  std::vector<Eigen::Vector3d> vertices, points;
-  std::vector<Eigen::Vector3i> faces;
-  std::vector<uint32_t> point_start;  // vertex v owns points[point_start[v], point_start[v + 1])
-  double h = 0.0;
-};
-
 Surface build_surface(const TriDexel& td, const Progress& progress) {
   const Lattice& L = td.lattice();
   const int layers = L.n[2] - 1;
@@ -344,146 +339,11 @@ Surface build_surface(const TriDexel& td, const Progress& progress) {
   return out;
 }
 
-// A local algebraic sphere (a plane when flat) fitted to the exact crossings around a vertex (the
-// vertex's cell and its neighbours): u0 + u.x + u4 |x|^2 = 0 on points centred and scaled for conditioning.
-struct LocalFit {
-  bool valid = false;
-  bool plane = false;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // sphere centre, or plane normal
-  double r = 0.0;                               // sphere radius, or plane offset (n.x = r)
-  Eigen::Vector3d project(const Eigen::Vector3d& p) const {
-    if (plane) return p - (c.dot(p) - r) * c;
-    const Eigen::Vector3d d = p - c;
-    const double n = d.norm();
-    return n > 0 ? Eigen::Vector3d(c + d * (r / n)) : p;
-  }
-  double distance(const Eigen::Vector3d& p) const { return plane ? std::abs(c.dot(p) - r) : std::abs((p - c).norm() - r); }
-};
-
-LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
-  LocalFit f;
-  if (P.size() < 6) return f;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : P) mean += p;
-  mean /= double(P.size());
-  double scale = 0.0;
-  for (const auto& p : P) scale += (p - mean).squaredNorm();
-  scale = std::sqrt(scale / double(P.size()));
-  if (scale <= 0) return f;
-  // M = sum of a a^T over the points, a = (1, q, |q|^2). The solver reads only its lower triangle, so only
-  // that is summed, in scalars: summed into the matrix in memory, each entry waited on its own last store.
-  double sx = 0, sy = 0, sz = 0, sw = 0, xx = 0, xy = 0, xz = 0, xw = 0, yy = 0, yz = 0, yw = 0, zz = 0, zw = 0, ww = 0;
-  for (const auto& p : P) {
-    const Eigen::Vector3d q = (p - mean) / scale;
-    const double x = q.x(), y = q.y(), z = q.z(), w = q.squaredNorm();
-    sx += x, sy += y, sz += z, sw += w;
-    xx += x * x, xy += y * x, xz += z * x, xw += w * x;
-    yy += y * y, yz += z * y, yw += w * y;
-    zz += z * z, zw += w * z;
-    ww += w * w;
-  }
-  Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
-  M(0, 0) = double(P.size());
-  M(1, 0) = sx, M(2, 0) = sy, M(3, 0) = sz, M(4, 0) = sw;
-  M(1, 1) = xx, M(2, 1) = xy, M(3, 1) = xz, M(4, 1) = xw;
-  M(2, 2) = yy, M(3, 2) = yz, M(4, 2) = yw;
-  M(3, 3) = zz, M(4, 3) = zw;
-  M(4, 4) = ww;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(M);
-  const Eigen::Matrix<double, 5, 1> u = es.eigenvectors().col(0);
-  const Eigen::Vector3d g = u.segment<3>(1);
-  if (std::abs(u[4]) < 1e-9 * g.norm() || std::abs(u[4]) < 1e-12) {
-    if (g.norm() < 1e-12) return f;
-    f.plane = true;
-    f.c = g.normalized();
-    // u0 + g.q = 0 with q = (x - mean) / scale  ->  n.x = n.mean - u0 scale / |g|
-    f.r = f.c.dot(mean) - u[0] * scale / g.norm();
-  } else {
-    const Eigen::Vector3d cq = -g / (2.0 * u[4]);
-    const double r2 = cq.squaredNorm() - u[0] / u[4];
-    if (!(r2 > 0)) return f;
-    f.c = mean + scale * cq;
-    f.r = scale * std::sqrt(r2);
-  }
-  for (const auto& p : P)
-    if (f.distance(p) > tolerance) return f;
-  f.valid = true;
-  return f;
-}
-
-// Moves each vertex onto the surface fitted to its neighbourhood's exact crossings where that fit is
-// good (smooth regions); keeps the mass point near edges and corners, where no sphere fits.
-std::vector<LocalFit> smooth_vertices(Surface& b) {
-  const size_t nv = b.vertices.size();
-  std::vector<std::vector<int>> ring(nv);
-  for (const auto& f : b.faces)
-    for (int k = 0; k < 3; ++k) {
-      ring[f[k]].push_back(f[(k + 1) % 3]);
-      ring[f[k]].push_back(f[(k + 2) % 3]);
-    }
-  std::vector<LocalFit> fits(nv);
-  const double tol = 0.05 * b.h;
-  // Each vertex's fit depends on its own neighbourhood only: in parallel.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 1024), [&](const tbb::blocked_range<size_t>& range) {
-    std::vector<Eigen::Vector3d> P;
-    for (size_t v = range.begin(); v != range.end(); ++v) {
-      auto& r = ring[v];
-      std::sort(r.begin(), r.end());
-      r.erase(std::unique(r.begin(), r.end()), r.end());
-      P.clear();
-      for (int w : r) P.insert(P.end(), b.points.begin() + b.point_start[w], b.points.begin() + b.point_start[w + 1]);
-      P.insert(P.end(), b.points.begin() + b.point_start[v], b.points.begin() + b.point_start[v + 1]);
-      std::sort(P.begin(), P.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& c) {
-        return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
-      });
-      P.erase(std::unique(P.begin(), P.end()), P.end());
-      fits[v] = fit_points(P, tol);
-    }
-  });
-  for (size_t v = 0; v < nv; ++v) {
-    if (!fits[v].valid) continue;
-    const Eigen::Vector3d q = fits[v].project(b.vertices[v]);
-    if ((q - b.vertices[v]).norm() <= b.h) b.vertices[v] = q;
-    else fits[v].valid = false;
-  }
-  return fits;
-}
-
-// Splits every triangle in four; the new edge midpoints go onto the vertices' fitted surfaces.
-void refine(std::vector<Eigen::Vector3d>& V, std::vector<Eigen::Vector3i>& F, std::vector<LocalFit>& fits) {
-  std::map<std::pair<int, int>, int> mid;
-  std::vector<Eigen::Vector3i> G;
-  G.reserve(F.size() * 4);
-  auto midpoint = [&](int a, int b) {
-    const auto key = std::minmax(a, b);
-    auto it = mid.find(key);
-    if (it != mid.end()) return it->second;
-    const Eigen::Vector3d m = 0.5 * (V[a] + V[b]);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    int n = 0;
-    for (int e : {a, b})
-      if (fits[e].valid) {
-        sum += fits[e].project(m);
-        ++n;
-      }
-    V.push_back(n ? Eigen::Vector3d(sum / n) : m);
-    fits.push_back(fits[a].valid ? fits[a] : fits[b]);
-    const int id = static_cast<int>(V.size()) - 1;
-    mid.emplace(key, id);
-    return id;
-  };
-  for (const auto& f : F) {
-    const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-    G.emplace_back(f[0], a, c);
-    G.emplace_back(f[1], b, a);
-    G.emplace_back(f[2], c, b);
-    G.emplace_back(a, b, c);
-  }
-  F.swap(G);
-}
-
 Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F) {
   Mesh mesh;
+  // A closed surface has about three edges for every two faces; reserving spares the growing arrays'
+  // copies (millions of elements on a fine lattice).
+  mesh.reserve(V.size(), F.size() * 3 / 2 + 16, F.size());
   std::vector<Mesh::VertexHandle> vh(V.size());
   for (size_t i = 0; i < V.size(); ++i) vh[i] = mesh.add_vertex(to_om(V[i]));
   const internal::QuietOpenMesh quiet;  // OpenMesh reports each non-manifold face; they are handled below
@@ -505,10 +365,10 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
 Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMeshOptions& options) {
   Surface b = build_surface(stock, options.progress);
   if (options.smooth || options.refine > 0) {
-    std::vector<LocalFit> fits = smooth_vertices(b);
+    std::vector<LocalFit> fits = stock_mesh::smooth_vertices(b);
     if (!options.smooth)
       for (auto& f : fits) f.valid = false;
-    for (int level = 0; level < options.refine; ++level) refine(b.vertices, b.faces, fits);
+    for (int level = 0; level < options.refine; ++level) stock_mesh::refine(b.vertices, b.faces, fits);
   }
   report(options.progress, "mesh", 0.8);
   Mesh mesh = to_mesh(b.vertices, b.faces);
@@ -517,12 +377,23 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
     std::vector<double> dev(mesh.n_vertices(), 0.0);
     const double far = bounding_box(*design).sizes().norm() + bounding_box(mesh).sizes().norm() + 1.0;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.n_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+      // Neighbouring vertices are mostly next to each other in the mesh's order: the last vertex's distance
+      // plus the step between them bounds this one's (the triangle inequality), and a query that starts
+      // with that radius skips most of the design's tree. A margin covers the query's float radius.
+      Eigen::Vector3d last = Eigen::Vector3d::Zero();
+      double last_distance = -1.0;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const Eigen::Vector3d p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
         Eigen::Vector3d q, n;
-        if (!rm.closest(p, far, q, n)) continue;
+        const double bound = last_distance >= 0.0 ? (last_distance + (p - last).norm()) * (1.0 + 1e-6) + 1e-6 : far;
+        if (!(bound < far && rm.closest(p, bound, q, n)) && !rm.closest(p, far, q, n)) {
+          last_distance = -1.0;
+          continue;
+        }
         const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
         dev[i] = s * (p - q).norm();
+        last = p;
+        last_distance = (p - q).norm();
       }
     });
     double largest = 0.0;
