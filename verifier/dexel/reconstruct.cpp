@@ -379,13 +379,15 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
     tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.n_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
       // Neighbouring vertices are mostly next to each other in the mesh's order: the last vertex's distance
       // plus the step between them bounds this one's (the triangle inequality), and a query that starts
-      // with that radius skips most of the design's tree. A margin covers the query's float radius.
+      // with that radius skips most of the design's tree. The tree and the query point are in floats: a
+      // margin of several of their last bits at the part's coordinates keeps the closest triangle inside.
       Eigen::Vector3d last = Eigen::Vector3d::Zero();
       double last_distance = -1.0;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const Eigen::Vector3d p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
         Eigen::Vector3d q, n;
-        const double bound = last_distance >= 0.0 ? (last_distance + (p - last).norm()) * (1.0 + 1e-6) + 1e-6 : far;
+        const double margin = 1e-4 + 1e-6 * p.cwiseAbs().maxCoeff();
+        const double bound = last_distance >= 0.0 ? last_distance + (p - last).norm() + margin : far;
         if (!(bound < far && rm.closest(p, bound, q, n)) && !rm.closest(p, far, q, n)) {
           last_distance = -1.0;
           continue;
