@@ -8,6 +8,7 @@
 // colour vector) when request_vertex_colors() is inlined here; it is a false positive in a system header.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -18,6 +19,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "raycast.hpp"
@@ -339,7 +341,9 @@ Surface build_surface(const TriDexel& td, const Progress& progress) {
   return out;
 }
 
-Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F) {
+// The mesh of vertices V and faces F; `copies` receives, for each vertex added beyond V, the vertex of V it
+// copies.
+Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F, std::vector<int>& copies) {
   Mesh mesh;
   // A closed surface has about three edges for every two faces; reserving spares the growing arrays'
   // copies (millions of elements on a fine lattice).
@@ -353,11 +357,48 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
     if (!fh.is_valid()) {
       // A non-manifold spot (two sheets meeting in one cell): keep the face on its own vertex copies so
       // the surface stays closed geometrically.
-      mesh.add_face(mesh.add_vertex(to_om(V[f[0]])), mesh.add_vertex(to_om(V[f[1]])), mesh.add_vertex(to_om(V[f[2]])));
+      std::array<Mesh::VertexHandle, 3> own;
+      for (int k = 0; k < 3; ++k) {
+        own[size_t(k)] = mesh.add_vertex(to_om(V[f[k]]));
+        copies.push_back(f[k]);
+      }
+      mesh.add_face(own[0], own[1], own[2]);
     }
   }
   mesh.update_face_normals();
   return mesh;
+}
+
+// The signed distance (mm, positive outside) from each of the points V to the design, on the threads.
+std::vector<double> design_deviation(const Mesh& design, const std::vector<Eigen::Vector3d>& V) {
+  const RayMesh rm(design);
+  std::vector<double> dev(V.size(), 0.0);
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : V) box.extend(p);
+  const double far = bounding_box(design).sizes().norm() + box.sizes().norm() + 1.0;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, V.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    // Neighbouring vertices are mostly next to each other in the mesh's order: the last vertex's distance
+    // plus the step between them bounds this one's (the triangle inequality), and a query that starts
+    // with that radius skips most of the design's tree. The tree and the query point are in floats: a
+    // margin of several of their last bits at the part's coordinates keeps the closest triangle inside.
+    Eigen::Vector3d last = Eigen::Vector3d::Zero();
+    double last_distance = -1.0;
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3d& p = V[i];
+      Eigen::Vector3d q, n;
+      const double margin = 1e-4 + 1e-6 * p.cwiseAbs().maxCoeff();
+      const double bound = last_distance >= 0.0 ? last_distance + (p - last).norm() + margin : far;
+      if (!(bound < far && rm.closest(p, bound, q, n)) && !rm.closest(p, far, q, n)) {
+        last_distance = -1.0;
+        continue;
+      }
+      const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
+      dev[i] = s * (p - q).norm();
+      last = p;
+      last_distance = (p - q).norm();
+    }
+  });
+  return dev;
 }
 
 }  // namespace
@@ -371,33 +412,18 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
     for (int level = 0; level < options.refine; ++level) stock_mesh::refine(b.vertices, b.faces, fits);
   }
   report(options.progress, "mesh", 0.8);
-  Mesh mesh = to_mesh(b.vertices, b.faces);
-  if (design && design->n_faces() > 0 && options.colour_by_deviation && mesh.n_vertices() > 0) {
-    const RayMesh rm(*design);
-    std::vector<double> dev(mesh.n_vertices(), 0.0);
-    const double far = bounding_box(*design).sizes().norm() + bounding_box(mesh).sizes().norm() + 1.0;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.n_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-      // Neighbouring vertices are mostly next to each other in the mesh's order: the last vertex's distance
-      // plus the step between them bounds this one's (the triangle inequality), and a query that starts
-      // with that radius skips most of the design's tree. The tree and the query point are in floats: a
-      // margin of several of their last bits at the part's coordinates keeps the closest triangle inside.
-      Eigen::Vector3d last = Eigen::Vector3d::Zero();
-      double last_distance = -1.0;
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const Eigen::Vector3d p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
-        Eigen::Vector3d q, n;
-        const double margin = 1e-4 + 1e-6 * p.cwiseAbs().maxCoeff();
-        const double bound = last_distance >= 0.0 ? last_distance + (p - last).norm() + margin : far;
-        if (!(bound < far && rm.closest(p, bound, q, n)) && !rm.closest(p, far, q, n)) {
-          last_distance = -1.0;
-          continue;
-        }
-        const double s = (p - q).dot(n) >= 0 ? 1.0 : -1.0;
-        dev[i] = s * (p - q).norm();
-        last = p;
-        last_distance = (p - q).norm();
-      }
-    });
+  const bool colour = design && design->n_faces() > 0 && options.colour_by_deviation && !b.vertices.empty();
+  Mesh mesh;
+  std::vector<int> copies;
+  std::vector<double> dev;
+  // OpenMesh builds the mesh on one thread; the deviations need only the vertices' places, and are
+  // measured on the others meanwhile.
+  tbb::parallel_invoke([&] { mesh = to_mesh(b.vertices, b.faces, copies); },
+                       [&] {
+                         if (colour) dev = design_deviation(*design, b.vertices);
+                       });
+  if (colour) {
+    for (const int k : copies) dev.push_back(dev[size_t(k)]);
     double largest = 0.0;
     for (const double x : dev) largest = std::max(largest, std::abs(x));
     const double range = options.colour_range_mm > 0 ? options.colour_range_mm : std::max(0.05, largest);
