@@ -13,13 +13,7 @@
 #include "stock_surface.hpp"
 
 namespace tf::stock_mesh {
-namespace {
 
-// The unit eigenvector of the smallest eigenvalue of a symmetric positive semi-definite M (its lower
-// triangle read). By inverse iteration: where the points fit a sphere or plane, that eigenvalue is far
-// below the next and a few solves with one factorisation settle the vector, at a fraction of a full
-// eigen-decomposition's cost (which was most of the stock mesh's time). Where they fit nothing well (edges,
-// corners) and the iteration does not settle, the full decomposition decides.
 Eigen::Matrix<double, 5, 1> smallest_eigenvector(const Eigen::Matrix<double, 5, 5>& M) {
   using Vec5 = Eigen::Matrix<double, 5, 1>;
   // A shift of the trace's 1e-13 keeps the factorisation regular when the points fit exactly (a zero
@@ -28,7 +22,11 @@ Eigen::Matrix<double, 5, 1> smallest_eigenvector(const Eigen::Matrix<double, 5, 
   if (!(shift > 0.0)) return Vec5::Unit(0);
   const Eigen::LDLT<Eigen::Matrix<double, 5, 5>> ldlt(M + shift * Eigen::Matrix<double, 5, 5>::Identity());
   if (ldlt.info() == Eigen::Success) {
-    Vec5 u = Vec5::Constant(1.0 / std::sqrt(5.0));
+    // A start whose components (the square roots of five primes) no small integer combination cancels:
+    // points placed symmetrically give eigenvectors such as (1, -1, 0, 0, 0), to which an even start
+    // would be orthogonal, and inverse iteration never finds a direction its start lacks.
+    Vec5 u(1.4142135623730951, 1.7320508075688772, 2.2360679774997898, 2.6457513110645907, 3.3166247903554);
+    u.normalize();
     for (int k = 0; k < 12; ++k) {
       Vec5 next = ldlt.solve(u);
       const double n = next.norm();
@@ -93,8 +91,6 @@ LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance) {
   f.valid = true;
   return f;
 }
-
-}  // namespace
 
 std::vector<LocalFit> smooth_vertices(Surface& b) {
   const size_t nv = b.vertices.size();

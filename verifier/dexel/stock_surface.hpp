@@ -34,6 +34,18 @@ struct LocalFit {
   double distance(const Eigen::Vector3d& p) const { return plane ? std::abs(c.dot(p) - r) : std::abs((p - c).norm() - r); }
 };
 
+// The unit eigenvector of the smallest eigenvalue of a symmetric positive semi-definite M (its lower
+// triangle read). By inverse iteration: where points fit a sphere or plane, that eigenvalue is far below
+// the next, and one factorisation and a few solves settle the vector (successive unit vectors within
+// 1e-13), at a fraction of a full eigen-decomposition's cost. Where they fit nothing well (edges,
+// corners) and 12 solves do not settle it, Eigen's full decomposition decides.
+Eigen::Matrix<double, 5, 1> smallest_eigenvector(const Eigen::Matrix<double, 5, 5>& M);
+
+// The sphere or plane through points P (mm) in the least-squares sense of u0 + u.x + u4 |x|^2 = 0 on the
+// points centred and scaled; valid when every point lies within `tolerance` (mm) of it. Invalid for fewer
+// than six points.
+LocalFit fit_points(const std::vector<Eigen::Vector3d>& P, double tolerance);
+
 // Moves each vertex onto the surface fitted to its neighbourhood's exact crossings where that fit lies
 // within 5 % of the spacing of them (smooth regions); keeps the mass point near edges and corners, where
 // no sphere fits. Returns each vertex's fit (valid or not), for refine.
