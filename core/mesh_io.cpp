@@ -38,16 +38,13 @@ Mesh load_mesh(const fs::path& file) {
   const std::string ext = lower_extension(file);
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), 0, "", "mesh file not found");
-  Mesh mesh;
-  if (ext == ".stl") {
-    mesh = detail::read_stl(file);
-  } else if (ext == ".obj") {
-    mesh = detail::read_obj(file);
-  } else if (ext == ".off") {
-    mesh = detail::read_off(file);
-  } else {
-    mesh = detail::read_ply(file);
-  }
+  // Made in place: OpenMesh's mesh has no move, and assigning a returned one copies it.
+  Mesh mesh = [&] {
+    if (ext == ".stl") return detail::read_stl(file);
+    if (ext == ".obj") return detail::read_obj(file);
+    if (ext == ".off") return detail::read_off(file);
+    return detail::read_ply(file);
+  }();
   if (mesh.n_faces() == 0) throw InputError(file.string(), 0, "", "mesh has no triangles");
   if (!mesh.is_trimesh()) mesh.triangulate();
   for (auto v : mesh.vertices()) {

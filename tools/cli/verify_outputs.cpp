@@ -20,12 +20,14 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 StockOutput stock_output(const Scene& scene, const VerifyResult& verified, const StockMeshRequest& request,
                          const Progress& progress) {
-  StockOutput out;
   auto t = std::chrono::steady_clock::now();
   StockMeshOptions mo;
   mo.refine = request.refine;
   mo.progress = progress;
-  Mesh full = reconstruct_stock(verified.stock, scene.design.n_faces() ? &scene.design : nullptr, mo);
+  // The full mesh is made in out.mesh itself: OpenMesh's mesh has no move, and std::move into another
+  // one copies it (millions of vertices).
+  StockOutput out{reconstruct_stock(verified.stock, scene.design.n_faces() ? &scene.design : nullptr, mo), {}, {}};
+  const Mesh& full = out.mesh;
   out.stats.mesh_seconds = seconds_since(t);
   std::vector<uint32_t> full_block;
   if (request.blocks) {
@@ -43,11 +45,10 @@ StockOutput stock_output(const Scene& scene, const VerifyResult& verified, const
     bo.progress = progress;
     BoundedDecimation compact = decimate_within(full, bo);
     out.stats.decimate_seconds = seconds_since(t);
-    out.mesh = std::move(compact.mesh);
+    out.mesh = compact.mesh;  // a copy of the small mesh, and the full one freed
     if (!full_block.empty())
       for (const int v : compact.source_vertex) out.block.push_back(full_block[size_t(v)]);
   } else {  // the full mesh as it is
-    out.mesh = std::move(full);
     out.block = std::move(full_block);
   }
   out.stats.vertices = out.mesh.n_vertices();

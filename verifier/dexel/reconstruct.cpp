@@ -341,10 +341,11 @@ Surface build_surface(const TriDexel& td, const Progress& progress) {
   return out;
 }
 
-// The mesh of vertices V and faces F; `copies` receives, for each vertex added beyond V, the vertex of V it
-// copies.
-Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F, std::vector<int>& copies) {
-  Mesh mesh;
+// The mesh of vertices V and faces F into `mesh` (empty; filled in place: OpenMesh's mesh has no move
+// assignment, and assigning a returned one copies it); `copies` receives, for each vertex added beyond V,
+// the vertex of V it copies.
+void to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F, Mesh& mesh,
+             std::vector<int>& copies) {
   // A closed surface has about three edges for every two faces; reserving spares the growing arrays'
   // copies (millions of elements on a fine lattice).
   mesh.reserve(V.size(), F.size() * 3 / 2 + 16, F.size());
@@ -366,7 +367,6 @@ Mesh to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vec
     }
   }
   mesh.update_face_normals();
-  return mesh;
 }
 
 // The signed distance (mm, positive outside) from each of the points V to the design, on the threads.
@@ -418,7 +418,7 @@ Mesh reconstruct_stock(const TriDexel& stock, const Mesh* design, const StockMes
   std::vector<double> dev;
   // OpenMesh builds the mesh on one thread; the deviations need only the vertices' places, and are
   // measured on the others meanwhile.
-  tbb::parallel_invoke([&] { mesh = to_mesh(b.vertices, b.faces, copies); },
+  tbb::parallel_invoke([&] { to_mesh(b.vertices, b.faces, mesh, copies); },
                        [&] {
                          if (colour) dev = design_deviation(*design, b.vertices);
                        });
