@@ -38,7 +38,7 @@ Mesh load_mesh(const fs::path& file) {
   const std::string ext = lower_extension(file);
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), 0, "", "mesh file not found");
-  // Made in place: OpenMesh's mesh has no move, and assigning a returned one copies it.
+  // Made in place (Mesh has no move: mesh.hpp).
   Mesh mesh = [&] {
     if (ext == ".stl") return detail::read_stl(file);
     if (ext == ".obj") return detail::read_obj(file);

@@ -24,8 +24,7 @@ StockOutput stock_output(const Scene& scene, const VerifyResult& verified, const
   StockMeshOptions mo;
   mo.refine = request.refine;
   mo.progress = progress;
-  // The full mesh is made in out.mesh itself: OpenMesh's mesh has no move, and std::move into another
-  // one copies it (millions of vertices).
+  // The full mesh is made in out.mesh itself (Mesh has no move: mesh.hpp; millions of vertices).
   StockOutput out{reconstruct_stock(verified.stock, scene.design.n_faces() ? &scene.design : nullptr, mo), {}, {}};
   const Mesh& full = out.mesh;
   out.stats.mesh_seconds = seconds_since(t);

@@ -341,9 +341,8 @@ Surface build_surface(const TriDexel& td, const Progress& progress) {
   return out;
 }
 
-// The mesh of vertices V and faces F into `mesh` (empty; filled in place: OpenMesh's mesh has no move
-// assignment, and assigning a returned one copies it); `copies` receives, for each vertex added beyond V,
-// the vertex of V it copies.
+// The mesh of vertices V and faces F into `mesh` (empty; filled in place, as Mesh has no move:
+// mesh.hpp); `copies` receives, for each vertex added beyond V, the vertex of V it copies.
 void to_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F, Mesh& mesh,
              std::vector<int>& copies) {
   // A closed surface has about three edges for every two faces; reserving spares the growing arrays'

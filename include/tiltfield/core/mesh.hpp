@@ -17,6 +17,9 @@ struct MeshTraits : public OpenMesh::DefaultTraits {
   FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
   EdgeAttributes(OpenMesh::Attributes::Status);
 };
+// OpenMesh's mesh has no move constructor or move assignment: std::move of a Mesh copies it, and so does
+// assigning a returned one. Build a large mesh where it is kept (initialise from a returned prvalue, or
+// fill one passed by reference).
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
 
 // A flat copy of a mesh for libraries that want arrays (nanoflann, Embree, FCL, Ceres).
