@@ -2,11 +2,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <vector>
 #include <sstream>
 
 #include "tiltfield/core/error.hpp"
@@ -68,7 +71,18 @@ std::string read_text_file(const fs::path& file, const std::string& what) {
   std::error_code ec;
   std::ifstream in(file, std::ios::binary);
   if (!in || fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "cannot read the " + what);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A device or a pipe may never end (/dev/zero): read in chunks up to a bound above any real program (a
+  // 3-axis finish of millions of lines is a few hundred MB). A regular file is read whole.
+  const size_t max_bytes = fs::is_regular_file(file, ec) ? std::numeric_limits<size_t>::max() : size_t(1) << 30;
+  std::string text;
+  std::vector<char> chunk(size_t(1) << 20);
+  while (in) {
+    in.read(chunk.data(), std::streamsize(chunk.size()));
+    const std::streamsize got = std::min<std::streamsize>(in.gcount(), std::streamsize(chunk.size()));
+    if (got > 0) text.append(chunk.data(), size_t(got));
+    if (text.size() > max_bytes)
+      throw InputError(file.string(), 0, "", "the " + what + " is not a file and gives more than 1 GiB (or never ends)");
+  }
   if (in.bad()) throw InputError(file.string(), 0, "", "cannot read the " + what);
   return text;
 }

@@ -63,3 +63,30 @@ TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every command refuses, while it parses, an output name that is a folder or lies in a missing one: the
+// rename at the end had failed after the work, with exit 1 and the library's message (found in review).
+TEST(OutputNames, FoldersAndMissingFoldersExitTwoBeforeTheWork) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  fs::create_directories(dir / "taken.csv");
+  const std::string exe = std::string(TILTFIELD_EXE) + " --quiet ";
+  const std::string scene = scene_file.string();
+  for (const std::string& out : {(dir / "taken.csv").string(), (dir / "missing" / "o.csv").string()}) {
+    for (const std::string& command :
+         {"plan " + scene + " -o " + out, "plan " + scene + " -o " + (dir / "p.csv").string() + " --json " + out,
+          "post " + scene + " " + (dir / "p.csv").string() + " -o " + out,
+          "replan " + scene + " " + (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " + out,
+          "offset " + (dir / "profile.txt").string() + " -d 1 -o " + out}) {
+      const auto r = tf::test::run_command(exe + command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.out;
+      EXPECT_NE(r.out.find(out), std::string::npos) << r.out;
+      EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "p.csv"));
+}
+
+}  // namespace

@@ -31,8 +31,11 @@ void expect_error(const std::string& text, int line, const std::string& word, co
 }
 
 TEST(Gcode, LinearRapidFeedAndComments) {
-  const Program p = parse("%\nO1000 (program)\nN10 G21 G90 G94 ; metric\nN20 G0 X1 Y2 Z3\nN30 G1 X4 F600 (cut)\n"
-                          "/N35 G1 X100\nN40 Y5\n%\n");
+  GcodeOptions block_delete;
+  block_delete.block_delete = true;
+  const Program p = parse_gcode("%\nO1000 (program)\nN10 G21 G90 G94 ; metric\nN20 G0 X1 Y2 Z3\nN30 G1 X4 F600 (cut)\n"
+                          "/N35 G1 X100\nN40 Y5\n%\n",
+                          "p.ngc", xyz(), block_delete);
   ASSERT_EQ(p.blocks.size(), 3u);
   EXPECT_EQ(p.blocks[0].motion, Motion::Rapid);
   EXPECT_EQ(p.blocks[0].line, 4);
@@ -46,11 +49,12 @@ TEST(Gcode, LinearRapidFeedAndComments) {
   EXPECT_DOUBLE_EQ(p.start.z, 3);
 }
 
-TEST(Gcode, BlockDeleteOff) {
+// The block-delete switch is off unless asked (LinuxCNC starts so): "/" lines run.
+TEST(Gcode, BlockDelete) {
   GcodeOptions o;
-  o.block_delete = false;
-  const Program p = parse_gcode("G0 X0 Y0 Z0\n/G1 X5 F100\n", "p.ngc", xyz(), o);
-  ASSERT_EQ(p.blocks.size(), 2u);
+  EXPECT_EQ(parse_gcode("G0 X0 Y0 Z0\n/G1 X5 F100\n", "p.ngc", xyz(), o).blocks.size(), 2u);
+  o.block_delete = true;
+  EXPECT_EQ(parse_gcode("G0 X0 Y0 Z0\n/G1 X5 F100\n", "p.ngc", xyz(), o).blocks.size(), 1u);
 }
 
 TEST(Gcode, UnitsAndIncremental) {
@@ -83,9 +87,26 @@ TEST(Gcode, ArcsIJKAndR) {
   EXPECT_LT((p.blocks[9].arc_center - Eigen::Vector3d(5, 5, 0)).norm(), 1e-9) << p.blocks[9].arc_center.transpose();
 }
 
+// An R-form arc (R > 0: the short way) whose end lies at its start's angle from a huge R runs as its
+// chord; the simulation would read it as a full circle (found in review: R 1e8 over 0.1 um removed a band
+// across the stock). With R < 0 (the long way) it stays an arc, nearly a full turn.
+TEST(Gcode, HugeRadiusOverATinyChordIsItsChord) {
+  const Program p = parse("G0 X10 Y20 Z25\nG1 Z15 F100\nG2 X10.0001 Y20 R100000000\nG2 X10 Y20 R1000\n"
+                          "G2 X10.0001 Y20 R-100000000\n");
+  ASSERT_EQ(p.blocks.size(), 5u);
+  EXPECT_EQ(p.blocks[2].motion, Motion::Linear);
+  EXPECT_DOUBLE_EQ(p.blocks[2].target.x, 10.0001);
+  EXPECT_EQ(p.blocks[3].motion, Motion::ArcCW);  // 1e-4 over R 1000: 1e-7 rad, an arc still
+  EXPECT_EQ(p.blocks[4].motion, Motion::ArcCW);
+}
+
 TEST(Gcode, ArcErrors) {
   expect_error("G0 X10 Y0 Z0\nG2 X0 Y10 I-3 J0 F100\n", 2, "I");  // end not on the circle
   expect_error("G0 X10 Y0 Z0\nG2 X0 Y10 R2 F100\n", 2, "R");      // radius smaller than half the chord
+  // Half the chord may exceed R by rs274's 0.00127 mm, not more (a chord of 10.05 at R 5 had passed).
+  EXPECT_EQ(parse("G0 X0 Y0 Z0\nG2 X10.002 Y0 R5 F100\nG2 X110.0044 R50\n").blocks.size(), 3u);
+  expect_error("G0 X0 Y0 Z0\nG2 X10.003 Y0 R5 F100\n", 2, "R");
+  expect_error("G0 X0 Y0 Z0\nG2 X100.0026 Y0 R50 F100\n", 2, "R");
   expect_error("G0 X10 Y0 Z0\nG2 X0 Y10 F100\n", 2, "I");         // no centre
 }
 
@@ -122,15 +143,22 @@ TEST(Gcode, RotariesAndTcpModes) {
 }
 
 TEST(Gcode, UnknownCodesAreWarnings) {
-  const Program p = parse("G0 X0 Y0 Z0\nG54\nG12.3\nM77\nG41 D1\nG1 X1 F10\n");
+  const Program p = parse("G0 X0 Y0 Z0\nG54\nG12.3\nM77\nG41 D0\nG1 X1 F10\n");
   ASSERT_EQ(p.blocks.size(), 2u);
-  ASSERT_EQ(p.warnings.size(), 4u);
+  ASSERT_EQ(p.warnings.size(), 3u);
   EXPECT_NE(p.warnings[0].find("p.ngc:2:"), std::string::npos);
   EXPECT_NE(p.warnings[1].find("p.ngc:3: G12.3"), std::string::npos) << p.warnings[1];
   EXPECT_NE(p.warnings[2].find("p.ngc:4: M77"), std::string::npos) << p.warnings[2];
 }
 
 TEST(Gcode, BadInputNamesFileLineWord) {
+  // Bytes and parentheses rs274 refuses ("Bad character", "Nested comment found"); a NUL had cut the
+  // message short.
+  expect_error(std::string("G21\nG0 X1\0 Y2\n", 15), 2, "0x00");
+  expect_error("G21\nG0 X1 \x01\n", 2, "0x01");
+  expect_error("G21\nG0 X1 (a (b) c)\n", 2, "(");
+  expect_error("G21\nG0 X1 )\n", 2, ")");
+  EXPECT_EQ(parse("G21\t(tab, CR and a degree sign \xC2\xB0)\r\nG0 X1 Y2 Z3\n").blocks.size(), 1u);
   expect_error("G0 X0 Y0 Z0\nG1 A10 F100\n", 2, "A10");  // no A axis on a 3-axis machine
   expect_error("G0 X0 Y0 Z0 B5\n", 1, "B5", ac());      // an AC machine has no B
   expect_error("G0 X0\nG1 X1.2.3 F10\n", 2, "X1.2.");    // garbage number

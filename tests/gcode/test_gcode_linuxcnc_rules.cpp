@@ -87,6 +87,14 @@ TEST(GcodeLinuxcncRules, OneCodePerModalGroup) {
   expect_gcode_error("G20 G21\n", 1, "G21");
   expect_gcode_error("M3 M4 S1000\n", 1, "M4");
   EXPECT_EQ(parse_program("G17 G21 G90 G94 G40 G49 G54 G64 G80\nG0 X1 Y1 Z1\n").blocks.size(), 1u);
+  // G80 may share a block with another motion code, which then is the block's motion (LinuxCNC's
+  // read_g); two others may not.
+  const Program p = parse_program("G21\nG0 X0 Y0 Z10\nG0 G80 Z30\nG80 G1 X5 F100\n");
+  ASSERT_EQ(p.blocks.size(), 3u);
+  EXPECT_EQ(p.blocks[1].motion, Motion::Rapid);
+  EXPECT_EQ(p.blocks[2].motion, Motion::Linear);
+  EXPECT_DOUBLE_EQ(p.blocks[2].target.x, 5.0);
+  expect_gcode_error("G21\nG0 G1 G80 X1 F100\n", 2, "G1");
 }
 
 // Words nothing in the block uses, and an arc's offset across its plane: LinuxCNC refuses them (found in
@@ -139,18 +147,26 @@ TEST(GcodeLinuxcncRules, ParameterWordsNeedACodeThatUsesThem) {
   EXPECT_GT(p.blocks.size(), 10u);
 }
 
-// Codes the reader accepts without effect or with a warning (cutter compensation is not simulated, but
-// its rules are kept), and those it refuses as rs274 does.
+// Codes the reader accepts without effect or with a warning (cutter compensation's rules are kept, and
+// a move under it with an offset is refused: the compensated path is not simulated), and those it
+// refuses as rs274 does.
 TEST(GcodeLinuxcncRules, CodesWithoutEffectKeepTheirRules) {
   EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG97 S500 G0 X1\nG96 D2000 S100 G1 X2 F100\nG41.1 D2 R1\nG40\n"
                           "G18 G42.1 D2 L1\nG40\nG17 G41 D1 L1\nG40\nG8 G1 X3\nM19 R90 P1\n")
                 .blocks.size(),
             4u);
+  // D0 offsets nothing: the programmed path is the tool's.
+  EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z5\nG41 D0\nG1 X10 F100\nG40\nG42.1 D0\nG0 Y3\n").blocks.size(), 3u);
   expect_refused({
       {"G21\nG18\nG41 D1\nG17\n", 4, "G17"},  // a plane change with compensation on
       {"G21\nG41 D1\nG42 D1\n", 3, "G42"},     // on when on
       {"G21\nG19 G41 D1\n", 2, "G41"},          // not in G19
       {"G21\nG41 G41.1 D1\n", 2, "G41.1"},      // one modal group
+      // A move under compensation with an offset: the tool's radius, the spindle's tool, a diameter.
+      {"G21\nG0 X0 Y0 Z5\nG41 D1\nG1 X10 F100\n", 4, "G41 D1"},
+      {"G21\nG0 X0 Y0 Z5\nG42\nG0 X10\n", 4, "G42"},
+      {"G21\nG0 X0 Y0 Z5\nG42.1 D6 G1 X10 F100\n", 3, "G42.1 D6"},
+      {"G21\nG0 X0 Y0 Z5\nG41.1 D2\nG81 X1 Y1 Z-1 R1 F100\n", 4, "G41.1 D2"},
       {"G21\nG96 D2000\n", 2, "G96"},           // without its S
       {"G21\nG7\n", 2, "G7"},
       {"G21\nG17.1\n", 2, "G17.1"},

@@ -68,7 +68,7 @@ GcodeOptions library() {
 }
 
 // A Fanuc-style drilling program: G54/G55 from the scene, tools 1, 2 and 7 with G43 H, and every cycle
-// with sticky words, both retract modes, repeats and incremental mode.
+// with sticky words, both retract modes, repeats and incremental mode; G80 beside G0 in a block.
 const char* const kCycles = R"(%
 O0100 (judge: cycles)
 N10 G21 G17 G40 G49 G80 G90 G94
@@ -81,12 +81,12 @@ N70 G99 G81 X10. Y10. Z-5. R2. F120.
 N80 X20.
 N90 Y20. Z-7.
 N100 G98 G82 X30. Y10. Z-4. R3. P0.5
-N110 G80
+N110 G0 G80 Z45. (G80 beside a motion code, as Fanuc posts write it)
 N120 G0 Z40.
 N130 G55 X5. Y5.
 N140 G83 X10. Y12. Z-9.5 R1.5 Q2.2 F100.
 N150 G99 G73 X15. Q1.7 Z-6. R2.
-N160 G80
+N160 G80 G0 Z38.
 N170 G91 G81 X4. Y3. Z-3. R2. L3 F80.
 N180 X-2. L2
 N190 G90 G80

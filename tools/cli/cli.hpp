@@ -29,6 +29,9 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& opti
 // Throws InputError naming `option` and `path` when the file could not be written there (its folder is
 // missing or not writable), so that a command refuses it before its long work; an empty path is not asked.
 void check_output_file(const std::string& option, const std::string& path);
+// The same test as a validator of an output option, so that a command's parse refuses the name (exit 2)
+// before its work.
+CLI::Validator output_file();
 
 // The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.

@@ -29,6 +29,21 @@ void check_output_file(const std::string& option, const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec) || ::access(folder.c_str(), W_OK) != 0)
     throw InputError(path, 0, option, "cannot be written: folder '" + folder.string() + "' is missing or not writable");
+  // The output is renamed onto the name at the end: a folder there would fail only after the work.
+  if (fs::is_directory(path, ec)) throw InputError(path, 0, option, "is a folder, not a file name");
+}
+
+CLI::Validator output_file() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        try {
+          check_output_file("", path);
+        } catch (const InputError& e) {
+          return e.what();
+        }
+        return {};
+      },
+      "FILE");
 }
 
 Progress terminal_progress() {

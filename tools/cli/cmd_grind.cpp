@@ -16,8 +16,8 @@ void add_grind_command(CLI::App& app) {
   };
   static Args args;  // CLI11 binds to storage that outlives the parse; one command line per process
   cmd->add_option("GRIND", args.scene, "grinding scene JSON")->required();
-  cmd->add_option("-o,--output", args.out, "tool mesh (PLY; .stl/.obj/.off also accepted)")->required();
-  cmd->add_option("--sections", args.svg, "also write the sections as an SVG");
+  cmd->add_option("-o,--output", args.out, "tool mesh (PLY; .stl/.obj/.off also accepted)")->required()->check(output_file());
+  cmd->add_option("--sections", args.svg, "also write the sections as an SVG")->check(output_file());
   cmd->add_option("--spacing", args.sections.spacing, "section spacing, mm")->capture_default_str();
   cmd->add_option("--step", args.sections.step, "largest relative motion per increment, mm")->capture_default_str();
   cmd->callback([] {

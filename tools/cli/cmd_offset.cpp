@@ -101,12 +101,12 @@ void add_offset_command(CLI::App& app) {
   cmd->add_option("--corner", o->corner, "round (constant gap) or sharp (intersection joins)")
       ->check(CLI::IsMember({"round", "sharp"}));
   cmd->add_option("--target", o->target, "milling or ecm")->check(CLI::IsMember({"milling", "ecm"}));
-  cmd->add_option("-o,--output", o->out, "NC program (.ngc)")->required();
-  cmd->add_option("--svg", o->svg, "SVG plot of profile and trajectory");
+  cmd->add_option("-o,--output", o->out, "NC program (.ngc)")->required()->check(output_file());
+  cmd->add_option("--svg", o->svg, "SVG plot of profile and trajectory")->check(output_file());
   cmd->add_option("--mesh", o->mesh, "slice this part mesh instead of reading a PROFILE");
   cmd->add_option("--plane", o->plane, "section plane for --mesh, z=H")->capture_default_str();
   cmd->add_option("--fit-tolerance", o->fit_tolerance, "--mesh: line/arc fitting tolerance, mm")->default_val(0.01);
-  cmd->add_option("--profile-out", o->profile_out, "also write the profile used (e.g. fitted from --mesh)");
+  cmd->add_option("--profile-out", o->profile_out, "also write the profile used (e.g. fitted from --mesh)")->check(output_file());
   cmd->add_option("--lead", o->lead, "lead-in/out arc radius, mm")->default_val(2.0);
   cmd->add_option("--feed", o->milling.feed, "milling feed, mm/min")->default_val(600);
   cmd->add_option("--plunge-feed", o->milling.plunge_feed, "milling plunge feed, mm/min")->default_val(200);

@@ -49,8 +49,8 @@ void add_plan_command(CLI::App& app) {
   };
   static Args a;
   cmd->add_option("SCENE", a.scene, "scene JSON")->required();
-  cmd->add_option("-o,--output", a.out, "oriented path CSV")->required();
-  cmd->add_option("--json", a.json, "plan metrics JSON");
+  cmd->add_option("-o,--output", a.out, "oriented path CSV")->required()->check(output_file());
+  cmd->add_option("--json", a.json, "plan metrics JSON")->check(output_file());
   cmd->add_option("--method", a.method, "dynamic (default) or pointwise (the point-by-point baseline)")
       ->check(CLI::IsMember({"dynamic", "pointwise"}));
   cmd->add_flag("--smooth", a.smooth, "global smoothing pass (Ceres) after the dynamics");

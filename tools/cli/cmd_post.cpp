@@ -118,7 +118,7 @@ void add_post_command(CLI::App& app) {
   static PostArgs a;  // CLI11 binds to storage that outlives parsing; one post per process
   cmd->add_option("SCENE", a.scene, "scene JSON")->required();
   cmd->add_option("ORIENTED", a.oriented, "oriented path CSV (ball centres and tool axes)")->required();
-  cmd->add_option("-o,--output", a.out, "output program (.ngc, or APT CLDATA with --dialect apt)")->required();
+  cmd->add_option("-o,--output", a.out, "output program (.ngc, or APT CLDATA with --dialect apt)")->required()->check(output_file());
   cmd->add_option("--dialect", a.dialect, "joint (machine axes, G93), tcp (tool tip + rotaries) or apt; default: the machine's output")
       ->check(CLI::IsMember({"joint", "tcp", "apt"}));
   cmd->add_option("--tcp-style", a.tcp_style, "tool-centre-point code for --dialect tcp; default: the machine's tcp_style")

@@ -70,7 +70,7 @@ void add_replan_command(CLI::App& app) {
   cmd->add_option("SCENE", a.scene, "scene JSON")->required();
   cmd->add_option("ORIENTED", a.oriented, "oriented path CSV that was posted and verified")->required();
   cmd->add_option("VERIFY", a.verify, "the verifier's report JSON")->required();
-  cmd->add_option("-o,--output", a.out, "re-planned oriented path CSV")->required();
+  cmd->add_option("-o,--output", a.out, "re-planned oriented path CSV")->required()->check(output_file());
   cmd->add_option("--stock-mesh", a.stock_mesh, "in-process stock mesh from `verify --stock-mesh` (default: the raw stock)");
   cmd->add_option("--window", a.options.window_mm, "rows within this arc length of a collision are re-planned, mm (0: derived)")
       ->check(CLI::NonNegativeNumber);

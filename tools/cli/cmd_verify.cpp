@@ -31,6 +31,7 @@ struct VerifyArgs {
   double schedule_mrr = 0.0;
   FeedScheduleOptions schedule;
   bool no_engagement = false;
+  bool block_delete = false;
   EngagementOptions engagement;
   double resolution = 0.1;
   double tolerance = 0.01;
@@ -66,6 +67,7 @@ void run_verify(const VerifyArgs& a) {
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
   GcodeOptions gcode = gcode_options(scene);
+  gcode.block_delete = a.block_delete;
   // LinuxCNC's SUBROUTINE_PATH: directories separated by ':', searched after the program's own.
   for (size_t from = 0; from < a.subroutine_path.size();) {
     const size_t to = std::min(a.subroutine_path.find(':', from), a.subroutine_path.size());
@@ -182,6 +184,9 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON");
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
+  cmd->add_flag("--block-delete", args.block_delete,
+               "skip the lines that start with '/' (the controller's block-delete switch on; by default they run, "
+               "as LinuxCNC starts)");
   cmd->add_option("--subroutine-path", args.subroutine_path,
                   "directories (separated by ':') holding the files <name>.ngc of O<name> subroutines the program calls, "
                   "searched after the program's own directory (LinuxCNC's SUBROUTINE_PATH)");

@@ -212,6 +212,16 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
 }
 
 
+// An R-form arc with R > 0 takes the short way round, never a full circle, but the simulation reads an arc whose end lies at its start's angle
+// as one (a huge R over a tiny chord: R 1e8 over 0.1 um swept a whole band of the stock, found in
+// review). Below 1e-9 rad the arc runs as its chord, r theta^2 / 8 from it: under 1e-9 mm for any R under
+// 1e9 mm.
+bool Reader::r_form_is_straight(const Axes& start, const Axes& end, const Eigen::Vector3d& c) const {
+  const PlaneAxes pa = plane_axes(st_.plane);
+  const Eigen::Vector2d a(start[pa.u] - c[pa.u], start[pa.v] - c[pa.v]), b(end[pa.u] - c[pa.u], end[pa.v] - c[pa.v]);
+  return std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b))) < 1e-9;
+}
+
 // G2/G3 from `start` to `end`; with P n, n - 1 full turns come first (a helix shares its travel along the
 // plane's normal and the rotaries by angle), each a block of its own.
 void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& val, int line) {
@@ -221,10 +231,14 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
   if (val.has('P')) {
     const double p = *val['P'];
     if (!(p >= 1 && p <= 10000) || p != std::floor(p))
-      throw InputError(file_, line, val.word('P'), "the turns of an arc must be a whole number >= 1");
+      throw InputError(file_, line, val.word('P'), "the turns of an arc must be a whole number from 1 to 10000");
     turns = static_cast<int>(p);
   }
   const Motion m = ccw ? Motion::ArcCCW : Motion::ArcCW;
+  if (val['R'] && *val['R'] > 0 && turns == 1 && r_form_is_straight(start, end, c)) {
+    emit(Motion::Linear, end, line);
+    return;
+  }
   if (turns > 1) {
     const PlaneAxes pa = plane_axes(st_.plane);
     const double two_pi = 2.0 * std::numbers::pi;
@@ -254,6 +268,10 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
   emit(m, end, line, &c);
 }
 
+namespace {
+constexpr double kRFormSlack = 0.00127;  // mm
+}  // namespace
+
 Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const {
   const PlaneAxes pa = plane_axes(st_.plane);
   Eigen::Vector3d c(start[0], start[1], start[2]);
@@ -265,7 +283,9 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     const Eigen::Vector2d s2(start[pa.u], start[pa.v]), e2(end[pa.u], end[pa.v]);
     const double chord = (e2 - s2).norm();
     if (chord < 1e-9) throw InputError(file_, line, "R", "an R-form arc needs distinct start and end points");
-    if (std::abs(r) < chord / 2.0 - options_.arc_tolerance)
+    // rs274 lets half the chord exceed R by 0.00005 inch (0.00127 mm) in either unit, measured: a chord
+    // of 10.002 at R 5 is an arc, 10.003 is refused.
+    if (std::abs(r) < chord / 2.0 - kRFormSlack)
       throw InputError(file_, line, "R", "radius is smaller than half the chord");
     const double h = std::sqrt(std::max(0.0, r * r - chord * chord / 4.0));
     const Eigen::Vector2d mid = 0.5 * (s2 + e2), dir = (e2 - s2) / chord;

@@ -143,8 +143,11 @@ void Reader::block(const std::vector<Word>& words, int line) {
   bool g53 = false, dwell = false;
   for (int g : gs) {
     if (is_motion_code(g)) {
-      if (motion) throw InputError(file_, line, code_name('G', g), "two motion codes in one block");
-      motion = g;
+      // LinuxCNC lets G80 share a block with another motion code (Fanuc posts write "G0 G80 Z50"): the
+      // other one is the block's motion.
+      if (motion && g != 800 && *motion != 800)
+        throw InputError(file_, line, code_name('G', g), "two motion codes in one block");
+      if (!motion || *motion == 800) motion = g;
     } else if (is_nonmodal_axis_code(g) || g == 281 || g == 301 || g == 921 || g == 922 || g == 923) {
       if (nonmodal) throw InputError(file_, line, code_name('G', g), "two codes of the non-modal group in one block");
       nonmodal = g;
@@ -192,15 +195,18 @@ void Reader::block(const std::vector<Word>& words, int line) {
         throw InputError(file_, line, "G", "axis words with no motion mode in force (G0, G1, G2, G3 or a cycle)");
       if (is_cycle(mode)) {
         if (g53) throw InputError(file_, line, "G53", "G53 cannot modify a canned cycle");
+        refuse_compensated(line);
         canned_cycle(mode, val, line);
       } else if (mode == 50 || mode == 51) {
         if (g53) throw InputError(file_, line, "G53", "G53 cannot be used with a spline");
         spline(mode, val, line);
       } else {
+        refuse_compensated(line);
         motion_block(mode, g53, val, line);
       }
       if (mode != 50 && mode != 51) st_.motion = mode;  // a spline leaves the motion mode as it was (LinuxCNC)
     } else if (motion && (*motion == 20 || *motion == 30) && !axis_words && !axes_taken) {
+      refuse_compensated(line);
       motion_block(*motion, g53, val, line);  // G2/G3 with a centre and no axis words: a full circle
       st_.motion = *motion;
     } else {
@@ -320,6 +326,15 @@ void Reader::apply_units_and_feed_mode(const std::vector<int>& gs, int line) {
   }
 }
 
+// A move with cutter radius compensation on and an offset: the compensated path (LinuxCNC's corner arcs
+// and intersections) is not simulated, and the programmed one would be off by the tool's radius.
+void Reader::refuse_compensated(int line) const {
+  if (st_.comp_offset.empty()) return;
+  throw InputError(file_, line, st_.comp_offset,
+                   "cutter radius compensation is not simulated: the tool would run off the programmed path (post "
+                   "the tool-centre path, or compensate with D0)");
+}
+
 // The other modal settings of the block's G codes (all but the motion and non-modal groups), in
 // RS274/NGC's order of execution: plane, cutter compensation, tool length, coordinate system, path
 // control, distance mode, retract mode.
@@ -335,12 +350,16 @@ void Reader::apply_modal_g_codes(const std::vector<int>& gs, const Values& val, 
     }
   }
   for (int g : gs) {  // cutter compensation, after the plane (RS274/NGC's order)
-    if (g == 400) st_.cutter_comp = false;
+    if (g == 400) st_.cutter_comp = false, st_.comp_offset.clear();
     if (g != 410 && g != 411 && g != 420 && g != 421) continue;
     if (st_.cutter_comp) throw InputError(file_, line, code_name('G', g), "cutter compensation is already on (G40 first)");
     if (st_.plane == 19) throw InputError(file_, line, code_name('G', g), "cutter compensation only in the G17 and G18 planes");
     st_.cutter_comp = true;
-    warn(line, code_name('G', g), " cutter compensation is not simulated");
+    // G41/G42 D n: tool n's radius (no D: the tool in the spindle); G41.1/G42.1 D: the diameter. D0 is none.
+    const auto d = val['D'];
+    if (d && *d == 0.0) continue;
+    st_.comp_offset = code_name('G', g);
+    if (d) st_.comp_offset.append(1, ' ').append(val.word('D'));
   }
   for (int g : gs)
     if (g == 960 && !val.has('S')) throw InputError(file_, line, "G96", "S (the surface speed) missing");

@@ -60,7 +60,10 @@ struct State {
                                AxisState::NotYet, AxisState::NotYet, AxisState::NotYet};
   int motion = kNoMotion;
   int plane = 17;
-  bool cutter_comp = false;  // G41/G42 (or .1) in force: not simulated, but its rules are kept
+  bool cutter_comp = false;  // G41/G42 (or .1) in force: its rules are kept
+  // The code that turned it on with an offset (a D other than 0): a move under it is refused, as the
+  // compensated path is not simulated. Empty with D0, which offsets nothing.
+  std::string comp_offset;
   bool inch = false;
   bool incremental = false;
   bool arc_incremental = true;  // G91.1 default
@@ -181,6 +184,8 @@ class Reader : private ParameterValues {
   void emit(Motion m, const Axes& target, int line, const Eigen::Vector3d* centre = nullptr);
   void arc(int motion, const Axes& start, const Axes& end, const Values& val, int line);
   Eigen::Vector3d arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const;
+  void refuse_compensated(int line) const;
+  bool r_form_is_straight(const Axes& start, const Axes& end, const Eigen::Vector3d& centre) const;
   void check_tool(int line) const;
 
   // offsets.cpp

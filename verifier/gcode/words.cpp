@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include "tiltfield/core/error.hpp"
@@ -27,13 +28,23 @@ std::string strip_line(std::string_view raw, const std::string& file, int line) 
   out.reserve(raw.size());
   bool in_comment = false;
   for (char ch : raw) {
+    const auto u = static_cast<unsigned char>(ch);
+    // A control byte (a NUL cut the message that named it short) or a byte of binary data: refused, as
+    // rs274 does ("Bad character"), and named by its code.
+    if ((u < 0x20 && ch != '\t' && ch != '\r' && ch != '\f' && ch != '\v') || u == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "0x%02X", unsigned(u));
+      throw InputError(file, line, code, "control character in the program (binary data?)");
+    }
     if (in_comment) {
       if (ch == ')') in_comment = false;
+      if (ch == '(') throw InputError(file, line, "(", "nested comment (LinuxCNC refuses them)");
       continue;
     }
     if (ch == '(') { in_comment = true; continue; }
+    if (ch == ')') throw InputError(file, line, ")", "')' without an opening '('");
     if (ch == ';') break;
-    if (std::isspace(static_cast<unsigned char>(ch))) continue;
+    if (std::isspace(u)) continue;
     out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
   }
   if (in_comment) throw InputError(file, line, "(", "comment is not closed on this line");

@@ -36,8 +36,9 @@
 namespace tf {
 
 struct GcodeOptions {
-  // Lines starting with "/" are skipped (the controller's block-delete switch on). Default on.
-  bool block_delete = true;
+  // Lines starting with "/" are skipped (the controller's block-delete switch on). Default off: they run,
+  // as on LinuxCNC when it starts and under rs274.
+  bool block_delete = false;
   // Axis values before the first block. When absent, each axis starts at the first value the program
   // gives it (the machine is taken to be there already), so the first positioning move sweeps nothing
   // it does not program; an axis a block needs before that (an incremental word, an arc's start) is at
