@@ -255,6 +255,11 @@ TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
   EXPECT_NE(r.err.find("p.ngc:2"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("X1E3"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "v.json"));
+  write(dir / "p.ngc", "(only a comment)\nM2\n");  // nothing to verify: the wrong file?
+  r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("no motion blocks"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
 }
 
 // "/" lines run unless --block-delete (LinuxCNC starts with its switch off).

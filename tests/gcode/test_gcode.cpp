@@ -128,7 +128,7 @@ TEST(Gcode, RotariesAndTcpModes) {
   m.tcp_on_code = "M201";
   m.tcp_off_code = "M200";
   const Program p = parse("G0 X0 Y0 Z50 A0 C0\nG43.4 H1\nG1 X1 A10 C20 F100\nG49\nG1 X2\nM128\nG1 X3\nM129\nG1 X4\n"
-                          "M201\nG1 X5\nM200\nG1 X6\n", m);
+                          "M201\nG1 X5\nM200\nG1 X6\nM2\n", m);
   ASSERT_EQ(p.blocks.size(), 7u);
   EXPECT_FALSE(p.blocks[0].tcp);
   EXPECT_TRUE(p.blocks[1].tcp);
@@ -143,9 +143,14 @@ TEST(Gcode, RotariesAndTcpModes) {
 }
 
 TEST(Gcode, UnknownCodesAreWarnings) {
-  const Program p = parse("G0 X0 Y0 Z0\nG54\nG12.3\nM77\nG41 D0\nG1 X1 F10\n");
+  const Program p = parse("G0 X0 Y0 Z0\nG54\nG12.3\nM77\nG41 D0\nG1 X1 F10\nM30\n");
   ASSERT_EQ(p.blocks.size(), 2u);
   ASSERT_EQ(p.warnings.size(), 3u);
+  // A file that ends without M2, M30 or a closing "%" may have been cut short.
+  const Program cut = parse("G0 X0 Y0 Z0\nG1 X1 F10\n");
+  ASSERT_EQ(cut.warnings.size(), 1u);
+  EXPECT_NE(cut.warnings[0].find("cut short"), std::string::npos);
+  EXPECT_TRUE(parse("%\nG0 X0 Y0 Z0\n%\n").warnings.empty());
   EXPECT_NE(p.warnings[0].find("p.ngc:2:"), std::string::npos);
   EXPECT_NE(p.warnings[1].find("p.ngc:3: G12.3"), std::string::npos) << p.warnings[1];
   EXPECT_NE(p.warnings[2].find("p.ngc:4: M77"), std::string::npos) << p.warnings[2];

@@ -78,6 +78,7 @@ void run_verify(const VerifyArgs& a) {
     from = to + 1;
   }
   const Program program = read_gcode(a.program, machine, gcode);
+  if (program.blocks.empty()) throw InputError(a.program, 0, "", "no motion blocks to verify (an empty program?)");
   VerifyOptions opt;
   opt.resolution = a.resolution;
   opt.sweep.tolerance = a.tolerance;

@@ -235,6 +235,9 @@ void Reader::tool_tip_targets() {
 Program Reader::finish() {
   if (st_.dwell > 0.0)
     program_.warnings.push_back(file_ + ": a dwell after the last motion block: its time is not counted");
+  // rs274 refuses a program without an end; a file cut short in its transfer reads as one.
+  if (!st_.ended && !program_.blocks.empty())
+    program_.warnings.push_back(file_ + ": the file ends without M2, M30 or a closing %: is it cut short?");
   fill_unknown_axes();
   tool_tip_targets();
   if (options_.start) program_.start = *options_.start;
