@@ -1,4 +1,5 @@
 // RS274/NGC text for a posted program (LinuxCNC reads the joint dialect as is).
+#include <algorithm>
 #include <array>
 #include <ostream>
 #include <string>
@@ -65,7 +66,14 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
                                                  ? std::string()
                                                  : ", X Y Z are the spindle nose, no tool length offset"))
       << "\n";
-  out << "G21 G90 G17 G40 G49 G80 G94\n";
+  const bool offset = std::any_of(job.work_offset.begin(), job.work_offset.end(), [](double w) { return w != 0.0; });
+  out << "G21 G90 G17 G40 G49 G80 G94" << (offset ? " G54" : "") << "\n";
+  if (offset) {
+    std::string w = "axis words relative to G54 (the scene's work offset";
+    for (int k = 0; k < 6; ++k)
+      if (job.work_offset[size_t(k)] != 0.0) w += std::string(" ") + "XYZABC"[k] + fixed(job.work_offset[size_t(k)], 4);
+    out << comment(w + ")") << "\n";
+  }
   out << "T" << options.tool_number << " M6\n";
   out << "S" << fixed(options.spindle_rpm, 1) << " M3\n";
   if (tcp) {
@@ -83,7 +91,9 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
   std::string last_feed;
   bool first = true;
   for (const Block& b : program.blocks) {
-    const double v[6] = {b.target.x, b.target.y, b.target.z, b.target.a, b.target.b, b.target.c};
+    const double v[6] = {b.target.x - job.work_offset[0], b.target.y - job.work_offset[1],
+                         b.target.z - job.work_offset[2], b.target.a - job.work_offset[3],
+                         b.target.b - job.work_offset[4], b.target.c - job.work_offset[5]};
     std::string words;
     for (int k = 0; k < 6; ++k) {
       if (k >= 3 && rot.find(letters[k]) == std::string::npos) continue;

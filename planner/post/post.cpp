@@ -30,6 +30,27 @@ void set_transit_obstacles(PostJob& job, const Scene& scene) {
   for (const Mesh& m : scene.check_surfaces) job.check_surfaces.push_back(&m);
 }
 
+void set_post_job(PostJob& job, const Scene& scene, int tool_number) {
+  job.machine = scene.machine.value_or(MachineSpec{});
+  job.tool = scene.tool;
+  if (!scene.tools.empty()) {
+    const auto it = std::find_if(scene.tools.begin(), scene.tools.end(),
+                                 [&](const ToolEntry& e) { return e.number == tool_number; });
+    if (it == scene.tools.end()) {
+      std::string numbers;
+      for (const ToolEntry& e : scene.tools) numbers += (numbers.empty() ? "" : ", ") + std::to_string(e.number);
+      throw InputError("", 0, "--tool-number",
+                       "tool " + std::to_string(tool_number) + " is not in the scene's tool library (" + numbers + ")");
+    }
+    job.tool = it->tool;
+  }
+  job.feed = scene.feed;
+  job.part_bounds = scene_bounds(scene);
+  set_transit_obstacles(job, scene);
+  const auto g54 = scene.work_offsets.find("G54");
+  job.work_offset = g54 == scene.work_offsets.end() ? WorkOffset{} : g54->second;
+}
+
 namespace {
 
 class Builder {

@@ -76,11 +76,7 @@ void run_post(PostArgs& a) {
   if (!scene.machine) throw InputError(a.scene, 0, "machine", "the scene names no machine; posting needs one");
   const OrientedPath path = read_oriented_csv(a.oriented);
   PostJob job;
-  job.machine = *scene.machine;
-  job.tool = scene.tool;
-  job.feed = scene.feed;
-  job.part_bounds = scene_bounds(scene);
-  set_transit_obstacles(job, scene);
+  set_post_job(job, scene, o.tool_number);
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);

@@ -80,12 +80,8 @@ Planned plan_stage(const Scene& scene, const JobOptions& options, JobSummary& su
 class PostAndVerify {
  public:
   PostAndVerify(const Scene& scene, const JobOptions& options)
-      : scene_(scene), options_(options), forward_(scene_forward(scene)) {
-    post_job_.machine = *scene.machine;
-    post_job_.tool = scene.tool;
-    post_job_.feed = scene.feed;
-    post_job_.part_bounds = scene_bounds(scene);
-    set_transit_obstacles(post_job_, scene);
+      : scene_(scene), options_(options), post_options_(options_for(scene)), forward_(scene_forward(scene)) {
+    set_post_job(post_job_, scene, post_options_.tool_number);
     post_job_.title = "tiltfield run: " + scene.file.filename().string();
     verify_options_.resolution = options.resolution_mm;
     verify_options_.progress = options.progress;
@@ -108,6 +104,13 @@ class PostAndVerify {
   }
 
  private:
+  // The program's tool: the library number the scene's tool came from, else T1.
+  static PostOptions options_for(const Scene& scene) {
+    PostOptions o;
+    if (scene.tool_number > 0) o.tool_number = scene.tool_number;
+    return o;
+  }
+
   const Scene& scene_;
   const JobOptions& options_;
   PostJob post_job_;

@@ -68,7 +68,17 @@ struct PostJob {
   Mesh stock;                               // closed: a solid (no faces: not checked)
   std::vector<const Mesh*> fixtures;        // distance only; the meshes outlive the job
   std::vector<const Mesh*> check_surfaces;  // distance only; the meshes outlive the job
+  // The scene's G54 (X Y Z mm, A B C deg): the program runs in G54, and the controller adds it to every
+  // axis word, so the writer subtracts it from the machine positions it writes.
+  WorkOffset work_offset{};
 };
+
+// Fills the job from the scene for a program whose tool is `tool_number`: the machine (the scene must
+// name one), the tool (the library's tool of that number when the scene has a library: its gauge length
+// is what the controller's G43 H takes; otherwise the scene's tool), the feed, the part bounds, the
+// transit obstacles and the G54 offset. Throws InputError (field "--tool-number") for a number the library
+// lacks.
+void set_post_job(PostJob& job, const Scene& scene, int tool_number);
 
 // Fills job.stock, job.fixtures and job.check_surfaces from the scene (the stock as a closed mesh,
 // pointers to the scene's fixtures and check surfaces: the scene must outlive the job).
