@@ -34,13 +34,15 @@ std::vector<BodyPiece> body_pieces(const Tool& tool) {
 
 double required_clearance(const PlannerBasics& b, ToolComponent c) {
   switch (c) {
-    case ToolComponent::Shank: return b.shank_clearance.value_or(b.safety_distance);
-    case ToolComponent::Holder: return b.holder_clearance.value_or(b.safety_distance);
-    default: return b.safety_distance;
+    case ToolComponent::Shank: return std::max(b.shank_clearance.value_or(b.safety_distance), kLeastClearance);
+    case ToolComponent::Holder: return std::max(b.holder_clearance.value_or(b.safety_distance), kLeastClearance);
+    default: return std::max(b.safety_distance, kLeastClearance);
   }
 }
 
-double fixture_clearance(const PlannerBasics& b) { return b.fixture_clearance.value_or(b.safety_distance); }
+double fixture_clearance(const PlannerBasics& b) {
+  return std::max(b.fixture_clearance.value_or(b.safety_distance), kLeastClearance);
+}
 
 namespace {
 

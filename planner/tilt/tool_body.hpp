@@ -30,6 +30,10 @@ std::vector<BodyPiece> body_pieces(const Tool& tool);
 // Clearance each component must keep from the check surfaces: ball and flutes the safety distance, the
 // shank and holder their own when given (else the safety distance). mm.
 double required_clearance(const PlannerBasics& basics, ToolComponent component);
+// The least clearance the checks require, mm, whatever the scene asks: their distances are unsigned (0
+// inside an obstacle), so a required 0 let a shank 0.27 mm deep in a blade pass (found in review). The
+// verifier's default collision tolerance.
+inline constexpr double kLeastClearance = 0.001;
 // Clearance every component must keep from the fixtures: planner.fixture_clearance, else the safety
 // distance. mm.
 double fixture_clearance(const PlannerBasics& basics);

@@ -42,6 +42,19 @@ double max_angle_deg(const OrientedPath& a, const OrientedPath& b) {
   return m;
 }
 
+// A safety distance of 0 still asks for no penetration: the distances are unsigned (0 inside), and with a
+// required 0 the nominal axis's holder in the block read as clear (found in review).
+TEST(PlanSynthetic, ZeroSafetyDistanceStillSeesPenetration) {
+  WallScene s = wall_scene(4.0);
+  s.basics.safety_distance = 0.0;
+  const PlanResult r = run(s, PlanMethod::Dynamic);
+  EXPECT_GT(r.metrics.rows_nominal_colliding, 50u);
+  EXPECT_TRUE(r.uncleared.empty());
+  const auto fcl = test::fcl_check(r.path, s.tool, s.meshes(), s.basics);
+  EXPECT_GT(fcl.min_distance, 0.0);
+  EXPECT_EQ(run(s, PlanMethod::Pointwise).metrics.rows_nominal_colliding, r.metrics.rows_nominal_colliding);
+}
+
 TEST(PlanSynthetic, NominalCollidesPlannedClearsByFcl) {
   const WallScene s = wall_scene(4.0);
   const PlanResult r = run(s, PlanMethod::Dynamic);
