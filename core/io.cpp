@@ -141,4 +141,11 @@ double parse_number(std::string_view text, const std::string& file, int line, co
   return v;
 }
 
+double parse_coordinate(std::string_view text, const std::string& file, int line, const std::string& field) {
+  const double v = parse_number(text, file, line, field);
+  if (std::abs(v) > kMaxCoordinate)
+    throw InputError(file, line, field, "'" + std::string(text) + "' mm is beyond 1 km: a wrong unit or a damaged row?");
+  return v;
+}
+
 }  // namespace tf

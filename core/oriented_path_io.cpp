@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
@@ -23,6 +25,9 @@ OrientedPath read_oriented_csv(const fs::path& file) {
       throw InputError(name, 1, cols[i], "missing column (header must be x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm)");
   }
   const int feed_col = t.column("feed");
+  for (const auto& h : t.header)
+    if (std::find(std::begin(cols), std::end(cols), h) == std::end(cols) && h != "feed")
+      throw InputError(name, 1, h, "unknown column (header must be x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm[,feed])");
   OrientedPath path;
   path.rows.reserve(t.rows.size());
   for (size_t r = 0; r < t.rows.size(); ++r) {
@@ -34,7 +39,7 @@ OrientedPath read_oriented_csv(const fs::path& file) {
         v[i] = std::numeric_limits<double>::infinity();
         continue;
       }
-      v[i] = parse_number(t.rows[r][c[i]], name, line, cols[i]);
+      v[i] = i < 3 ? parse_coordinate(t.rows[r][c[i]], name, line, cols[i]) : parse_number(t.rows[r][c[i]], name, line, cols[i]);
     }
     OrientedRow row;
     row.p = {v[0], v[1], v[2]};

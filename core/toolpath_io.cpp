@@ -53,7 +53,9 @@ ToolPath read_toolpath_csv(const fs::path& file) {
   for (size_t r = 0; r < t.rows.size(); ++r) {
     const int line = t.lines[r];
     double v[6];
-    for (int i = 0; i < 6; ++i) v[i] = parse_number(t.rows[r][col[i]], name, line, required[i]);
+    for (int i = 0; i < 6; ++i)
+      v[i] = i < 3 ? parse_coordinate(t.rows[r][col[i]], name, line, required[i])
+                   : parse_number(t.rows[r][col[i]], name, line, required[i]);
     CLPoint pt;
     pt.p = {v[0], v[1], v[2]};
     pt.n = unit_vector({v[3], v[4], v[5]}, name, line, "nx,ny,nz");
@@ -101,7 +103,7 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       if (a.size() != 3 && a.size() != 6)
         throw InputError(name, at, "GOTO", "expected x,y,z or x,y,z,i,j,k, found " + std::to_string(a.size()) + " values");
       double v[6] = {0, 0, 0, 0, 0, 1};
-      for (size_t i = 0; i < a.size(); ++i) v[i] = parse_number(a[i], name, at, "GOTO");
+      for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, "GOTO") : parse_number(a[i], name, at, "GOTO");
       if (skip_next_goto) {
         skip_next_goto = false;
         return;

@@ -95,6 +95,31 @@ TEST(PathIO, OrientedRoundTripAndBadAxis) {
   EXPECT_NE(r.out.find("bad.csv:3"), std::string::npos) << r.out;
 }
 
+// Coordinates beyond 1 km and columns the format lacks are refused, naming the line and the field (found
+// in review: 1e200 hung the planner, 1e100 became 100-digit G-code words, an extra column passed).
+TEST(PathIO, AbsurdCoordinatesAndUnknownColumnsNameTheField) {
+  tf::test::TempDir dir;
+  auto expect_refused = [&](const std::string& file, const std::string& text, int line, const std::string& field,
+                            bool oriented) {
+    tf::test::write_text(dir / file, text);
+    try {
+      if (oriented) tf::read_oriented_csv(dir / file);
+      else tf::read_toolpath(dir / file, ball3());
+      ADD_FAILURE() << text;
+    } catch (const tf::InputError& e) {
+      EXPECT_EQ(e.line(), line) << text;
+      EXPECT_EQ(e.field(), field) << text;
+    }
+  };
+  expect_refused("p.csv", "x,y,z,nx,ny,nz\n0,0,0,0,0,1\n1e200,0,0,0,0,1\n", 3, "x", false);
+  expect_refused("p.cl", "GOTO/0,0,50,0,0,1\nGOTO/0,-2e6,50,0,0,1\n", 2, "GOTO", false);
+  const std::string header = "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm";
+  expect_refused("o.csv", header + "\n0,0,1e100,0,0,1,0,0,1\n", 2, "z", true);
+  expect_refused("o.csv", header + ",speed\n0,0,0,0,0,1,0,0,1,5\n", 1, "speed", true);
+  tf::test::write_text(dir / "ok.csv", header + ",feed\n999999,0,0,0,0,1,0,0,1,500\n");
+  EXPECT_EQ(tf::read_oriented_csv(dir / "ok.csv").rows.size(), 1u);
+}
+
 TEST(LocalFrame, LeadTiltRoundTripAndConventions) {
   tf::ToolPath p;
   for (int i = 0; i < 5; ++i) p.rows.push_back({{double(i), 0, 0}, {0, 0, 1}});

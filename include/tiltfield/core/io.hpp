@@ -38,5 +38,9 @@ CsvTable read_csv(const std::filesystem::path& file);
 
 // Parses a finite double; throws InputError(file, line, field, ...) otherwise.
 double parse_number(std::string_view text, const std::string& file, int line, const std::string& field);
+// parse_number for a coordinate, mm: also throws beyond kMaxCoordinate (1e200 hung the planner; 1e100
+// came out as 100-digit G-code words).
+inline constexpr double kMaxCoordinate = 1e6;
+double parse_coordinate(std::string_view text, const std::string& file, int line, const std::string& field);
 
 }  // namespace tf
