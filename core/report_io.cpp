@@ -107,6 +107,11 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
                        {"full_vertices", m.full_vertices},        {"full_faces", m.full_faces},
                        {"mesh_seconds", num(m.mesh_seconds, 3)},  {"decimate_seconds", num(m.decimate_seconds, 3)}};
   }
+  j["axis_limits"] = nlohmann::ordered_json::array();
+  auto bound = [](double v) { return std::isfinite(v) ? num(v, 4) : nlohmann::ordered_json(); };  // null: none
+  for (const AxisLimitExcess& e : r.axis_limits)
+    j["axis_limits"].push_back({{"block", e.block}, {"line", e.line}, {"axis", std::string(1, e.axis)},
+                                {"value", num(e.value, 4)}, {"min", bound(e.min)}, {"max", bound(e.max)}});
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2);
   write_file_atomic(file, [&](std::ostream& out) { out << text << "\n"; });

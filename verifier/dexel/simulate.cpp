@@ -10,8 +10,10 @@
 #include <limits>
 #include <utility>
 
+#include "axis_limits.hpp"
 #include "ray_depths.hpp"
 #include "simulator.hpp"
+#include "tiltfield/core/io.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/dexel/verify.hpp"
 
@@ -86,6 +88,7 @@ VerifyResult Simulator::run() {
       }
       prev_tcp = b.tcp;
     }
+    if (scene_.machine) check_axis_limits(*scene_.machine, b, from, static_cast<int>(bi) + 1, tools_.forward(b.tool), rep);
     BlockResult br = simulate_block(b, from, static_cast<int>(bi) + 1, continuing, rep);
     rep.per_block.push_back(br);
     rep.removed_volume_mm3 += br.removed_mm3;
@@ -98,6 +101,12 @@ VerifyResult Simulator::run() {
   }
   for (const Accum::Span& span : pending_) apply(span);  // the last block's deferred changes
   pending_.clear();
+  if (!rep.axis_limits.empty()) {
+    const AxisLimitExcess& e = rep.axis_limits.front();
+    rep.warnings.push_back(std::to_string(rep.axis_limits.size()) + " axis positions beyond the machine's limits (first: block " +
+                           std::to_string(e.block) + ", line " + std::to_string(e.line) + ", " + std::string(1, e.axis) +
+                           " " + fixed(e.value, 4) + "; axis_limits lists them)");
+  }
   // A block that needed more than max_substeps sub-steps for a part reports its bound, above the tolerance.
   if (rep.sweep_error_mm > opt_.sweep.tolerance)
     rep.warnings.push_back("the swept volume's bound " + std::to_string(rep.sweep_error_mm) + " mm exceeds --tolerance " +

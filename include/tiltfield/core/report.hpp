@@ -46,6 +46,15 @@ struct Collision {
   int tool = 0;  // the tool in the spindle (Block::tool); 0 as well for a VERIFY.json without the field
 };
 
+// A machine axis beyond its limit (MachineSpec::limits) at the end of a block or, in an arc, at an
+// extreme point of its plane: a controller stops there.
+struct AxisLimitExcess {
+  int block = 0, line = 0;
+  char axis = 'X';
+  double value = 0.0;           // mm or deg, machine coordinates
+  double min = 0.0, max = 0.0;  // the limit it leaves
+};
+
 struct Gouge {
   int block = 0, line = 0;
   double depth_mm = 0.0;  // deepest over-cut of the block, normal to the design, mm
@@ -115,6 +124,7 @@ struct VerifyReport {
   double stock_volume_start_mm3 = 0.0, stock_volume_end_mm3 = 0.0;
   std::vector<Collision> collisions;
   std::vector<Gouge> gouges;
+  std::vector<AxisLimitExcess> axis_limits;  // each axis once per block
   double max_gouge_mm = 0.0;
   double resolution_mm = 0.0;
   size_t rays = 0;           // rays of the three grids

@@ -1,0 +1,80 @@
+// The machine's axis limits in the verification: a block's end, an arc's extreme point, and a TCP block
+// whose machine X lies beyond its limit while the programmed tip does not (found in review: a program
+// with A beyond its limit verified with no word).
+#include <gtest/gtest.h>
+
+#include "helpers.hpp"
+#include "tiltfield/dexel/verify.hpp"
+
+namespace tf {
+namespace {
+
+Block block(Motion m, const Joints& target, int line) {
+  Block b;
+  b.motion = m;
+  b.target = target;
+  b.feed = 1000.0;
+  b.line = line;
+  return b;
+}
+
+VerifyReport verify(const Scene& s, const Program& p) {
+  VerifyOptions o;
+  o.resolution = 1.0;
+  return verify_program(s, p, scene_forward(s), o).report;
+}
+
+TEST(AxisLimits, BlockEndsAndArcExtremesBeyondTheLimits) {
+  Scene s = test::box_scene({0, 0, 0}, {50, 50, 10}, test::ball_tool(3, 10, 3, 40, {}));
+  MachineSpec m;
+  m.limits['X'] = {-10, 60};
+  m.limits['Y'] = {-10, 60};
+  s.machine = m;
+  Program p;
+  p.start = {45, 5, 50, 0, 0, 0};
+  Block ccw = block(Motion::ArcCCW, {45, 45, 50, 0, 0, 0}, 2);  // about (45, 25): passes x = 65
+  ccw.arc_center = {45, 25, 50};
+  Block back = block(Motion::ArcCCW, {45, 5, 50, 0, 0, 0}, 3);  // on round the other side: x down to 25
+  back.arc_center = {45, 25, 50};
+  p.blocks = {block(Motion::Rapid, {45, 5, 50, 0, 0, 0}, 1), ccw, back, block(Motion::Rapid, {70, 5, 50, 0, 0, 0}, 4),
+              block(Motion::Rapid, {5, 5, 50, 0, 0, 0}, 5)};
+  const VerifyReport r = verify(s, p);
+  ASSERT_EQ(r.axis_limits.size(), 2u);
+  EXPECT_EQ(r.axis_limits[0].block, 2);
+  EXPECT_EQ(r.axis_limits[0].axis, 'X');
+  EXPECT_NEAR(r.axis_limits[0].value, 65.0, 1e-9);
+  EXPECT_EQ(r.axis_limits[1].line, 4);
+  EXPECT_DOUBLE_EQ(r.axis_limits[1].value, 70.0);
+  EXPECT_DOUBLE_EQ(r.axis_limits[1].max, 60.0);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("limits"), std::string::npos);
+}
+
+TEST(AxisLimits, TcpBlocksAreCheckedInMachineAxes) {
+  Scene s = test::box_scene({-30, -30, 0}, {30, 30, 10}, test::ball_tool(3, 10, 3, 40, {}));
+  MachineSpec m;
+  m.kinematics = KinematicsType::TableTableAC;
+  m.limits['A'] = {-100, 50};
+  m.limits['X'] = {0, 100};
+  s.machine = m;
+  Program p;
+  p.start = {20, 0, 50, 0, 0, 0};
+  Block in = block(Motion::Linear, {20, 0, 50, 0, 0, 0}, 1);
+  in.tcp = true;
+  // The tip stays at part x = 20, but with the table turned half round the machine's X is -20.
+  Block turned = block(Motion::Linear, {20, 0, 50, 0, 0, 180}, 2);
+  turned.tcp = true;
+  Block tilted = block(Motion::Linear, {20, 0, 50, -120, 0, 0}, 3);
+  tilted.tcp = true;
+  p.blocks = {in, turned, tilted};
+  const VerifyReport r = verify(s, p);
+  ASSERT_EQ(r.axis_limits.size(), 2u);
+  EXPECT_EQ(r.axis_limits[0].block, 2);
+  EXPECT_EQ(r.axis_limits[0].axis, 'X');
+  EXPECT_NEAR(r.axis_limits[0].value, -20.0, 1e-6);
+  EXPECT_EQ(r.axis_limits[1].block, 3);
+  EXPECT_EQ(r.axis_limits[1].axis, 'A');
+}
+
+}  // namespace
+}  // namespace tf

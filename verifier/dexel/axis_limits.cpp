@@ -1,0 +1,80 @@
+// The machine's axes against their limits at each block (Simulator::run): where a controller would stop.
+#include "axis_limits.hpp"
+
+#include <Eigen/LU>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "tiltfield/dexel/sweep.hpp"
+
+namespace tf::sim {
+namespace {
+
+// The machine's X Y Z that put the tip at `tip` with the rotaries of j. Every kinematics here moves the
+// tip affinely with the linear axes at fixed rotaries, so three unit steps give the map.
+Eigen::Vector3d machine_xyz(const ForwardFn& forward, Joints j, const Eigen::Vector3d& tip) {
+  j.x = j.y = j.z = 0.0;
+  const Eigen::Vector3d t0 = forward(j).tip;
+  Eigen::Matrix3d m;
+  for (int k = 0; k < 3; ++k) {
+    Joints e = j;
+    (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
+    m.col(k) = forward(e).tip - t0;
+  }
+  return m.partialPivLu().solve(tip - t0);
+}
+
+// The block's times where an arc's point reaches an extreme of its plane (the circle's quarter points it
+// passes), then its end.
+std::vector<double> times_to_check(const Block& b, const Joints& from) {
+  std::vector<double> taus;
+  if (b.motion == Motion::ArcCW || b.motion == Motion::ArcCCW) {
+    const Joints mid = interpolate_block(from, b, 0.5);
+    int iu = 0, iv = 1;
+    if (b.plane == 18) iu = 2, iv = 0;
+    if (b.plane == 19) iu = 1, iv = 2;
+    const Eigen::Vector3d s(from.x, from.y, from.z), m(mid.x, mid.y, mid.z), c = b.arc_center;
+    const double as = std::atan2(s[iv] - c[iv], s[iu] - c[iu]), am = std::atan2(m[iv] - c[iv], m[iu] - c[iu]);
+    const double sign = b.motion == Motion::ArcCCW ? 1.0 : -1.0, two_pi = 2.0 * std::numbers::pi;
+    // The sweep from the middle's angle (interpolate_block's own: a full circle or a short arc alike).
+    const double half = std::fmod(sign * (am - as) + 2.0 * two_pi, two_pi);
+    const double sweep = 2.0 * half;
+    for (int q = 0; q < 8 && sweep > 0.0; ++q) {
+      // Quarter angles ahead of the start along the motion: as + sign * d, d in (0, sweep).
+      const double target = q * std::numbers::pi / 2.0;
+      const double d = std::fmod(sign * (target - as) + 2.0 * two_pi, two_pi);
+      if (d > 0.0 && d < sweep) taus.push_back(d / sweep);
+    }
+  }
+  taus.push_back(1.0);
+  return taus;
+}
+
+}  // namespace
+
+void check_axis_limits(const MachineSpec& machine, const Block& b, const Joints& from, int index,
+                       const ForwardFn& forward, VerifyReport& rep) {
+  if (machine.limits.empty()) return;
+  std::array<bool, 6> reported{};
+  for (const double tau : times_to_check(b, from)) {
+    Joints j = interpolate_block(from, b, tau);
+    if (b.tcp) {  // X Y Z are the tip in the part frame: the machine's come from the kinematics
+      const Eigen::Vector3d x = machine_xyz(forward, j, Eigen::Vector3d(j.x, j.y, j.z));
+      j.x = x.x(), j.y = x.y(), j.z = x.z();
+    }
+    const std::array<double, 6> v{j.x, j.y, j.z, j.a, j.b, j.c};
+    for (int k = 0; k < 6; ++k) {
+      const char axis = "XYZABC"[k];
+      const auto it = machine.limits.find(axis);
+      // A rounding's worth of slack: a program written to 4 decimals at the limit is within it.
+      if (reported[size_t(k)] || it == machine.limits.end() ||
+          (v[size_t(k)] >= it->second.min - 1e-6 && v[size_t(k)] <= it->second.max + 1e-6))
+        continue;
+      reported[size_t(k)] = true;
+      rep.axis_limits.push_back({index, b.line, axis, v[size_t(k)], it->second.min, it->second.max});
+    }
+  }
+}
+
+}  // namespace tf::sim
