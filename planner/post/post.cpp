@@ -161,7 +161,8 @@ class Builder {
  private:
   struct Transit {
     Joints retract;  // the tool backed off along its axis until it clears the part
-    Joints high;     // further along the axis up to the transit height
+    Joints high;     // further along the axis (or straight up) to the transit height
+    bool high_within_limits = true;
   };
 
   // The tool pose at programmed joints (tcp: the tip itself, with `axis`).
@@ -236,16 +237,30 @@ class Builder {
   // safe_z of them, the retract is the full one, as without obstacles.
   Transit transit(const ToolPose& pose, const Joints& j, bool check_rise = true) {
     const double full = full_lift(pose);
-    if (!check_.active()) return transit_at(pose, j, full);
+    if (!check_.active()) return reachable(transit_at(pose, j, full, full));
     const double lift = check_.lowest_lift(pose, std::min(1.0, full), full, job_.machine.safe_z).value_or(full);
-    Transit t = transit_at(pose, j, lift);
-    if (!check_rise || lift >= full) return t;
+    Transit t = transit_at(pose, j, lift, full);
+    if (!check_rise) return t;  // only the retract is used
+    if (lift >= full) return reachable(t);
     const ToolPose low = pose_at(t.retract, pose.axis), high = pose_at(t.high, pose.axis);
-    if (check_.translation_clear(low, high.tip - low.tip, 0.5 * job_.machine.safe_z)) return t;
-    return transit_at(pose, j, full);
+    if (t.high_within_limits && check_.translation_clear(low, high.tip - low.tip, 0.5 * job_.machine.safe_z)) return t;
+    return reachable(transit_at(pose, j, full, full));
   }
 
-  Transit transit_at(const ToolPose& pose, const Joints& j, double lift) {
+  Transit reachable(Transit t) const {
+    if (!t.high_within_limits)
+      throw JobError("the transit point X " + fixed(t.high.x, 3) + " Y " + fixed(t.high.y, 3) + " Z " + fixed(t.high.z, 3) +
+                     " over a retract is outside the machine's limits (" + outside_limits(t.high) + ")");
+    return t;
+  }
+
+  // `full`: the lift that takes the tip safe_z beyond the part's extent along the axis (full_lift). From
+  // there the whole part lies behind the plane through the tip normal to the axis, and a rise straight up
+  // (axis.z >= 0) only moves away from that plane: the rise is vertical. From a shorter retract it goes on
+  // along the axis (checked by `transit`), where a vertical rise could scrape a wall. Along an axis 84 deg
+  // off vertical that had carried a head machine 2.3 m sideways to reach the transit height (found in
+  // review).
+  Transit transit_at(const ToolPose& pose, const Joints& j, double lift, double full) {
     const double wanted = lift;  // the limits may shorten it
     Transit t;
     Eigen::Vector3d dir = pose.axis;  // how the programmed XYZ move when the tip moves along its axis
@@ -253,12 +268,14 @@ class Builder {
       t.retract = target(ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
     } else {
       // Back off along the axis; where the full lift leaves the limits, as far as they allow.
-      std::optional<Joints> r;
-      for (int tries = 0; tries < 8 && !r; ++tries, lift *= 0.5)
+      std::optional<Joints> r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
+      for (int tries = 1; tries < 8 && !r; ++tries) {
+        lift *= 0.5;
         r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
+      }
       if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
-      if (tries_warned_ == 0 && lift * 2.0 < std::min(wanted, job_.machine.safe_z) - 1e-9) {
-        prog_.warnings.push_back("a retract is shortened to " + fixed(lift * 2.0, 3) + " mm by the machine's limits");
+      if (tries_warned_ == 0 && lift < std::min(wanted, job_.machine.safe_z) - 1e-9) {
+        prog_.warnings.push_back("a retract is shortened to " + fixed(lift, 3) + " mm by the machine's limits");
         ++tries_warned_;
       }
       t.retract = *r;
@@ -266,15 +283,28 @@ class Builder {
     }
     t.high = t.retract;
     const double z = std::max(zsafe_, t.retract.z);  // zsafe_ is within Z's limits, retract too
-    if (dir.z() > 0.05) {
+    const bool straight_up = lift >= full - 1e-9 && pose.axis.z() >= 0.0;
+    if (!straight_up && dir.z() > 0.05) {
       const double k = (z - t.retract.z) / dir.z();
       t.high.x += k * dir.x();
       t.high.y += k * dir.y();
     }
     t.high.z = z;
-    if (!tcp_ && !kin_.within_limits(t.high))
-      throw JobError("the safe transit height Z " + fixed(z, 3) + " is outside the machine's limits");
+    t.high_within_limits = tcp_ || kin_.within_limits(t.high);
     return t;
+  }
+
+  // The axes of j beyond the machine's limits, as "X 1343.8 > 500".
+  std::string outside_limits(const Joints& j) const {
+    const double v[6] = {j.x, j.y, j.z, j.a, j.b, j.c};
+    std::string out;
+    for (int k = 0; k < 6; ++k) {
+      const auto it = job_.machine.limits.find("XYZABC"[k]);
+      if (it == job_.machine.limits.end() || it->second.contains(v[k])) continue;
+      out += (out.empty() ? "" : ", ") + std::string(1, "XYZABC"[k]) + " " + fixed(v[k], 3) +
+             (v[k] > it->second.max ? " > " + fixed(it->second.max, 3) : " < " + fixed(it->second.min, 3));
+    }
+    return out.empty() ? "a rotary" : out;
   }
 
   Block block(Motion motion, const Joints& target) const {

@@ -414,6 +414,32 @@ TEST(Post, FarCLimitsAndTinyFeeds) {
 // Three turns of a spiral on a C limited to a turn either way need one change of configuration, not two
 // unwinds (found in review: an unwind was priced as C motion, the flip that would do it with one retract as
 // a retract).
+// A head tilted far from vertical rises straight up from its full retract: rising on along the axis had
+// carried it 2.3 m sideways on an 84 deg axis, beyond the machine's X and Y (found in review). The part
+// lies behind the plane through the retracted tip normal to the axis, and a rise straight up leaves it.
+TEST(Post, FarTiltedHeadRisesStraightUpToTheTransitHeight) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['X'] = {-300.0, 300.0};
+  job.machine.limits['Y'] = {-300.0, 300.0};
+  tf::OrientedPath path;
+  for (int i = 0; i <= 20; ++i) {
+    tf::OrientedRow r;
+    r.p = {40.0 + i, 0.0, 10.0};
+    r.axis = polar_axis(80.0, 0.0);
+    path.rows.push_back(r);
+  }
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  const Kinematics kin(job.machine, job.tool.length);
+  for (const tf::Block& b : prog.blocks) EXPECT_TRUE(kin.within_limits(b.target)) << b.target.x << " " << b.target.y;
+  // The last two rapids: along the axis to the retract, then straight up.
+  ASSERT_GE(prog.blocks.size(), 3u);
+  const tf::Joints& retract = prog.blocks[prog.blocks.size() - 2].target;
+  const tf::Joints& high = prog.blocks.back().target;
+  EXPECT_DOUBLE_EQ(high.x, retract.x);
+  EXPECT_DOUBLE_EQ(high.y, retract.y);
+  EXPECT_GT(high.z, retract.z);
+}
+
 TEST(Post, OneRetractWhereOneDoes) {
   const tf::PostJob job = job_for("head-head-ac");
   tf::OrientedPath path;
