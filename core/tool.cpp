@@ -1,5 +1,6 @@
 #include "tiltfield/core/tool.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -16,6 +17,8 @@ std::string_view to_string(ToolComponent c) {
   }
   return "?";
 }
+
+double default_link_gap(const Tool& tool) { return std::max(1.0, kLinkGapToolRadii * tool.radius()); }
 
 double Tool::radius() const {
   return std::visit([](const auto& c) { return c.radius; }, cutter);

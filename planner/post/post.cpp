@@ -19,7 +19,7 @@ Dialect effective_dialect(const PostOptions& options, const MachineSpec& machine
 }
 
 double effective_link_gap(const PostOptions& options, const Tool& tool) {
-  return options.link_gap_mm.value_or(std::max(1.0, kLinkGapToolRadii * tool.radius()));
+  return options.link_gap_mm.value_or(default_link_gap(tool));
 }
 
 void set_transit_obstacles(PostJob& job, const Scene& scene) {

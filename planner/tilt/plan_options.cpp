@@ -15,6 +15,7 @@ PlanOptions derive_plan_options(const Tool& tool, const PlannerBasics& basics, d
   o.field_cell_mm = std::clamp(R / 2.0, 0.25, 4.0);
   o.sample_spacing_mm = std::clamp(R / 2.0, 0.25, 4.0);
   o.correction_window_mm = 2.0 * o.response_length_mm;
+  o.link_gap_mm = default_link_gap(tool);
   o.min_gap_mm = o.influence_mm / 20.0;
   const double v = std::max(feed_mm_min, 1e-6) / 60.0;  // mm/s
   const double wn = v / o.response_length_mm;
@@ -62,7 +63,7 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
       // the planner's own
       "method", "smooth", "response_length_mm", "damping_ratio", "inertia", "attraction", "damping", "influence_mm",
       "repulsion_gain", "min_gap_mm", "max_substep_deg", "field_cell_mm", "sample_spacing_mm",
-      "correction_window_mm", "correction_margin_mm", "correction_iterations", "between_rows_tolerance_mm",
+      "correction_window_mm", "correction_margin_mm", "correction_iterations", "between_rows_tolerance_mm", "link_gap_mm",
       "pointwise_step_deg",
       "smooth_weight", "smooth_deviation_weight", "smooth_iterations"};
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -104,6 +105,7 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   o.correction_margin_mm = r.number("correction_margin_mm", o.correction_margin_mm, false);
   o.correction_iterations = r.count("correction_iterations", o.correction_iterations, 0, 100);
   o.between_rows_tolerance_mm = r.number("between_rows_tolerance_mm", o.between_rows_tolerance_mm, true);
+  o.link_gap_mm = r.number("link_gap_mm", o.link_gap_mm, true);
   o.pointwise_step_deg = r.number("pointwise_step_deg", o.pointwise_step_deg, true);
   o.smooth_weight = r.number("smooth_weight", o.smooth_weight, true);
   o.smooth_deviation_weight = r.number("smooth_deviation_weight", o.smooth_deviation_weight, true);

@@ -55,6 +55,26 @@ TEST(PlanSynthetic, ZeroSafetyDistanceStillSeesPenetration) {
   EXPECT_EQ(run(s, PlanMethod::Pointwise).metrics.rows_nominal_colliding, r.metrics.rows_nominal_colliding);
 }
 
+// A jump over an obstacle that the post links (retract, rapid, approach) is no cutting motion: its
+// straight line through the block is not checked (found in review: plan failed on it, then post linked
+// it and verify found nothing). With a link gap above the jump the line is checked, and fails.
+TEST(PlanSynthetic, MotionAcrossALinkIsNotChecked) {
+  WallScene s;
+  s.block = test::box_mesh({30, -20, 0}, {50, 20, 80}, 4.0);
+  ToolPath first = test::polyline_path({{0, 0, 3}, {15, 0, 3}}, 0.5, {0, 0, 1});
+  const ToolPath second = test::polyline_path({{65, 0, 3}, {80, 0, 3}}, 0.5, {0, 0, 1});
+  first.rows.insert(first.rows.end(), second.rows.begin(), second.rows.end());
+  s.path = first;
+  PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
+  EXPECT_DOUBLE_EQ(o.link_gap_mm, default_link_gap(s.tool));
+  const PlanResult linked = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  EXPECT_TRUE(linked.uncleared.empty());
+  EXPECT_EQ(linked.metrics.segments_below_safety, 0u);
+  o.link_gap_mm = 100.0;
+  const PlanResult cut = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  EXPECT_GT(cut.metrics.segments_below_safety, 0u);
+}
+
 TEST(PlanSynthetic, NominalCollidesPlannedClearsByFcl) {
   const WallScene s = wall_scene(4.0);
   const PlanResult r = run(s, PlanMethod::Dynamic);

@@ -59,6 +59,12 @@ struct Tool {
   std::vector<ToolSample> sample_surface(double spacing) const;
 };
 
+// Consecutive rows whose tool tips lie farther apart than this (mm) are linked by the post (retract,
+// rapid, approach), not cut through, and the planner does not check a cutting motion across them: 4
+// cutter radii, at least 1 mm. Shared so that both sides draw the line at the same place.
+inline constexpr double kLinkGapToolRadii = 4.0;
+double default_link_gap(const Tool& tool);
+
 // Throws InputError(file, 0, field, ...) when a dimension is not positive/finite or the stack is
 // inconsistent (flute_length < end form height, length < flute_length, ...). `field_prefix` is the JSON
 // path of the tool object, e.g. "tool".

@@ -49,8 +49,6 @@ struct PostOptions {
   std::optional<double> link_gap_mm;
 };
 
-// The default link gap in tool radii (see PostOptions::link_gap_mm).
-inline constexpr double kLinkGapToolRadii = 4.0;
 // The link gap in effect for these options and tool, mm.
 double effective_link_gap(const PostOptions& options, const Tool& tool);
 

@@ -61,6 +61,9 @@ struct PlanOptions {
   // keeps its clearance less at most this much: the motion is refined until the displacement bound of
   // each piece proves it, and rows whose motion does not are corrected like colliding rows.
   double between_rows_tolerance_mm = 0.01;  // "between_rows_tolerance_mm"
+  // Rows whose tips lie farther apart than this are linked by the post (retract, rapid, approach): the
+  // motion between them is not checked. Default default_link_gap(tool), the post's default.
+  double link_gap_mm = 12.0;  // "link_gap_mm"
 
   // Pointwise baseline.
   double pointwise_step_deg = 0.5;  // "pointwise_step_deg": ring step of the search around the nominal axis
