@@ -107,6 +107,10 @@ TEST(Gcode, ArcErrors) {
   EXPECT_EQ(parse("G0 X0 Y0 Z0\nG2 X10.002 Y0 R5 F100\nG2 X110.0044 R50\n").blocks.size(), 3u);
   expect_error("G0 X0 Y0 Z0\nG2 X10.003 Y0 R5 F100\n", 2, "R");
   expect_error("G0 X0 Y0 Z0\nG2 X100.0026 Y0 R50 F100\n", 2, "R");
+  // A radius below rs274's 0.00127 mm is a "zero-radius arc"; 0.0013 is an arc.
+  expect_error("G0 X0 Y0 Z0\nG2 X0.0005 I0.0001 F100\n", 2, "I");
+  expect_error("G0 X0 Y0 Z0\nG2 X0.0024 I0.0012 F100\n", 2, "I");
+  EXPECT_EQ(parse("G0 X0 Y0 Z0\nG2 X0.0026 I0.0013 F100\n").blocks.size(), 2u);
   expect_error("G0 X10 Y0 Z0\nG2 X0 Y10 F100\n", 2, "I");         // no centre
 }
 

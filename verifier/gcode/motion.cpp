@@ -269,7 +269,10 @@ void Reader::arc(int motion, const Axes& start, const Axes& end, const Values& v
 }
 
 namespace {
-constexpr double kRFormSlack = 0.00127;  // mm
+// rs274's radius tolerance, 0.00005 inch in either unit: half an R-form chord may exceed R by it, and an
+// arc's radius must reach it (measured: a chord of 10.002 at R 5 is an arc, 10.003 is refused; a radius
+// of 0.0013 is an arc, 0.0012 a "zero-radius arc").
+constexpr double kRadiusTolerance = 0.00127;  // mm
 }  // namespace
 
 Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end, const Values& val, int line) const {
@@ -283,9 +286,8 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     const Eigen::Vector2d s2(start[pa.u], start[pa.v]), e2(end[pa.u], end[pa.v]);
     const double chord = (e2 - s2).norm();
     if (chord < 1e-9) throw InputError(file_, line, "R", "an R-form arc needs distinct start and end points");
-    // rs274 lets half the chord exceed R by 0.00005 inch (0.00127 mm) in either unit, measured: a chord
-    // of 10.002 at R 5 is an arc, 10.003 is refused.
-    if (std::abs(r) < chord / 2.0 - kRFormSlack)
+    if (std::abs(r) < kRadiusTolerance) throw InputError(file_, line, "R", "arc radius is zero");
+    if (std::abs(r) < chord / 2.0 - kRadiusTolerance)
       throw InputError(file_, line, "R", "radius is smaller than half the chord");
     const double h = std::sqrt(std::max(0.0, r * r - chord * chord / 4.0));
     const Eigen::Vector2d mid = 0.5 * (s2 + e2), dir = (e2 - s2) / chord;
@@ -310,7 +312,8 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     // 0.1 % of the end radius too.
     if (std::abs(rs - re) > std::max(options_.arc_tolerance * (st_.inch ? 2.54 : 1.0), 1e-3 * re))
       throw InputError(file_, line, std::string(1, pa.lu), "start and end are not on one circle about the centre");
-    if (rs < 1e-9) throw InputError(file_, line, std::string(1, pa.lu), "arc radius is zero");
+    if (rs < kRadiusTolerance || re < kRadiusTolerance)
+      throw InputError(file_, line, std::string(1, pa.lu), "arc radius is zero (below 0.00127 mm, as rs274)");
   }
   return c;
 }
