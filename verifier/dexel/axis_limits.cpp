@@ -40,7 +40,7 @@ std::vector<double> times_to_check(const Block& b, const Joints& from) {
     // The sweep from the middle's angle (interpolate_block's own: a full circle or a short arc alike).
     const double half = std::fmod(sign * (am - as) + 2.0 * two_pi, two_pi);
     const double sweep = 2.0 * half;
-    for (int q = 0; q < 8 && sweep > 0.0; ++q) {
+    for (int q = 0; q < 4 && sweep > 0.0; ++q) {
       // Quarter angles ahead of the start along the motion: as + sign * d, d in (0, sweep).
       const double target = q * std::numbers::pi / 2.0;
       const double d = std::fmod(sign * (target - as) + 2.0 * two_pi, two_pi);
