@@ -185,6 +185,18 @@ bool Kinematics::within_limits(const Joints& j) const {
   return true;
 }
 
+std::vector<AxisOutside> axes_outside_limits(const MachineSpec& machine, const Joints& j, double slack) {
+  std::vector<AxisOutside> out;
+  const double v[6] = {j.x, j.y, j.z, j.a, j.b, j.c};
+  for (int k = 0; k < 6; ++k) {
+    const char axis = "XYZABC"[k];
+    const auto it = machine.limits.find(axis);
+    if (it != machine.limits.end() && (v[k] < it->second.min - slack || v[k] > it->second.max + slack))
+      out.push_back({axis, v[k], it->second});
+  }
+  return out;
+}
+
 std::optional<Joints> Kinematics::inverse_with_c(const ToolPose& pose, double c, const Joints& previous) const {
   const KinematicsType k = machine_.kinematics;
   if (k == KinematicsType::XYZ) return std::nullopt;

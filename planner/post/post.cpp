@@ -296,15 +296,11 @@ class Builder {
 
   // The axes of j beyond the machine's limits, as "X 1343.8 > 500".
   std::string outside_limits(const Joints& j) const {
-    const double v[6] = {j.x, j.y, j.z, j.a, j.b, j.c};
     std::string out;
-    for (int k = 0; k < 6; ++k) {
-      const auto it = job_.machine.limits.find("XYZABC"[k]);
-      if (it == job_.machine.limits.end() || it->second.contains(v[k])) continue;
-      out += (out.empty() ? "" : ", ") + std::string(1, "XYZABC"[k]) + " " + fixed(v[k], 3) +
-             (v[k] > it->second.max ? " > " + fixed(it->second.max, 3) : " < " + fixed(it->second.min, 3));
-    }
-    return out.empty() ? "a rotary" : out;
+    for (const AxisOutside& e : axes_outside_limits(job_.machine, j))
+      out += (out.empty() ? "" : ", ") + std::string(1, e.axis) + " " + fixed(e.value, 3) +
+             (e.value > e.limit.max ? " > " + fixed(e.limit.max, 3) : " < " + fixed(e.limit.min, 3));
+    return out;
   }
 
   Block block(Motion motion, const Joints& target) const {

@@ -57,12 +57,8 @@ void run_verify(const VerifyArgs& a) {
     throw InputError("", 0, "--engagement-axial-step", "must be a number of mm >= 0 (0: automatic)");
   if (!(a.mesh_tolerance >= 0.0) || !std::isfinite(a.mesh_tolerance))
     throw InputError("", 0, "--mesh-tolerance", "must be a number of mm >= 0 (0: the full mesh)");
-  // Every output name is checked before the simulation, so that a mistyped one costs no minutes and
-  // leaves no other output behind.
-  for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"-o", a.out}, {"--blocks", a.blocks},
-                                     {"--stock-mesh", a.stock_mesh}, {"--engagement", a.pairs},
-                                     {"--report", a.report}, {"--html", a.html}})
-    check_output_file(option, path);
+  // Every output name was checked while parsing (output_file()), so that a mistyped one costs no minutes
+  // and leaves no other output behind.
   if (!a.stock_mesh.empty()) check_mesh_format(a.stock_mesh);
   const Scene scene = load_scene(a.scene);
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
@@ -152,10 +148,10 @@ void add_verify_command(CLI::App& app) {
   static VerifyArgs args;  // CLI11 binds options to storage living as long as the app
   cmd->add_option("SCENE", args.scene, "scene JSON")->required();
   cmd->add_option("PROGRAM", args.program, "G-code program")->required();
-  cmd->add_option("-o,--output", args.out, "verification report JSON (with --schedule-feed: the rewritten program)")->required();
-  cmd->add_option("--blocks", args.blocks, "per-block CSV");
-  cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design");
-  cmd->add_option("--html", args.html, "HTML report: the stock in 3-D (by deviation, or by block/tool), collisions, plots");
+  cmd->add_option("-o,--output", args.out, "verification report JSON (with --schedule-feed: the rewritten program)")->required()->check(output_file());
+  cmd->add_option("--blocks", args.blocks, "per-block CSV")->check(output_file());
+  cmd->add_option("--stock-mesh", args.stock_mesh, "stock mesh (PLY/STL/OBJ/OFF), coloured by deviation from the design")->check(output_file());
+  cmd->add_option("--html", args.html, "HTML report: the stock in 3-D (by deviation, or by block/tool), collisions, plots")->check(output_file());
   cmd->add_option("--mesh-tolerance", args.mesh_tolerance,
                   "stock mesh (--stock-mesh, --html) decimated within this distance of the full dual-contoured mesh, mm; 0: the "
                   "full mesh (default 0.01)");
@@ -170,7 +166,7 @@ void add_verify_command(CLI::App& app) {
                   "a check surface or fixture), mm (default 0.001)");
   cmd->add_option("--mesh-refine", args.mesh_refine, "split the stock mesh's triangles in four this many times (default 0)")
       ->check(CLI::Range(0, 4));
-  cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)");
+  cmd->add_option("--engagement", args.pairs, "every engagement entry/exit pair at every height (CSV)")->check(output_file());
   cmd->add_flag("--no-engagement", args.no_engagement, "skip the engagement measurement (angles, area, depths)");
   cmd->add_option("--engagement-angle-step", args.engagement.angle_step_deg,
                   "engagement samples around the tool axis this far apart, deg; an engaged arc narrower than it can be "
@@ -182,7 +178,7 @@ void add_verify_command(CLI::App& app) {
                   "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
   cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();
   cmd->add_option("--air-feed", args.schedule.air_feed, "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
-  cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON");
+  cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON")->check(output_file());
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
   cmd->add_flag("--block-delete", args.block_delete,

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <string_view>
 
 #include "tiltfield/dexel/sweep.hpp"
 
@@ -63,16 +64,12 @@ void check_axis_limits(const MachineSpec& machine, const Block& b, const Joints&
       const Eigen::Vector3d x = machine_xyz(forward, j, Eigen::Vector3d(j.x, j.y, j.z));
       j.x = x.x(), j.y = x.y(), j.z = x.z();
     }
-    const std::array<double, 6> v{j.x, j.y, j.z, j.a, j.b, j.c};
-    for (int k = 0; k < 6; ++k) {
-      const char axis = "XYZABC"[k];
-      const auto it = machine.limits.find(axis);
-      // A rounding's worth of slack: a program written to 4 decimals at the limit is within it.
-      if (reported[size_t(k)] || it == machine.limits.end() ||
-          (v[size_t(k)] >= it->second.min - 1e-6 && v[size_t(k)] <= it->second.max + 1e-6))
-        continue;
-      reported[size_t(k)] = true;
-      rep.axis_limits.push_back({index, b.line, axis, v[size_t(k)], it->second.min, it->second.max});
+    // A rounding's worth of slack: a program written to 4 decimals at the limit is within it.
+    for (const AxisOutside& e : axes_outside_limits(machine, j, 1e-6)) {
+      const auto k = std::string_view("XYZABC").find(e.axis);
+      if (reported[k]) continue;
+      reported[k] = true;
+      rep.axis_limits.push_back({index, b.line, e.axis, e.value, e.limit.min, e.limit.max});
     }
   }
 }

@@ -93,6 +93,16 @@ class Kinematics {
   double gauge_length_;
 };
 
+// An axis of a joint position beyond its limit.
+struct AxisOutside {
+  char axis;     // X Y Z A B C
+  double value;  // mm or deg
+  AxisLimit limit;
+};
+// The axes of j beyond machine.limits by more than `slack` (mm or deg), in the order X Y Z A B C: what the
+// post names when it cannot reach a point and what the verifier reports.
+std::vector<AxisOutside> axes_outside_limits(const MachineSpec& machine, const Joints& j, double slack = 0.0);
+
 // The rotary distance between two joint sets, deg: the sum of |difference| over A, B and C.
 double rotary_distance(const Joints& a, const Joints& b);
 
