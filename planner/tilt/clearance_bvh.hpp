@@ -94,6 +94,19 @@ class ClearanceBvh {
   return g;
 }
 
+// Lower bound of the distance from a node's box to the cylinder of radius R about [p0, p1] (`out`: the
+// unit direction from p1 to p0): the capsule's bound, and the box's height beyond the plane of either cap
+// when it lies wholly beyond it. For a wide holder the capsule's hemisphere reaches R past its face, and
+// its bound alone opened every node within R of it.
+[[gnu::always_inline]] inline double cylinder_node_bound(const ClearanceBvh::Node& nd, const Eigen::Vector3d& p0,
+                                                         const Eigen::Vector3d& p1, double R,
+                                                         const Eigen::Vector3d& out) {
+  const double reach = (nd.axes * out).cwiseAbs().dot(nd.half);  // the box's half extent along out
+  const double beyond0 = (nd.centre - p0).dot(out) - reach;       // beyond p0's cap
+  const double beyond1 = (p1 - nd.centre).dot(out) - reach;       // beyond p1's cap
+  return std::max({segment_node_bound(nd, p0, p1) - R, beyond0, beyond1});
+}
+
 // The same exact queries as piece_distance / body_clearance (tool_body.hpp) on a ClearanceBvh. `hint`
 // (per call one triangle index, or -1) seeds the search with that triangle's distance and receives the
 // triangle that set the result: queries of nearby poses (consecutive rows) then prune almost the whole

@@ -41,7 +41,8 @@ BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, Clearance
   return out;
 }
 
-bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, ClearanceHints* hints) const {
+bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, ClearanceHints* hints,
+                         double ball_extra) const {
   const Pose p = pose(row, axis);
   for (size_t s = 0; s < obstacles.size(); ++s) {
     const ObstacleSet& set = obstacles[s];
@@ -49,7 +50,8 @@ bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, Clearan
     std::vector<int>* h = set_hints(hints, s, pieces.size());
     for (size_t k = 0; k < pieces.size(); ++k) {
       const size_t i = piece_query_order(pieces, k);
-      const double need = set.required[i] + extra;
+      const bool ball = pieces[i].sphere && pieces[i].h0 == 0.0;
+      const double need = set.required[i] + (ball ? std::min(extra, ball_extra) : extra);
       if (piece_distance(set.bvh, pieces[i], p, need, true, h ? &(*h)[i] : nullptr) < need) return false;
     }
   }
@@ -82,16 +84,25 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
                             Vector3d& turn) {
   turn.setZero();
   ClearanceHints hints;  // every query below is at this row, at nearby axes
+  const LocalFrame& fr = ctx.frames[row];
+  auto usable = [&](const Vector3d& a) { return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.reachable(row, a); };
   const bool clear_now = ctx.clears(row, axis, extra, &hints);
-  if (clear_now && ctx.reachable(row, axis)) return true;
-  // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps.
+  if (clear_now && usable(axis)) return true;
+  // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps,
+  // and when it is nearer than its clearance plus `extra` no turn gives it that much, so the ball is asked
+  // for what it leaves (less a rounding step), the other pieces for `extra` (asking the ball for more had
+  // failed rows whose every other piece could be cleared).
+  double ball_extra = extra;
   for (size_t i = 0; i < ctx.pieces.size() && !clear_now; ++i)
     if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0)
       for (const ObstacleSet& set : ctx.obstacles) {
+        if (set.bvh.empty()) continue;
         const double need = set.required[i] + extra;
-        if (!set.bvh.empty() && piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) < need) return false;
+        const double left = piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) - set.required[i];
+        if (left < 0) return false;
+        ball_extra = std::min(ball_extra, std::max(0.0, left - 1e-9));
       }
-  const LocalFrame& fr = ctx.frames[row];
+  if (ball_extra < extra && ctx.clears(row, axis, extra, &hints, ball_extra) && usable(axis)) return true;
   // Directions: 16 round, plus the ascent direction of the margin (finite differences), tried first.
   std::vector<Vector3d> dirs;
   {
@@ -110,7 +121,7 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
     const Vector3d a = rotate_axis(axis, w);
     // The cheap tests first: the closed-form joint solution before the clearance query (on a 3-axis
     // machine no turn is reachable, and the search cost 45 times the plan).
-    return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.reachable(row, a) && ctx.clears(row, a, extra, &hints);
+    return usable(a) && ctx.clears(row, a, extra, &hints, ball_extra);
   };
   for (double ang = step; ang <= max_angle; ang += step) {
     int best = -1;
@@ -142,15 +153,14 @@ double bump(double u, double w) {  // 1 at 0, smoothly (C1) down to 0 at |u| = w
 }
 }  // namespace
 
-size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
-                         const Progress& progress) {
+std::vector<SegmentCheck> enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes,
+                                            std::vector<BodyClearance>& clear, const Progress& progress) {
   const size_t n = axes.size();
-  std::vector<char> changed(n, 0);
   const double W = ctx.options.correction_window_mm;
   const double step = 0.5 * std::numbers::pi / 180.0;
   for (int iter = 0; iter < ctx.options.correction_iterations; ++iter) {
     // A row whose motion to a neighbour comes too close (the row itself clear) must gain what it lacked.
-    const std::vector<SegmentCheck> segments = check_segments(ctx, axes, clear);
+    std::vector<SegmentCheck> segments = check_segments(ctx, axes, clear);
     std::vector<double> lacks(n, 0.0);
     for (size_t i = 0; i < segments.size(); ++i)
       if (segments[i].failed) {
@@ -164,7 +174,7 @@ size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, st
     });
     for (size_t i = 0; i < n; ++i)
       if (bad[i]) failing.push_back(i);
-    if (failing.empty()) break;
+    if (failing.empty()) return segments;
     // Later rounds aim a little higher, so rows pulled back by their neighbours' blend converge.
     const double extra = ctx.options.correction_margin_mm * (1 + iter);
     std::vector<Vector3d> turn(failing.size(), Vector3d::Zero());
@@ -199,13 +209,12 @@ size_t enforce_clearance(const PlanContext& ctx, std::vector<Vector3d>& axes, st
       w = w.dot(fr.f) * fr.f + w.dot(fr.t) * fr.t;
       if (w.norm() < 1e-12) continue;
       axes[j] = clamp_to_cone(rotate_axis(axes[j], w), fr.n, ctx.cos_max_tilt);
-      changed[j] = 1;
       rows.push_back(j);
     }
     tbb::parallel_for(size_t{0}, rows.size(), [&](size_t k) { clear[rows[k]] = ctx.clearance(rows[k], axes[rows[k]]); });
     report(progress, "plan", 0.8 + 0.1 * (iter + 1) / ctx.options.correction_iterations);
   }
-  return static_cast<size_t>(std::count(changed.begin(), changed.end(), 1));
+  return check_segments(ctx, axes, clear);
 }
 
 }  // namespace tf

@@ -269,6 +269,31 @@ void dynamic_stages(const PlanContext& ctx, const Progress& progress, StageClock
   integrate_and_clear(ctx, sources, progress, stage, metrics, axes, clear);
 }
 
+// The corrections, the bridges over motions that cross an obstacle and, after the dynamics, the fall-back
+// to the baseline's axes. Counts the rows they changed; notes say which last resort acted. Returns the
+// motions' checks at the axes they leave.
+std::vector<SegmentCheck> guarantee_stages(const PlanContext& ctx, const Progress& progress,
+                                           std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
+                                           PlanResult& result) {
+  std::vector<std::string>& notes = result.notes;
+  const std::vector<Vector3d> planned = axes;
+  std::vector<SegmentCheck> segments = enforce_clearance(ctx, axes, clear, progress);
+  if (const size_t bridged = bridge_failing_motions(ctx, axes, clear, segments))
+    notes.push_back(std::to_string(bridged) +
+                    " motion(s) between rows crossed an obstacle: one side was followed until the motion back was "
+                    "clear");
+  if (ctx.options.method == PlanMethod::Dynamic) {
+    const FallbackResult fb = fall_back_to_pointwise(ctx, axes, clear, segments);
+    if (fb.failing + fb.whipping > 0)
+      notes.push_back("the dynamics and corrections left " + std::to_string(fb.failing) + " row(s) failing and " +
+                      std::to_string(fb.whipping) +
+                      " row(s) at a whipping turn: the pointwise axes were blended in around them");
+  }
+  result.metrics.corrected_rows = 0;
+  for (size_t i = 0; i < axes.size(); ++i) result.metrics.corrected_rows += axes[i] != planned[i] ? 1 : 0;
+  return segments;
+}
+
 void note_axis_limits(const PlanContext& ctx, const MachineSpec* machine, std::vector<std::string>& notes) {
   if (!machine)
     notes.emplace_back("no machine: only max_tilt_deg limits the axis");
@@ -338,16 +363,16 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   else
     dynamic_stages(ctx, progress, stage, result.metrics, axes, clear);
   report(progress, "plan", 0.8);
-  result.metrics.corrected_rows = enforce_clearance(ctx, axes, clear, progress);
+  std::vector<SegmentCheck> segments = guarantee_stages(ctx, progress, axes, clear, result);
   stage("corrections");
   if (options.smooth) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed)
       result.notes.emplace_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
     stage("smoothing");
+    segments = check_segments(ctx, axes, clear);  // the smoothing moved the axes
   }
   note_axis_limits(ctx, machine, result.notes);
-  const std::vector<SegmentCheck> segments = check_segments(ctx, axes, clear);
   stage("between_rows");
   write_result(ctx, axes, clear, segments, result);
   result.metrics.seconds = stage.total_seconds();

@@ -1,6 +1,7 @@
 // tiltfield planner (internal): what every stage of one planning job shares.
 #pragma once
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -49,8 +50,9 @@ struct PlanContext {
   // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;
   // True when every piece keeps its required clearance plus `extra` from every set (early exit, cheap
-  // when far).
-  bool clears(size_t row, const Eigen::Vector3d& axis, double extra, ClearanceHints* hints = nullptr) const;
+  // when far); the ball centred on the cutter location only its clearance plus min(extra, ball_extra).
+  bool clears(size_t row, const Eigen::Vector3d& axis, double extra, ClearanceHints* hints = nullptr,
+              double ball_extra = std::numeric_limits<double>::infinity()) const;
   // The largest clearance any piece must keep from any set, mm.
   double max_required() const;
 };
@@ -79,9 +81,28 @@ void clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes
                 std::vector<BodyClearance>& out);
 
 // The guarantee pass: turns rows below their clearance by the smallest rotation that clears them,
-// spread smoothly over the correction window. Updates axes and clear; returns the rows it changed.
-size_t enforce_clearance(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes, std::vector<BodyClearance>& clear,
-                         const Progress& progress);
+// spread smoothly over the correction window. Updates axes and clear; returns the motions' checks at the
+// axes it leaves.
+std::vector<SegmentCheck> enforce_clearance(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
+                                            std::vector<BodyClearance>& clear, const Progress& progress);
+
+// Where the guarantee pass left rows failing (below their clearance, unreachable, or at a failing motion)
+// or the axis whipping round (a turn of more than 45 degrees per response length, and 5 degrees): the
+// point-by-point baseline's axes blended in over the correction window around them, corrected again, and
+// kept only when fewer rows fail, or as many and fewer whip, none deeper below its clearance than before.
+// Returns what it replaced (zeros when it kept the axes).
+struct FallbackResult {
+  size_t failing = 0, whipping = 0;
+};
+FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
+                                      std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
+
+// Where a motion between two clear rows fails (the axis passes from one side of an obstacle to the other
+// between them), one side's region is followed row by row until a motion back to the planned axes is
+// proven: the fewer rows of the two directions are changed. Returns the motions it mended.
+// `segments` are the motions' checks at `axes`, kept up to date.
+size_t bridge_failing_motions(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
+                              std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
 
 // Smallest turn (rotation vector in span{f, t}, rad) from `axis` that makes the row clear with
 // `extra` margin, searched up to the max-tilt cone; nullopt-like: returns false when none is found.

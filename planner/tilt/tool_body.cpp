@@ -62,21 +62,38 @@ Vector3d closest_on_simplex(std::array<Vector3d, 4>& y, int& n, bool& inside) {
     const Vector3d& y0 = y[static_cast<size_t>(idx[0])];
     double lambda[4] = {1, 0, 0, 0};
     if (k > 1) {
-      using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
-      using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
-      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> E(3, k - 1);
-      for (int j = 1; j < k; ++j) E.col(j - 1) = y[static_cast<size_t>(idx[j])] - y0;
-      const Mat G = E.transpose() * E;
-      const Vec rhs = -E.transpose() * y0;
-      // Skip degenerate sub-simplices (their faces are checked on their own).
-      if (std::abs(G.determinant()) < 1e-24 * std::pow(G.trace() + 1e-300, k - 1)) continue;
-      const Vec mu = G.partialPivLu().solve(rhs);
+      // mu minimises |y0 + E mu| (E's columns: the other vertices less y0): the normal equations G mu = rhs,
+      // solved in closed form per size (the planner's hottest loop with a holder's cap over many triangles).
+      const int m = k - 1;
+      Vector3d e[3];
+      for (int j = 0; j < m; ++j) e[j] = y[static_cast<size_t>(idx[j + 1])] - y0;
+      double mu[3] = {0, 0, 0};
+      if (m == 1) {
+        const double g = e[0].squaredNorm();
+        if (g < 1e-300) continue;  // skip degenerate sub-simplices (their faces are checked on their own)
+        mu[0] = -e[0].dot(y0) / g;
+      } else if (m == 2) {
+        const double a = e[0].squaredNorm(), b = e[0].dot(e[1]), c = e[1].squaredNorm();
+        const double det = a * c - b * b, trace = a + c + 1e-300;
+        if (std::abs(det) < 1e-24 * trace * trace) continue;
+        const double r0 = -e[0].dot(y0), r1 = -e[1].dot(y0);
+        mu[0] = (c * r0 - b * r1) / det;
+        mu[1] = (a * r1 - b * r0) / det;
+      } else {
+        Eigen::Matrix3d E;
+        E << e[0], e[1], e[2];
+        const Eigen::Matrix3d G = E.transpose() * E;
+        const double det = G.determinant(), trace = G.trace() + 1e-300;
+        if (std::abs(det) < 1e-24 * trace * trace * trace) continue;
+        const Vector3d sol = G.inverse() * (-E.transpose() * y0);
+        for (int j = 0; j < 3; ++j) mu[j] = sol[j];
+      }
       double s = 0;
       bool ok = true;
       for (int j = 1; j < k; ++j) {
-        lambda[j] = mu(j - 1);
-        s += mu(j - 1);
-        ok &= mu(j - 1) > 0;
+        lambda[j] = mu[j - 1];
+        s += mu[j - 1];
+        ok &= mu[j - 1] > 0;
       }
       lambda[0] = 1 - s;
       if (!ok || lambda[0] <= 0) continue;
@@ -156,6 +173,23 @@ double cylinder_leaf(const Triangle& t, const Vector3d& p0, const Vector3d& p1, 
   // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the capsule
   // distance is the cylinder's, exactly. Only cap-side contacts need GJK.
   if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
+  // A cap-side contact. A triangle wholly beyond the cap's plane lies at least its nearest vertex's height
+  // above that plane, and exactly that when the vertex stands over the cap's disc. For a wide holder over
+  // many triangles this spares GJK nearly every leaf: the capsule's hemisphere reaches R past the cap, so
+  // its bound let through every triangle within R of the holder's face.
+  const Vector3d end = s <= 0.5 ? p0 : p1;
+  const Vector3d out = (s <= 0.5 ? p0 - p1 : p1 - p0).normalized();
+  const Vector3d* v[3] = {&t.a, &t.b, &t.c};
+  int low = 0;
+  double h[3];
+  for (int i = 0; i < 3; ++i) {
+    h[i] = (*v[i] - end).dot(out);
+    if (h[i] < h[low]) low = i;
+  }
+  if (h[low] > 0) {
+    if (h[low] >= best) return h[low];
+    if ((*v[low] - end - h[low] * out).squaredNorm() <= R * R) return h[low];
+  }
   return triangle_cylinder_distance(t, p0, p1, R);
 }
 
@@ -242,6 +276,7 @@ double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pos
     return std::max(0.0, std::sqrt(d2) - R);
   }
   const Vector3d p0 = pose.c + piece.h0 * pose.axis, p1 = pose.c + piece.h1 * pose.axis;
+  const Vector3d out = -pose.axis.normalized();  // p0's cap faces this way (h0 < h1)
   const double R = piece.radius;
   auto leaf = [&](int i, double best) {
     const double d = cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
@@ -252,8 +287,8 @@ double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pos
   if (seed >= 0) start = std::min(start, leaf(seed, start));
   double d = start;
   if (!(first_below && start < limit))
-    d = bvh.minimum([&](const ClearanceBvh::Node& nd) { return segment_node_bound(nd, p0, p1) - R; }, leaf, start,
-                    first_below ? limit : -inf);
+    d = bvh.minimum([&](const ClearanceBvh::Node& nd) { return cylinder_node_bound(nd, p0, p1, R, out); }, leaf,
+                    start, first_below ? limit : -inf);
   if (hint && arg >= 0) *hint = arg;
   return std::max(0.0, d);
 }

@@ -1,6 +1,7 @@
 // The planner on generated impellers (coarse paths so each test takes seconds): the nominal axis
 // collides, the planned one clears by an independent FCL check, is smoother than the point-by-point
-// baseline and does not follow the blades' tessellation.
+// baseline and does not follow the blades' tessellation. In a narrow channel (9 blades, a radius-1 ball
+// 0.3 mm from them) the dynamics' detours are replaced and the motions between rows checked by FCL too.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -110,6 +111,43 @@ TEST(ImpellerPlanQuality, BladeTessellationDoesNotSteerTheAxis) {
   ASSERT_EQ(base.path.rows.size(), rough.path.rows.size());
   EXPECT_LE(max_angle_deg(base.path, fine.path), 0.5);
   EXPECT_LE(max_angle_deg(base.path, rough.path), 0.5);
+}
+
+// 9 blades leaning 30 deg, a radius-1 ball kept 0.3 mm from them, safety 0.1 mm: the potential field
+// swings the axis between the edges of the max-tilt cone (40 deg between two rows 1 mm apart) and the
+// corrections left 4 rows in a blade; the baseline clears every row.
+Impeller narrow_channel(double wrap, double lean, bool splitters) {
+  scenes::ImpellerOptions o = coarse(9, lean, splitters);
+  o.wrap_deg = wrap;
+  o.tool_radius = 1.0;
+  o.ball_clearance = 0.3;
+  Impeller s = make(o);
+  s.bundle.planner.safety_distance = 0.1;
+  return s;
+}
+
+TEST(ImpellerPlanNarrow, DynamicClearsWithoutSwingingTheAxis) {
+  const Impeller s = narrow_channel(90, 30, false);
+  const PlanResult r = run(s, PlanMethod::Dynamic);
+  EXPECT_EQ(r.metrics.rows_below_safety, 0u);
+  EXPECT_EQ(r.metrics.segments_below_safety, 0u);
+  EXPECT_LE(r.metrics.max_step_deg, 15.0);
+  const auto fcl = test::fcl_check(test::densify(r.path, 4), s.bundle.tool, s.meshes(), s.bundle.planner);
+  EXPECT_EQ(fcl.rows_below, 0u) << "min margin " << fcl.min_margin;
+  EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+    return note.find("pointwise axes were blended in") != std::string::npos;
+  }));
+}
+
+TEST(ImpellerPlanNarrow, MotionsAcrossABladeAreBridged) {
+  // The baseline turns the holder from one side of a splitter to the other between rows 1 mm apart
+  // (3 motions through a blade before the bridge).
+  const Impeller s = narrow_channel(90, -15, true);
+  const PlanResult r = run(s, PlanMethod::Pointwise);
+  EXPECT_EQ(r.metrics.rows_below_safety, 0u);
+  EXPECT_EQ(r.metrics.segments_below_safety, 0u);
+  const auto fcl = test::fcl_check(test::densify(r.path, 4), s.bundle.tool, s.meshes(), s.bundle.planner);
+  EXPECT_EQ(fcl.rows_below, 0u) << "min margin " << fcl.min_margin;
 }
 
 }  // namespace

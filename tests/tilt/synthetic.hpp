@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "tiltfield/core/local_frame.hpp"
 #include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/oriented_path.hpp"
 #include "tiltfield/core/scene.hpp"
@@ -146,6 +147,22 @@ inline FclCheck fcl_check(const OrientedPath& path, const Tool& tool, const std:
     out.min_margin = std::min(out.min_margin, row_margin);
     if (row_margin < -tolerance) ++out.rows_below;
   }
+  return out;
+}
+
+// Every motion between consecutive rows as `k` poses (cutter location along the chord, axis along the
+// great circle), the rows included.
+inline OrientedPath densify(const OrientedPath& path, int k) {
+  OrientedPath out;
+  for (size_t i = 0; i + 1 < path.rows.size(); ++i)
+    for (int j = 0; j < k; ++j) {
+      const double u = static_cast<double>(j) / k;
+      OrientedRow r = path.rows[i];
+      r.p = path.rows[i].p + u * (path.rows[i + 1].p - path.rows[i].p);
+      r.axis = slerp_axis(path.rows[i].axis, path.rows[i + 1].axis, u).normalized();
+      out.rows.push_back(r);
+    }
+  out.rows.push_back(path.rows.back());
   return out;
 }
 

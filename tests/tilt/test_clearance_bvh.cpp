@@ -120,6 +120,28 @@ TEST(ClearanceBvh, PieceDistancesAreExactWithAndWithoutHints) {
   }
 }
 
+TEST(ClearanceBvh, WideCapOverTheSheetIsExact) {
+  // A holder's face (radius 10-30) over the wavy sheet, tilted either way and facing it with either end:
+  // the leaves decided by the cap's plane (a vertex standing over the disc) against GJK on every triangle.
+  std::mt19937 rng(5);
+  const auto tris = test_triangles(0.6, rng);
+  const ClearanceBvh bvh(tris);
+  std::uniform_real_distribution<double> U(-10, 10), ang(-0.5, 0.5), rad(10, 30), gap(0.05, 3);
+  for (int k = 0; k < 40; ++k) {
+    const Vector3d tilt = Vector3d(std::sin(ang(rng)), std::sin(ang(rng)), 1).normalized();
+    const Vector3d c(U(rng), U(rng), 4.5 + gap(rng));
+    // Even poses: the cylinder above c (its end at c faces the sheet); odd: the axis reversed, the far end
+    // of the piece at c.
+    const Vector3d axis = k % 2 ? Vector3d(-tilt) : tilt;
+    const double len = 20;
+    const double h0 = k % 2 ? -len : 0.0, h1 = h0 + len;
+    const double r = rad(rng);
+    const BodyPiece holder{ToolComponent::Holder, 0, false, h0, h1, r};
+    const double want = brute_cylinder(tris, c + h0 * axis, c + h1 * axis, r);
+    EXPECT_NEAR(piece_distance(bvh, holder, {c, axis}, std::numeric_limits<double>::infinity()), want, 2e-6) << k;
+  }
+}
+
 TEST(ClearanceBvh, BodyClearanceMatchesThePlainHierarchy) {
   std::mt19937 rng(3);
   const auto tris = test_triangles(0.4, rng);

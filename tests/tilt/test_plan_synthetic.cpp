@@ -134,21 +134,6 @@ TEST(PlanSynthetic, SmoothingKeepsClearanceAndHelps) {
   EXPECT_EQ(test::fcl_check(sm.path, s.tool, s.meshes(), s.basics).rows_below, 0u);
 }
 
-// Every motion between consecutive rows as `k` poses (cutter location along the chord, axis along the
-// great circle), the rows included.
-OrientedPath densify(const OrientedPath& path, int k) {
-  OrientedPath out;
-  for (size_t i = 0; i + 1 < path.rows.size(); ++i)
-    for (int j = 0; j < k; ++j) {
-      const double u = static_cast<double>(j) / k;
-      OrientedRow r = path.rows[i];
-      r.p = path.rows[i].p + u * (path.rows[i + 1].p - path.rows[i].p);
-      r.axis = slerp_axis(path.rows[i].axis, path.rows[i + 1].axis, u).normalized();
-      out.rows.push_back(r);
-    }
-  out.rows.push_back(path.rows.back());
-  return out;
-}
 
 // A pin beside the path at holder height, halfway between two rows 10 mm apart: both rows keep their
 // clearance with the nominal axis, the motion between them does not.
@@ -161,14 +146,14 @@ TEST(PlanSynthetic, MotionBetweenRowsKeepsTheClearance) {
   o.between_rows_tolerance_mm = 1000;  // every motion "proven": the rows alone are checked
   const PlanResult rows_only = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
   EXPECT_EQ(rows_only.metrics.rows_below_safety, 0u);
-  EXPECT_GT(test::fcl_check(densify(rows_only.path, 20), s.tool, s.meshes(), s.basics).rows_below, 0u);
+  EXPECT_GT(test::fcl_check(test::densify(rows_only.path, 20), s.tool, s.meshes(), s.basics).rows_below, 0u);
 
   o.between_rows_tolerance_mm = 0.01;
   const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
   EXPECT_EQ(r.metrics.rows_below_safety, 0u);
   EXPECT_EQ(r.metrics.segments_below_safety, 0u);
   EXPECT_GT(r.metrics.corrected_rows, 0u);
-  const auto dense = test::fcl_check(densify(r.path, 20), s.tool, s.meshes(), s.basics, 0.015);
+  const auto dense = test::fcl_check(test::densify(r.path, 20), s.tool, s.meshes(), s.basics, 0.015);
   EXPECT_EQ(dense.rows_below, 0u) << "min margin between rows " << dense.min_margin;
 }
 

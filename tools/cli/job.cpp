@@ -159,7 +159,8 @@ std::string left_reason(const RowSpan& rows, const std::string& unfixable, const
   const auto [first, last] = rows;
   const auto it = std::lower_bound(uncleared.begin(), uncleared.end(), first);
   if (it != uncleared.end() && *it <= last)
-    return "no tool axis within max_tilt_deg and the machine's limits keeps the clearance there";
+    return "the re-plan's search found no tool axis within max_tilt_deg and the machine's limits that keeps "
+           "the clearance there";
   if (summary.rounds >= options.max_rounds)
     return "not fixed within " + std::to_string(options.max_rounds) + " re-plan round(s) (--rounds)";
   return "re-planning did not reduce the collisions";
