@@ -12,6 +12,7 @@ using Eigen::Vector2d;
 // 8 decimals (10 nm): the printed path stays within 1e-8 mm of the exact one, far inside the 1e-6 mm
 // exactness the geometry keeps, and the interpreter's arc radius check sees consistent numbers.
 constexpr int kDecimals = 8;
+constexpr double kZeroRadiusArc = 0.0013;  // mm: the smallest arc radius written as G2/G3
 
 std::string num(double v) { return fixed(v, kDecimals); }
 Vector2d rounded(const Vector2d& p) {
@@ -55,8 +56,10 @@ struct Writer {
     if (end == cur) return false;  // would read as a full circle (G2/G3) or nothing (G1)
     // Arcs whose sagitta is below the printed resolution go out as lines (tiny or nearly straight arcs,
     // which the interpreter's radius check handles badly).
+    // So do arcs of a radius LinuxCNC refuses as a "zero-radius arc" (below 0.00127 mm: 0.0012 is refused,
+    // 0.0013 read, measured with rs274): the chord leaves such an arc by less than its radius.
     const double sagitta = s.is_arc() ? s.r * (1 - std::cos(0.5 * std::min(std::abs(s.sweep), 3.0))) : 0.0;
-    if (!s.is_arc() || (s.b - s.a).norm() < 1e-6 || sagitta < 5e-9) {
+    if (!s.is_arc() || (s.b - s.a).norm() < 1e-6 || sagitta < 5e-9 || s.r < kZeroRadiusArc) {
       out << "G1 X" << num(s.b.x()) << " Y" << num(s.b.y()) << feed_word << "\n";
     } else {
       out << (s.sweep > 0 ? "G3" : "G2") << " X" << num(s.b.x()) << " Y" << num(s.b.y()) << " I"

@@ -164,9 +164,14 @@ namespace {
 // smallest turn from the previous axis that clears, zero when it still clears), until a motion from the
 // followed axis back to the planned one is proven. Returns the rows it sets (empty when it fails: the
 // region ends, a motion on the way fails, or it runs past twice the correction window).
-std::vector<std::pair<size_t, Vector3d>> follow_region(const PlanContext& ctx, const std::vector<Vector3d>& axes,
-                                                       const std::vector<BodyClearance>& clear, size_t from,
-                                                       int dir) {
+struct FollowedRow {
+  size_t row;
+  Vector3d axis;
+  BodyClearance clear;
+};
+
+std::vector<FollowedRow> follow_region(const PlanContext& ctx, const std::vector<Vector3d>& axes,
+                                       const std::vector<BodyClearance>& clear, size_t from, int dir) {
   const auto n = static_cast<std::ptrdiff_t>(axes.size());
   const double step = ctx.options.pointwise_step_deg * std::numbers::pi / 180.0;
   // The motion between rows a and b = a + dir, in the order the path runs.
@@ -175,7 +180,7 @@ std::vector<std::pair<size_t, Vector3d>> follow_region(const PlanContext& ctx, c
     if (dir < 0) return check_segment(ctx, static_cast<size_t>(b), axis_b, axis_a, clear_b, clear_a).failed;
     return check_segment(ctx, static_cast<size_t>(a), axis_a, axis_b, clear_a, clear_b).failed;
   };
-  std::vector<std::pair<size_t, Vector3d>> set;
+  std::vector<FollowedRow> set;
   auto prev = static_cast<std::ptrdiff_t>(from);
   Vector3d prev_axis = axes[from];
   BodyClearance prev_clear = clear[from];
@@ -189,7 +194,7 @@ std::vector<std::pair<size_t, Vector3d>> follow_region(const PlanContext& ctx, c
     const Vector3d a = rotate_axis(start, turn);
     const BodyClearance c = ctx.clearance(row, a);
     if (c.margin < 0 || motion_fails(prev, prev_axis, prev_clear, j, a, c)) return {};
-    set.emplace_back(row, a);
+    set.push_back({row, a, c});
     const std::ptrdiff_t k = j + dir;
     if (k < 0 || k >= n) return set;  // followed to the end of the path
     const auto next = static_cast<size_t>(k);
@@ -213,13 +218,13 @@ size_t bridge_failing_motions(const PlanContext& ctx, std::vector<Vector3d>& axe
     const auto* best = &ahead;
     if (ahead.empty() || (!back.empty() && back.size() < ahead.size())) best = &back;
     if (best->empty()) continue;
-    for (const auto& [j, a] : *best) {
-      axes[j] = a;
-      clear[j] = ctx.clearance(j, a);
+    for (const FollowedRow& f : *best) {
+      axes[f.row] = f.axis;
+      clear[f.row] = f.clear;
     }
     // The motions next to the rows set (an earlier one of them may be mended too, or a later one spoilt).
-    for (const auto& [j, a] : *best)
-      for (size_t k = j > 0 ? j - 1 : 0; k <= j && k < segments.size(); ++k)
+    for (const FollowedRow& f : *best)
+      for (size_t k = f.row > 0 ? f.row - 1 : 0; k <= f.row && k < segments.size(); ++k)
         segments[k] = check_segment(ctx, k, axes[k], axes[k + 1], clear[k], clear[k + 1]);
     ++bridged;
   }

@@ -31,6 +31,7 @@ std::vector<Case> cases() {
   return {
       {"missing blank radius", [](json& j, std::string&) { j["blank"].erase("radius"); }, "field 'blank.radius': missing"},
       {"negative blank radius", [](json& j, std::string&) { j["blank"]["radius"] = -2; }, "blank.radius"},
+      {"blank too thin", [](json& j, std::string&) { j["blank"]["radius"] = 1e-7; }, "blank.radius': must be at least"},
       {"negative wheel radius", [](json& j, std::string&) { j["wheel"]["radius"] = -20; }, "wheel.radius"},
       {"negative edge radius", [](json& j, std::string&) { j["wheel"]["edge_radius"] = -1; }, "wheel.edge_radius"},
       {"string length", [](json& j, std::string&) { j["blank"]["length"] = "six"; }, "blank.length"},
@@ -99,6 +100,23 @@ TEST(GrindInput, CliWritesAClosedPlyAndTheSectionsSvg) {
   const std::string svg = test::read_text(dir / "s.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_NE(svg.find("fluting: slot"), std::string::npos);
+}
+
+TEST(GrindInput, EndFacedAwayAtTheTipLeavesAClosedTool) {
+  // An end-face pass that takes the blank's whole last section (0.01 mm off the tip): the end section is
+  // empty, and capping it crashed (found in review).
+  test::TempDir dir;
+  json scene = json::parse(R"({"blank": {"radius": 5, "length": 30}, "wheel": {"radius": 40, "thickness": 4},
+    "start": {"y": 100}, "program": "face.ngc"})");
+  test::write_text(dir / "grind.json", scene.dump());
+  test::write_text(dir / "face.ngc", "OP end_face face\nG0 W90\nG0 X31.99 Y60 Z0\nG1 Y-60 F100\nG0 Y-100\n");
+  const auto r = test::run_tiltfield("grind grind.json -o tool.ply", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const Mesh mesh = load_mesh(dir / "tool.ply");
+  EXPECT_TRUE(is_closed(mesh));
+  // At most a section's spacing shorter than the blank less 0.01 mm (the sections stand for their slabs).
+  EXPECT_LT(signed_volume(mesh), M_PI * 25 * 29.99);
+  EXPECT_GT(signed_volume(mesh), M_PI * 25 * 29.8);
 }
 
 TEST(GrindInput, ProgramModesAndComments) {

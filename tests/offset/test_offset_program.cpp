@@ -174,5 +174,39 @@ TEST(OffsetProgram, EmptyOffsetIsAJobFailureWithoutOutput) {
   EXPECT_FALSE(fs::exists(ngc));
 }
 
+TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
+  // Each gave exit 0 and a program LinuxCNC refuses (a zero feed, a negative dwell or spindle speed) or one
+  // that drives the tool into the part (rapids below the cutting plane, a "retract" downward); NaN gave
+  // exit 1 and a message naming no option (found in review).
+  const fs::path dir = fs::path(write_temp("x.txt", "")).parent_path();
+  const fs::path ngc = dir / "bad.ngc";
+  for (const char* opt :
+       {"--plunge-feed 0", "--plunge-feed -5", "--spindle -100", "--target ecm --ecm-flush -1",
+        "--z-cut 10 --z-safe 5", "--target ecm --ecm-retract-every 5 --ecm-retract-height -3", "--feed nan",
+        "--z-safe nan", "--lead inf"}) {
+    SCOPED_TRACE(opt);
+    EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 " + std::string(opt) + " -o " + ngc.string()), 2);
+    EXPECT_FALSE(fs::exists(ngc));
+  }
+  EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d nan -o " + ngc.string()), 2);
+  EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d inf -o " + ngc.string()), 2);
+}
+
+TEST(OffsetProgram, ArcsTooSmallForTheControllerGoOutAsLines) {
+  // A slot 10.001 wide offset by 5: the round ends' offsets are arcs of radius 0.0005, which LinuxCNC
+  // refuses as zero-radius arcs (below 0.00127 mm); they are written as lines.
+  require_rs274();
+  if (IsSkipped() || HasFatalFailure()) return;
+  const std::string profile = write_temp("slot.txt", "START 0 0\n0 40 0\n5.0005 0 10.001\n0 -40 0\n5.0005 0 -10.001\n");
+  const fs::path ngc = fs::path(profile).parent_path() / "slot.ngc";
+  ASSERT_EQ(run_cli(profile + " -d 5 -o " + ngc.string()), 0);
+  std::string log;
+  EXPECT_EQ(run_rs274(ngc.string(), &log), 0) << log;
+  EXPECT_THAT(log, ::testing::Not(::testing::HasSubstr("rror"))) << log;
+  const std::string text = read_text(ngc);
+  EXPECT_EQ(text.find("\nG2 "), std::string::npos) << text;
+  EXPECT_EQ(text.find("\nG3 "), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace tf::offset::test

@@ -1,5 +1,6 @@
 // `tiltfield offset`: offset-profile trajectory for copy milling or ECM (docs/offset.md).
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <cctype>
 #include <sstream>
@@ -21,8 +22,39 @@ struct OffsetCliOptions {
   offset::EcmOptions ecm;
 };
 
+// A value as the message shows it (fixed() refuses what is not finite).
+std::string shown(double v) { return std::isfinite(v) ? fixed(v, 9) : std::to_string(v); }
+
 void check_positive(double v, const char* field) {
-  if (!(v > 0)) throw InputError("", 0, field, "must be positive, got " + fixed(v, 9));
+  if (!(v > 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a positive number, got " + shown(v));
+}
+void check_not_negative(double v, const char* field) {
+  if (!(v >= 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a number >= 0, got " + shown(v));
+}
+void check_finite(double v, const char* field) {
+  if (!std::isfinite(v)) throw InputError("", 0, field, "must be a finite number, got " + shown(v));
+}
+
+// Values that give a program the controller refuses (a zero feed, a negative dwell) or one that drives the
+// tool into the part (rapids below the cutting plane, a "retract" downward) are refused before any work.
+void check_program_options(const offset::MillingOptions& m, const offset::EcmOptions& e) {
+  check_positive(m.feed, "feed");
+  check_positive(m.plunge_feed, "plunge-feed");
+  check_positive(m.spindle_rpm, "spindle");
+  check_finite(m.z_cut, "z-cut");
+  check_finite(m.z_safe, "z-safe");
+  if (!(m.z_safe > m.z_cut)) throw InputError("", 0, "z-safe", "must lie above --z-cut (" + shown(m.z_cut) + ")");
+  check_positive(e.feed, "ecm-feed");
+  check_positive(e.voltage, "ecm-voltage");
+  check_not_negative(e.flush_dwell_s, "ecm-flush");
+  check_not_negative(e.start_dwell_s, "ecm-dwell");
+  check_not_negative(e.end_dwell_s, "ecm-end-dwell");
+  check_not_negative(e.retract_every_mm, "ecm-retract-every");
+  check_positive(e.retract_height, "ecm-retract-height");
+  check_finite(e.z_work, "ecm-z-work");
+  check_finite(e.z_safe, "ecm-z-safe");
+  if (!(e.z_safe > e.z_work))
+    throw InputError("", 0, "ecm-z-safe", "must lie above --ecm-z-work (" + shown(e.z_work) + ")");
 }
 void check_mcode(const std::string& code, const char* field) {
   const bool digits = code.size() >= 2 && code.size() <= 4 &&
@@ -33,12 +65,11 @@ void check_mcode(const std::string& code, const char* field) {
 
 void run_offset(const OffsetCliOptions& o) {
   check_positive(o.gap, "gap");
-  check_positive(o.milling.feed, "feed");
-  check_positive(o.ecm.feed, "ecm-feed");
+  check_program_options(o.milling, o.ecm);
   check_mcode(o.ecm.electrolyte_on, "ecm-electrolyte-on");
   check_mcode(o.ecm.electrolyte_off, "ecm-electrolyte-off");
-  if (o.lead < 0) throw InputError("", 0, "lead", "must not be negative");
-  if (o.gap_blend < 0) throw InputError("", 0, "gap-blend", "must not be negative");
+  check_not_negative(o.lead, "lead");
+  check_not_negative(o.gap_blend, "gap-blend");
 
   offset::Profile profile;
   if (!o.mesh.empty()) {

@@ -14,6 +14,8 @@ namespace {
 using namespace tf::json_fields;
 namespace fs = std::filesystem;
 
+constexpr double kMinBlankRadius = 0.01;  // mm
+
 const char* const kKinds[] = {"fluting", "gashing", "od_sharpening", "end_face", "notching"};
 
 Wheel parse_wheel(const json& j, const std::string& file) {
@@ -202,6 +204,10 @@ GrindScene load_grind_scene(const fs::path& path) {
   require_object(b, file, "blank");
   only_keys(b, {"radius", "length"}, file, "blank");
   s.blank.radius = positive(required_number(b, "radius", file, "blank"), file, "blank.radius");
+  // Below this the sections' contours collapse at the geometry's tolerances (a radius of 1e-7 mm failed to
+  // close its surface); no ground tool is that thin.
+  if (s.blank.radius < kMinBlankRadius)
+    throw InputError(file, 0, "blank.radius", "must be at least 0.01 mm");
   s.blank.length = positive(required_number(b, "length", file, "blank"), file, "blank.length");
   if (!j.contains("wheel")) throw InputError(file, 0, "wheel", "missing");
   s.wheel = parse_wheel(j.at("wheel"), file);

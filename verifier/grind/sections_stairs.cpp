@@ -56,6 +56,8 @@ void insert_side(Arrangement& ar, const std::vector<PlacedContour>& contours, in
 // crosses one of that side's constraints (overlapping constraints of both sides toggle both).
 void classify(Arrangement& ar) {
   CDTP& cdt = ar.cdt;
+  // No contours (a section ground away whole) or only collinear points: no face, nothing inside.
+  if (cdt.dimension() < 2) return;
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = 0;
   std::queue<CDTP::Face_handle> queue;
   cdt.infinite_face()->info() = kVisited;
@@ -130,6 +132,7 @@ void stair_step(const std::vector<PlacedContour>& lower, const std::vector<Place
 void end_cap(const std::vector<PlacedContour>& contours, bool up, SlabMesh& out) {
   Arrangement ar;
   insert_side(ar, contours, 0);
+  if (ar.cdt.dimension() < 2) return;  // nothing left at this end: no cap
   classify(ar);
   std::unordered_map<const void*, int> id;
   for (size_t c = 0; c < contours.size(); ++c) {
