@@ -87,9 +87,7 @@ double body_reach(const BodyPiece& piece) {
 SegmentCheck check_segment(const PlanContext& ctx, size_t i, const Vector3d& a0, const Vector3d& a1,
                            const BodyClearance& c0, const BodyClearance& c1) {
   const Pose p0 = ctx.pose(i, a0), p1 = ctx.pose(i + 1, a1);
-  // A jump the post links (retract, rapid, approach) is no cutting motion: its transit is the post's.
-  const double h = ctx.tool->cl_height();
-  if (((p1.c - h * a1) - (p0.c - h * a0)).norm() > ctx.options.link_gap_mm) return {};
+  if (ctx.linked(i, a0, a1)) return {};  // the transit of a linked jump is the post's
   const double tol = ctx.options.between_rows_tolerance_mm;
   const double dc = (p1.c - p0.c).norm(), theta = turn_angle(a0, a1);
   double max_l = 0;

@@ -53,11 +53,8 @@ std::vector<char> whipping_rows(const PlanContext& ctx, const std::vector<Vector
   const size_t n = axes.size();
   std::vector<char> whip(n, 0);
   const double rate = kWhipDegPerResponse * std::numbers::pi / 180.0 / ctx.options.response_length_mm;
-  const double h = ctx.tool->cl_height();
   for (size_t i = 0; i + 1 < n; ++i) {
-    // A jump the post links (retract, rapid, approach) is no cutting motion: it may turn as it likes.
-    const Vector3d tip0 = ctx.path->rows[i].p - h * axes[i], tip1 = ctx.path->rows[i + 1].p - h * axes[i + 1];
-    if ((tip1 - tip0).norm() > ctx.options.link_gap_mm) continue;
+    if (ctx.linked(i, axes[i], axes[i + 1])) continue;  // a linked jump may turn as it likes
     const double turn = std::atan2(axes[i].cross(axes[i + 1]).norm(), axes[i].dot(axes[i + 1]));
     if (turn > std::max(5.0 * std::numbers::pi / 180.0, rate * (ctx.arc[i + 1] - ctx.arc[i])))
       whip[i] = whip[i + 1] = 1;

@@ -47,6 +47,12 @@ struct PlanContext {
   }
 
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {path->rows[row].p, axis}; }
+  // True when rows `row` and `row` + 1 at axes a0, a1 have tips farther apart than the link gap: the post
+  // links them (retract, rapid, approach), so the motion between them is no cutting motion.
+  bool linked(size_t row, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1) const {
+    const double h = tool->cl_height();
+    return ((path->rows[row + 1].p - h * a1) - (path->rows[row].p - h * a0)).norm() > options.link_gap_mm;
+  }
   // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;
   // True when every piece keeps its required clearance plus `extra` from every set (early exit, cheap
