@@ -64,13 +64,23 @@ double profile_scale(const Profile& p) {
 }
 }  // namespace
 
+// Coordinates, radii and chords beyond this (mm) are typos, not parts: the geometry's tolerances scale with
+// the profile, and a 1e300 came out as a "self-crossing" profile rather than as the number it is.
+constexpr double kMaxCoordinateMm = 1e6;
+
 Profile parse_profile(std::string_view text, const std::string& file) {
   if (text.find('\0') != std::string_view::npos) throw InputError(file, 0, "", "binary data in a profile file");
+  auto within = [&](double v, int line, const std::string& field, const char* what = "the value") {
+    if (std::abs(v) <= kMaxCoordinateMm) return v;
+    std::ostringstream msg;
+    msg << what << " " << v << " is beyond +-1000000 mm";
+    throw InputError(file, line, field, msg.str());
+  };
   std::istringstream in{std::string(text)};
   std::string line;
   int n = 0;
   bool have_start = false;
-  Vector2d start(0, 0);
+  Vector2d start(0, 0), pos(0, 0);  // pos: where the elements so far end
   std::vector<RawElement> raw;
   while (std::getline(in, line)) {
     ++n;
@@ -80,7 +90,8 @@ Profile parse_profile(std::string_view text, const std::string& file) {
       if (!equals_word(tok[0], "START"))
         throw InputError(file, n, "START", "the first line must be 'START x y', found '" + tok[0] + "'");
       if (tok.size() != 3) throw InputError(file, n, "START", "expected 'START x y'");
-      start = {parse_number(tok[1], file, n, "x"), parse_number(tok[2], file, n, "y")};
+      start = {within(parse_number(tok[1], file, n, "x"), n, "x"), within(parse_number(tok[2], file, n, "y"), n, "y")};
+      pos = start;
       have_start = true;
       continue;
     }
@@ -89,8 +100,10 @@ Profile parse_profile(std::string_view text, const std::string& file) {
       throw InputError(file, n, "", "expected 'R DX DY' or 'R DX DY LONG', found " + std::to_string(tok.size()) +
                                         " fields");
     RawElement e;
-    e.R = parse_number(tok[0], file, n, "R");
-    e.chord = {parse_number(tok[1], file, n, "DX"), parse_number(tok[2], file, n, "DY")};
+    e.R = within(parse_number(tok[0], file, n, "R"), n, "R");
+    e.chord = {within(parse_number(tok[1], file, n, "DX"), n, "DX"), within(parse_number(tok[2], file, n, "DY"), n, "DY")};
+    pos += e.chord;
+    within(pos.x(), n, "DX", "the element's end x"), within(pos.y(), n, "DY", "the element's end y");
     e.long_arc = false;
     e.line = n;
     if (tok.size() == 4) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <stdexcept>
 #include <vector>
 
 #include "helpers.hpp"
@@ -170,6 +171,43 @@ TEST(EngagementHook, SeesTheStockBeforeEachBlockWithALeaningAxis) {
   const Eigen::Vector3d axis = Eigen::Vector3d(-0.35355, 0.35355, 0.86603).normalized();
   const ForwardFn leaning = [axis](const Joints& j) { return ToolPose{Eigen::Vector3d(j.x, j.y, j.z), axis}; };
   expect_stock_before_each_block(s, hook_program(), leaning);
+}
+
+// Each result lands in the block it was measured for (the probe answers with its end pose), blocks it was
+// not called for keep an empty engagement, and an error the probe throws ends the run with that error.
+TEST(EngagementHook, EachResultLandsInItsOwnBlockAndAnErrorEndsTheRun) {
+  const Scene s = test::box_scene({0, 0, 0}, {40, 30, 20}, test::ball_tool(3, 12, 3, 30, {{10, 30}}));
+  const Program program = hook_program();
+  VerifyOptions o;
+  o.resolution = 0.2;
+  int calls = 0;
+  o.engagement = [&](const Tool&, const TriDexel&, const ToolPose&, const ToolPose& end, const Eigen::AlignedBox3d&) {
+    ++calls;
+    Engagement e;
+    e.area_mm2 = end.tip.x() + 100.0 * end.tip.y() + 10000.0 * end.tip.z();
+    return e;
+  };
+  const VerifyResult r = verify_program(s, program, forward_xyz, o);
+  int engaged = 0;
+  for (size_t i = 0; i < r.report.per_block.size(); ++i) {
+    const BlockResult& b = r.report.per_block[i];
+    const Joints& t = program.blocks[i].target;
+    if (!b.rapid && b.removed_mm3 > 0.0) {
+      ++engaged;
+      EXPECT_NEAR(b.engagement.area_mm2, t.x + 100.0 * t.y + 10000.0 * t.z, 1e-6) << "block " << b.block;
+    } else {
+      EXPECT_EQ(b.engagement.area_mm2, 0.0) << "block " << b.block;
+    }
+  }
+  EXPECT_EQ(engaged, calls);
+  EXPECT_GE(calls, 4);
+
+  int seen = 0;
+  o.engagement = [&](const Tool&, const TriDexel&, const ToolPose&, const ToolPose&, const Eigen::AlignedBox3d&) {
+    if (++seen == 2) throw std::runtime_error("probe failed");
+    return Engagement{};
+  };
+  EXPECT_THROW(verify_program(s, program, forward_xyz, o), std::runtime_error);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "test_support.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/grind/grind.hpp"
+#include "tiltfield/grind/sections.hpp"
 #include "tiltfield/core/mesh.hpp"
 
 namespace tf::grind {
@@ -43,6 +44,14 @@ std::vector<Case> cases() {
       {"unknown G code", [](json&, std::string& p) { p += "G2 X1\n"; }, "prog.ngc:7: field 'G2'"},
       {"unknown operation", [](json&, std::string& p) { p += "OP drilling\nG1 X1\n"; }, "prog.ngc:7: field 'OP'"},
       {"motion before OP", [](json&, std::string& p) { p = "G1 X1\n" + p; }, "prog.ngc:1"},
+      {"empty program name", [](json& j, std::string&) { j["program"] = ""; }, "field 'program': is empty"},
+      {"exponent notation", [](json&, std::string& p) { p += "G0 Y1e7\n"; }, "prog.ngc:7: field 'Y1e7': exponent"},
+      {"linear axis out of range", [](json&, std::string& p) { p += "G0 Y9000000\n"; },
+       "prog.ngc:7: field 'Y9000000': puts Y at 9e+06 mm"},
+      {"incremental axis out of range", [](json&, std::string& p) { p += "G91\nG0 U60000\nU60000\n"; },
+       "prog.ngc:9: field 'U60000': puts U at 120000 mm"},
+      {"rotary axis out of range", [](json&, std::string& p) { p += "G0 A720000\n"; }, "field 'A720000': puts A at"},
+      {"start out of range", [](json& j, std::string&) { j["start"]["x"] = -2e5; }, "field 'start.x': puts X at"},
       {"concave profile",
        [](json& j, std::string&) {
          j["wheel"].erase("edge_radius");
@@ -117,6 +126,37 @@ TEST(GrindInput, EndFacedAwayAtTheTipLeavesAClosedTool) {
   // At most a section's spacing shorter than the blank less 0.01 mm (the sections stand for their slabs).
   EXPECT_LT(signed_volume(mesh), M_PI * 25 * 29.99);
   EXPECT_GT(signed_volume(mesh), M_PI * 25 * 29.8);
+}
+
+// A long move in the air (90 m out and back between the passes) leaves the same tool, and its hundreds of
+// thousands of increments, all out of the wheel's reach, are not kept.
+TEST(GrindInput, AMoveFarFromTheBlankChangesNothing) {
+  test::TempDir dir;
+  test::write_text(dir / "grind.json", valid_scene().dump());
+  test::write_text(dir / "prog.ngc", kProgram);
+  const GrindScene plain = load_grind_scene(dir / "grind.json");
+  test::write_text(dir / "prog.ngc", "; test\nOP fluting slot\nG0 X0 Y40 Z30\nG1 Y21.5 F100\nG0 Y90000\nG0 Y21.5\n"
+                                     "G1 Z0\nG0 Y40\n");
+  const GrindScene detour = load_grind_scene(dir / "grind.json");
+  SectionOptions o;
+  o.spacing = 0.2;
+  const double v0 = signed_volume(tile_sections(simulate_sections(plain, o)));
+  const double v1 = signed_volume(tile_sections(simulate_sections(detour, o)));
+  EXPECT_NEAR(v1, v0, 1e-9 * v0);
+}
+
+// A move that would need more increments than the simulation takes is refused, naming its line, not
+// ground with coarser steps than --step asks.
+TEST(GrindInput, AMoveNeedingTooManyIncrementsIsRefused) {
+  test::TempDir dir;
+  test::write_text(dir / "grind.json", valid_scene().dump());
+  test::write_text(dir / "prog.ngc", std::string(kProgram) + "G0 Y20000\n");
+  const auto r = test::run_tiltfield("grind grind.json -o tool.ply --step 0.001", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(test::count_lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("prog.ngc:7: field '--step': this move needs more than 10000000 increments"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply"));
 }
 
 TEST(GrindInput, ProgramModesAndComments) {

@@ -61,6 +61,24 @@ TEST(OffsetParse, BadInputNamesTheLine) {
   EXPECT_EQ(line_of("START 0 0\n"), 1);                                           // no elements
 }
 
+// A number beyond a kilometre is refused as such, not as the "self-crossing" profile it made before.
+TEST(OffsetParse, CoordinatesBeyondAKilometreAreNamed) {
+  auto message = [](const std::string& text) {
+    try {
+      parse_profile(text, "p.txt");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_THAT(message("START 0 0\n0 1e300 0\n0 -1e300 1\n0 0 -1\n"), ::testing::HasSubstr("p.txt:2: field 'DX': the value 1e+300"));
+  EXPECT_THAT(message("START 2e6 0\n0 1 0\n"), ::testing::HasSubstr("p.txt:1: field 'x'"));
+  EXPECT_THAT(message("START 0 0\n5e6 1 0\n"), ::testing::HasSubstr("p.txt:2: field 'R'"));
+  EXPECT_THAT(message("START 0 0\n0 900000 0\n0 900000 0\n0 -1800000 1\n"),
+              ::testing::HasSubstr("p.txt:3: field 'DX': the element's end x 1.8e+06"));
+  EXPECT_EQ(message("START 0 0\n0 900000 0\n0 0 1\n0 -900000 0\n0 0 -1\n"), "accepted");  // 900 m: kept
+}
+
 // Feeds random and mutated profile texts to the parser: it only ever returns or throws InputError.
 TEST(OffsetParse, FuzzOnlyReturnsOrThrowsInputError) {
   std::mt19937 rng(7);

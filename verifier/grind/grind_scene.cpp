@@ -1,7 +1,10 @@
 // Grinding scene loader: JSON scene + G-code-like program (format in docs/grinding.md).
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "tiltfield/core/internal/json_fields.hpp"
 #include "tiltfield/core/error.hpp"
@@ -55,6 +58,17 @@ Wheel parse_wheel(const json& j, const std::string& file) {
   return w;
 }
 
+// An axis value within the grinder's plausible range (kMaxTravelMm, kMaxTurnDeg).
+void check_axis_range(double v, char axis, const std::string& file, int line, const std::string& field) {
+  const bool rotary = axis == 'A' || axis == 'W' || axis == 'a' || axis == 'w';
+  const double limit = rotary ? kMaxTurnDeg : kMaxTravelMm;
+  if (std::abs(v) <= limit) return;
+  std::ostringstream msg;
+  msg << "puts " << char(std::toupper(static_cast<unsigned char>(axis))) << " at " << v << (rotary ? " deg" : " mm")
+      << ", beyond +-" << limit << (rotary ? " deg" : " mm") << " (a lost decimal point?)";
+  throw InputError(file, line, field, msg.str());
+}
+
 Axes parse_start(const json& j, const std::string& file) {
   require_object(j, file, "start");
   only_keys(j, {"x", "y", "z", "u", "a", "w"}, file, "start");
@@ -65,6 +79,8 @@ Axes parse_start(const json& j, const std::string& file) {
   s.u = number_or(j, "u", 0.0, file, "start");
   s.a = number_or(j, "a", 0.0, file, "start");
   s.w = number_or(j, "w", 0.0, file, "start");
+  const std::pair<double, char> values[] = {{s.x, 'x'}, {s.y, 'y'}, {s.z, 'z'}, {s.u, 'u'}, {s.a, 'a'}, {s.w, 'w'}};
+  for (const auto& [v, axis] : values) check_axis_range(v, axis, file, 0, std::string("start.") + axis);
   return s;
 }
 
@@ -155,6 +171,15 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
       while (j < line.size() && !std::isalpha(static_cast<unsigned char>(line[j])) &&
              !std::isspace(static_cast<unsigned char>(line[j])))
         ++j;
+      // A number like 1e3 splits into the words "X1" and "e3": name the number, not the exponent.
+      if (j < line.size() && (line[j] == 'e' || line[j] == 'E') && j > i + 1 &&
+          std::isdigit(static_cast<unsigned char>(line[j - 1]))) {
+        size_t k = j + 1;
+        while (k < line.size() && !std::isalpha(static_cast<unsigned char>(line[k])) &&
+               !std::isspace(static_cast<unsigned char>(line[k])))
+          ++k;
+        throw InputError(file, n, line.substr(i, k - i), "exponent notation is not G-code: write the number out");
+      }
       const std::string word = line.substr(i, j - i);
       const std::string num = line.substr(i + 1, j - i - 1);
       i = j;
@@ -178,6 +203,7 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
         throw InputError(file, n, word, "unknown axis word (X, Y, Z, U, A, W, G, F, N)");
       double& ref = axis_ref(target, letter);
       ref = incremental ? ref + v : v;
+      check_axis_range(ref, letter, file, n, word);
       has_axis = true;
     }
     if (!has_axis) continue;
@@ -215,12 +241,16 @@ GrindScene load_grind_scene(const fs::path& path) {
   if (!j.contains("program")) throw InputError(file, 0, "program", "missing");
   const json& p = j.at("program");
   if (p.is_string()) {
+    if (p.get<std::string>().empty())
+      throw InputError(file, 0, "program", "is empty: name the program file, or give its lines as an array");
     const fs::path prog = path.parent_path() / p.get<std::string>();
+    s.program = prog.string();
     s.operations = parse_grind_program(read_text(prog, prog.string()), prog.string(), s.start);
   } else if (p.is_array()) {
     std::string text;
     for (size_t i = 0; i < p.size(); ++i) text += string(p[i], file, "program[" + std::to_string(i) + "]") + "\n";
-    s.operations = parse_grind_program(text, file + " (program)", s.start);
+    s.program = file + " (program)";
+    s.operations = parse_grind_program(text, s.program, s.start);
   } else {
     throw InputError(file, 0, "program", "must be a file name or an array of lines");
   }

@@ -58,7 +58,7 @@ int increments(const Axes& f, const Axes& t, const Blank& blank, double step) {
                    std::abs(t.u - f.u) + std::abs(t.a - f.a) * kDeg * blank.radius +
                    std::abs(t.w - f.w) * kDeg * swivel_arm;
   const double n = std::ceil(d / std::max(step, 1e-6));
-  return static_cast<int>(std::clamp(n, 1.0, 1e7));
+  return static_cast<int>(std::clamp(n, 1.0, kMaxIncrements + 1.0));
 }
 
 }  // namespace tf::grind

@@ -7,9 +7,11 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <string>
 #include <polyclipping/clipper.hpp>
 #include <unordered_map>
 
+#include "tiltfield/core/error.hpp"
 #include "wheel_section.hpp"
 #include "tiltfield/grind/sections.hpp"
 
@@ -110,12 +112,25 @@ Path blank_circle(const Blank& blank, double tol) {
 std::vector<PoseInfo> operation_poses(const Operation& op, const Axes& before, const GrindScene& scene,
                                       double step) {
   std::vector<PoseInfo> poses{detail::pose_info(wheel_pose(before), scene.wheel, scene.blank)};
+  poses.front().a = before.a, poses.front().w = before.w;
   Axes from = before;
   for (const Move& m : op.moves) {
     const int n = increments(from, m.target, scene.blank, step);
-    for (int i = 1; i <= n; ++i)
-      poses.push_back(detail::pose_info(wheel_pose(interpolate(from, m.target, double(i) / n)), scene.wheel,
-                                        scene.blank));
+    if (n > kMaxIncrements)
+      throw InputError(scene.program, m.line, "--step",
+                       "this move needs more than " + std::to_string(kMaxIncrements) + " increments of " +
+                           std::to_string(step) + " mm; split it or give a larger --step");
+    for (int i = 1; i <= n; ++i) {
+      const Axes axes = interpolate(from, m.target, double(i) / n);
+      PoseInfo p = detail::pose_info(wheel_pose(axes), scene.wheel, scene.blank);
+      p.a = axes.a, p.w = axes.w;
+      // Of a run of poses where the wheel cannot reach the blank only the first and the last are kept: the
+      // pairs inside it are skipped by the sections anyway (both far), and a long move in the air would
+      // otherwise hold millions of them.
+      const size_t k = poses.size();
+      if (p.far && k >= 2 && poses[k - 1].far && poses[k - 2].far) poses[k - 1] = p;
+      else poses.push_back(p);
+    }
     from = m.target;
   }
   return poses;
@@ -182,22 +197,39 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
   const double margin = 0.01 * (bx1 - bx0 + by1 - by0) + 0.01;
   Paths clips;
   std::vector<Eigen::Vector2d> cur, prev, pts;
+  std::vector<int> cur_ids, prev_ids;
+  std::vector<std::vector<Eigen::Vector2d>> swept;
   long prev_index = -2;
-  auto section_at = [&](size_t k, std::vector<Eigen::Vector2d>& out) {
+  auto section_at = [&](size_t k, std::vector<Eigen::Vector2d>& out, std::vector<int>& ids) {
     out.clear();
+    ids.clear();
     const PoseInfo& p = poses[k];
     if (p.far || z0 < p.z_lo || z0 > p.z_hi || detail::distance_bound(p, wheel, axis_point) > reach) return;
-    detail::wheel_section_points(p, wheel.profile, z0, trig, out);
+    detail::wheel_section_points(p, wheel.profile, z0, trig, out, &ids);
+  };
+  // Only the part over the section matters; the rest of the wheel's section only slows Clipper down.
+  auto add_clip = [&](const std::vector<Eigen::Vector2d>& poly) {
+    double px0 = 1e300, px1 = -1e300, py0 = 1e300, py1 = -1e300;
+    for (const auto& q : poly)
+      px0 = std::min(px0, q.x()), px1 = std::max(px1, q.x()), py0 = std::min(py0, q.y()), py1 = std::max(py1, q.y());
+    if (px1 < bx0 || px0 > bx1 || py1 < by0 || py0 > by1) return;  // beside the section's material
+    const std::vector<Eigen::Vector2d> part = clip_to_box(poly, bx0 - margin, bx1 + margin, by0 - margin, by1 + margin);
+    if (part.size() < 3) return;
+    Path path;
+    path.reserve(part.size());
+    for (const auto& q : part) path.push_back(to_int(q));
+    clips.push_back(std::move(path));
   };
   for (size_t k = 0; k + 1 < poses.size(); ++k) {
     const PoseInfo &p0 = poses[k], &p1 = poses[k + 1];
     if ((p0.far && p1.far) || z0 < std::min(p0.z_lo, p1.z_lo) || z0 > std::max(p0.z_hi, p1.z_hi)) continue;
     if (prev_index == static_cast<long>(k)) {
       std::swap(prev, cur);
+      std::swap(prev_ids, cur_ids);
     } else {
-      section_at(k, prev);
+      section_at(k, prev, prev_ids);
     }
-    section_at(k + 1, cur);
+    section_at(k + 1, cur, cur_ids);
     prev_index = static_cast<long>(k + 1);
     pts.assign(prev.begin(), prev.end());
     pts.insert(pts.end(), cur.begin(), cur.end());
@@ -207,14 +239,15 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
       x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
     }
     if (x1 < bx0 || x0 > bx1 || y1 < by0 || y0 > by1) continue;
-    std::vector<Eigen::Vector2d> hull = detail::convex_hull(pts);
-    // Only the part over the section matters; the rest of the wheel's section only slows Clipper down.
-    hull = clip_to_box(hull, bx0 - margin, bx1 + margin, by0 - margin, by1 + margin);
-    if (hull.size() < 3) continue;
-    Path path;
-    path.reserve(hull.size());
-    for (const auto& q : hull) path.push_back(to_int(q));
-    clips.push_back(std::move(path));
+    // A section that turns between the poses: its own sweep, where the hull of both would cut a chord
+    // into the material the wheel leaves; a moving one (and one whose points cannot all be followed): the
+    // hull, exact for a convex section that only moves.
+    const bool turns = p0.a != p1.a || p0.w != p1.w;
+    if (turns && prev.size() >= 3 && cur.size() >= 3 && detail::turning_sweep(prev, prev_ids, cur, cur_ids, swept)) {
+      for (const auto& poly : swept) add_clip(poly);
+      continue;
+    }
+    add_clip(detail::convex_hull(pts));
   }
   if (clips.empty()) return false;
   clips = union_tree(std::move(clips), opt.clean_tolerance * kScale);

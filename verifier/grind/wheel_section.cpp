@@ -24,14 +24,17 @@ PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank
 }
 
 void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2d>& profile, double z0,
-                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out) {
+                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out,
+                          std::vector<int>* ids) {
+  const int rings = static_cast<int>(profile.size());
   const Eigen::Vector3d& c = info.pose.centre;
   const Eigen::Vector3d& a = info.pose.axis;
   // Ring chords: each ring's disc {|p - o| <= rho, a.(p - o) = 0} meets the plane z = z0 in a segment.
   const double dxy2 = a.x() * a.x() + a.y() * a.y();
   if (dxy2 > 1e-18) {
     const Eigen::Vector2d dir = Eigen::Vector2d(a.y(), -a.x()) / std::sqrt(dxy2);
-    for (const Eigen::Vector2d& tr : profile) {
+    for (int r = 0; r < rings; ++r) {
+      const Eigen::Vector2d& tr = profile[size_t(r)];
       const Eigen::Vector3d o = c + tr.x() * a;
       const double k = a.dot(o) - a.z() * z0;
       const Eigen::Vector2d p0 = k / dxy2 * Eigen::Vector2d(a.x(), a.y());
@@ -42,6 +45,7 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
       const double s = std::sqrt(disc);
       out.push_back(p0 + (-b - s) * dir);
       out.push_back(p0 + (-b + s) * dir);
+      if (ids) ids->insert(ids->end(), {2 * r, 2 * r + 1});
     }
   }
   // Generators: only needed when rings are nearly parallel to the plane (their chords get sparse).
@@ -52,13 +56,15 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
     const double t0 = profile[i].x(), r0 = profile[i].y(), t1 = profile[i + 1].x(), r1 = profile[i + 1].y();
     const double m0 = base + t0 * a.z(), m1 = base + t1 * a.z();
     if ((m0 - r0 * perp > 0 && m1 - r1 * perp > 0) || (m0 + r0 * perp < 0 && m1 + r1 * perp < 0)) continue;
-    for (const Eigen::Vector2d& cs : trig) {
+    for (size_t g = 0; g < trig.size(); ++g) {
+      const Eigen::Vector2d& cs = trig[g];
       const Eigen::Vector3d dir = cs.x() * info.u1 + cs.y() * info.u2;
       const double s0 = m0 + r0 * dir.z(), s1 = m1 + r1 * dir.z();
       if ((s0 > 0) == (s1 > 0) || s0 == s1) continue;
       const double f = s0 / (s0 - s1);
       const Eigen::Vector3d p = c + (t0 + f * (t1 - t0)) * a + (r0 + f * (r1 - r0)) * dir;
       out.emplace_back(p.x(), p.y());
+      if (ids) ids->push_back(2 * rings + static_cast<int>(i * trig.size() + g));
     }
   }
 }
@@ -76,26 +82,34 @@ double distance_bound(const PoseInfo& info, const Wheel& wheel, const Eigen::Vec
   return std::hypot(std::max(0.0, std::abs(t) - 0.5 * wheel.thickness), std::max(0.0, radial - wheel.radius));
 }
 
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d>& pts) {
-  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+std::vector<int> convex_hull_indices(const std::vector<Eigen::Vector2d>& pts) {
+  std::vector<int> order(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    return pts[i].x() < pts[j].x() || (pts[i].x() == pts[j].x() && pts[i].y() < pts[j].y());
   });
-  const size_t n = pts.size();
-  if (n < 3) return pts;
-  std::vector<Eigen::Vector2d> h(2 * n);
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  const size_t n = order.size();
+  if (n < 3) return order;
+  std::vector<int> h(2 * n);
+  auto cross = [&](int o, int a, int b) {
+    return (pts[a].x() - pts[o].x()) * (pts[b].y() - pts[o].y()) - (pts[a].y() - pts[o].y()) * (pts[b].x() - pts[o].x());
   };
   size_t k = 0;
   for (size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
-    h[k++] = pts[i];
+    while (k >= 2 && cross(h[k - 2], h[k - 1], order[i]) <= 0) --k;
+    h[k++] = order[i];
   }
   for (size_t i = n - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(h[k - 2], h[k - 1], pts[i - 1]) <= 0) --k;
-    h[k++] = pts[i - 1];
+    while (k >= t && cross(h[k - 2], h[k - 1], order[i - 1]) <= 0) --k;
+    h[k++] = order[i - 1];
   }
   h.resize(k - 1);
+  return h;
+}
+
+std::vector<Eigen::Vector2d> convex_hull(const std::vector<Eigen::Vector2d>& pts) {
+  std::vector<Eigen::Vector2d> h;
+  for (const int i : convex_hull_indices(pts)) h.push_back(pts[size_t(i)]);
   return h;
 }
 

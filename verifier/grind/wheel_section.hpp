@@ -14,15 +14,21 @@ struct PoseInfo {
   Eigen::Vector3d u1, u2;  // unit vectors completing the spindle axis to a right-handed frame
   double z_lo = 0, z_hi = 0;  // z-range of the wheel, mm
   bool far = false;           // the wheel cannot reach the blank's cylinder at this pose
+  // The blank's turn and the workhead's swivel (deg): between two poses that differ in either, the wheel's
+  // section turns in the section plane (turning_sweep), where between others it only moves.
+  double a = 0, w = 0;
 };
 PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank);
 
 // Appends points on the boundary of the wheel's section by the plane z = z0 (blank frame): the endpoints of
 // each ring's chord (the "segments" of the section method), and, when the plane crosses the spindle axis steeply
 // (|axis.z| > 0.5), where the wheel's generator lines pierce the plane. Their convex hull is the section.
-// `trig` holds (cos, sin) of the generator angles (generator_table); empty: rings only.
+// `trig` holds (cos, sin) of the generator angles (generator_table); empty: rings only. `ids` (when given)
+// gets each point's identity (which ring and end, or which generator and profile segment), the same at
+// every pose, so that a point can be followed from one pose to the next.
 void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2d>& profile, double z0,
-                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out);
+                          const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out,
+                          std::vector<int>* ids = nullptr);
 
 // (cos, sin) of n equally spaced generator angles.
 std::vector<Eigen::Vector2d> generator_table(int n);
@@ -30,7 +36,22 @@ std::vector<Eigen::Vector2d> generator_table(int n);
 // Lower bound of the distance (mm) from point p to the wheel at a pose: distance to its bounding cylinder.
 double distance_bound(const PoseInfo& info, const Wheel& wheel, const Eigen::Vector3d& p);
 
-// Convex hull (Andrew's monotone chain), counter-clockwise, no collinear points. `pts` is reordered.
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d>& pts);
+// Convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
+std::vector<Eigen::Vector2d> convex_hull(const std::vector<Eigen::Vector2d>& pts);
+
+// The same as indices into `pts`.
+std::vector<int> convex_hull_indices(const std::vector<Eigen::Vector2d>& pts);
+
+// The area a wheel's section sweeps in its plane between two poses where it turns (the blank turned or the
+// workhead swivelled), as counter-clockwise polygons whose union it is (turning_sweep.cpp): the sections'
+// hulls, and for each hull edge whose ends are found at the other pose (by `ids`, wheel_section_points) the
+// area it sweeps as its ends move straight there (any point the moving section covers is crossed by one of
+// its edges). The hull of both sections instead joins opposite corners of the turned sections, a chord
+// through material the wheel leaves: an error first order in the turn, where this one is second order (the
+// ends' arcs taken as chords). False when a hull vertex has no counterpart (a ring entering or leaving the
+// plane between the poses); `out` is then not to be used.
+bool turning_sweep(const std::vector<Eigen::Vector2d>& p0, const std::vector<int>& id0,
+                   const std::vector<Eigen::Vector2d>& p1, const std::vector<int>& id1,
+                   std::vector<std::vector<Eigen::Vector2d>>& out);
 
 }  // namespace tf::grind::detail

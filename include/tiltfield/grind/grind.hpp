@@ -58,7 +58,8 @@ struct GrindScene {
   Wheel wheel;
   Axes start;  // axis position before the first block (scene "start", default all zero)
   std::vector<Operation> operations;
-  std::string file;  // the scene path as given
+  std::string file;     // the scene path as given
+  std::string program;  // the program's name in messages: its file, or the scene's inline lines
 };
 
 // Samples the rim of a wheel with rounded corners: rings every `max_step` mm along the flat rim and every
@@ -85,7 +86,16 @@ WheelPose wheel_pose(const Axes& axes);
 Axes interpolate(const Axes& from, const Axes& to, double s);
 
 // Number of equal increments for a move so that no point of the blank (radius r, length l) moves by more
-// than `step` mm relative to the wheel within one increment. At least 1.
+// than `step` mm relative to the wheel within one increment. At least 1; kMaxIncrements + 1 for a move that
+// would need more (the simulation refuses it rather than take coarser steps than asked).
+inline constexpr int kMaxIncrements = 10'000'000;
 int increments(const Axes& from, const Axes& to, const Blank& blank, double step);
+
+// The largest axis values a program or the scene's start may give: linear axes (X, Y, Z, U) within
+// +-kMaxTravelMm, rotary axes (A, W) within +-kMaxTurnDeg. A value beyond them is a typo (a lost decimal
+// point), not a grinder's travel; every move is split into increments of --step, so a stray 1e9 would
+// otherwise run for hours.
+inline constexpr double kMaxTravelMm = 1e5;
+inline constexpr double kMaxTurnDeg = 1e5;
 
 }  // namespace tf::grind

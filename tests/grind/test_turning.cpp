@@ -1,0 +1,61 @@
+// The blank turning (A) while the wheel is in it: cylindrical grinding against its closed form. The hull of
+// two turned wheel sections joins opposite corners of them and cuts a chord into the material the wheel
+// leaves (0.6.14: radius 3.950 for 4.000 at the default step); the turning section's own sweep does not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "grind_test_util.hpp"
+#include "tiltfield/grind/sections.hpp"
+
+namespace tf::grind {
+namespace turning_test {
+
+constexpr double kR = 5.0, kL = 30.0, kWheelR = 40.0, kYc = 44.0, kZc = 15.0;
+
+// The radius the blank keeps at height z: a wheel of radius 40 whose disc lies in the plane x = const (its
+// axis along x, W = 0), centre at y = 44, z = 15, turned a full revolution about the blank: the nearest
+// point of its section by the plane z is the middle of the section's lower edge.
+double ground_radius(double z) {
+  const double dz = z - kZc;
+  if (std::abs(dz) >= kWheelR) return kR;
+  return std::min(kR, kYc - std::sqrt(kWheelR * kWheelR - dz * dz));
+}
+
+// The smallest and largest distance of a section's contour points from the blank axis.
+std::pair<double, double> radius_range(const Section& s) {
+  double lo = 1e300, hi = 0.0;
+  for (const Contour& c : s.contours)
+    for (const Eigen::Vector2d& p : c.points) lo = std::min(lo, p.norm()), hi = std::max(hi, p.norm());
+  return {lo, hi};
+}
+
+void expect_cylindrical_grinding(double thickness, double step) {
+  const std::string program = "OP od_sharpening turn\nG0 X0 Y100 Z15\nG0 Y44\nG1 A360 F100\nG0 Y100\n";
+  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, thickness, 0.0, program);
+  SectionOptions o;
+  o.spacing = 0.5;
+  o.step = step;
+  const SectionStack stack = simulate_sections(scene, o);
+  int checked = 0;
+  for (const Section& s : stack.sections) {
+    const double want = ground_radius(s.z);
+    if (want >= kR - 0.01) continue;  // untouched there
+    const auto [lo, hi] = radius_range(s);
+    // The blank circle's polygon and the wheel's rings are within 0.002 mm; between two increments the
+    // ground circle is left as the corner of two tangents, r (turn^2 / 8) with a turn of step / R.
+    const double turn = step / kR, tol = 0.004 + want * turn * turn / 8.0;
+    EXPECT_NEAR(lo, want, tol) << "z " << s.z << ", thickness " << thickness << ", step " << step;
+    EXPECT_NEAR(hi, want, tol) << "z " << s.z << ", thickness " << thickness << ", step " << step;
+    ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
+
+TEST(GrindTurning, CylindricalGrindingKeepsTheRadiusAtTheDefaultStep) { expect_cylindrical_grinding(4.0, 0.25); }
+
+TEST(GrindTurning, AWideWheelAndACoarseStepToo) { expect_cylindrical_grinding(10.0, 1.0); }
+
+}  // namespace turning_test
+}  // namespace tf::grind
