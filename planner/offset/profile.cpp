@@ -103,7 +103,8 @@ Profile parse_profile(std::string_view text, const std::string& file) {
     e.R = within(parse_number(tok[0], file, n, "R"), n, "R");
     e.chord = {within(parse_number(tok[1], file, n, "DX"), n, "DX"), within(parse_number(tok[2], file, n, "DY"), n, "DY")};
     pos += e.chord;
-    within(pos.x(), n, "DX", "the element's end x"), within(pos.y(), n, "DY", "the element's end y");
+    within(pos.x(), n, "DX", "the element's end x");
+    within(pos.y(), n, "DY", "the element's end y");
     e.long_arc = false;
     e.line = n;
     if (tok.size() == 4) {

@@ -46,10 +46,11 @@ std::vector<Case> cases() {
       {"motion before OP", [](json&, std::string& p) { p = "G1 X1\n" + p; }, "prog.ngc:1"},
       {"empty program name", [](json& j, std::string&) { j["program"] = ""; }, "field 'program': is empty"},
       {"exponent notation", [](json&, std::string& p) { p += "G0 Y1e7\n"; }, "prog.ngc:7: field 'Y1e7': exponent"},
+      {"exponent after a point", [](json&, std::string& p) { p += "G0 X1.e3\n"; }, "prog.ngc:7: field 'X1.e3': exponent"},
       {"linear axis out of range", [](json&, std::string& p) { p += "G0 Y9000000\n"; },
-       "prog.ngc:7: field 'Y9000000': puts Y at 9e+06 mm"},
+       "prog.ngc:7: field 'Y9000000': puts Y at 9000000.000 mm, beyond +-100000 mm"},
       {"incremental axis out of range", [](json&, std::string& p) { p += "G91\nG0 U60000\nU60000\n"; },
-       "prog.ngc:9: field 'U60000': puts U at 120000 mm"},
+       "prog.ngc:9: field 'U60000': puts U at 120000.000 mm"},
       {"rotary axis out of range", [](json&, std::string& p) { p += "G0 A720000\n"; }, "field 'A720000': puts A at"},
       {"start out of range", [](json& j, std::string&) { j["start"]["x"] = -2e5; }, "field 'start.x': puts X at"},
       {"concave profile",
@@ -154,7 +155,7 @@ TEST(GrindInput, AMoveNeedingTooManyIncrementsIsRefused) {
   const auto r = test::run_tiltfield("grind grind.json -o tool.ply --step 0.001", dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_EQ(test::count_lines(r.out), 1) << r.out;
-  EXPECT_NE(r.out.find("prog.ngc:7: field '--step': this move needs more than 10000000 increments"), std::string::npos)
+  EXPECT_NE(r.out.find("prog.ngc:7: this move needs more than 10000000 increments of --step 0.001 mm"), std::string::npos)
       << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply"));
 }

@@ -53,6 +53,49 @@ void expect_cylindrical_grinding(double thickness, double step) {
   EXPECT_GE(checked, 10);
 }
 
+// The same with the workhead swivelled (W), so that the wheel's section is cut by the generator lines too:
+// the radius each section keeps is the least distance from the blank's axis of the wheel's section at A = 0
+// (a full revolution brings every angle round), found by scanning the wheel's solid directly.
+double swivelled_ground_radius(const WheelPose& p, double R, double w, double z) {
+  double best = kR;
+  for (int k = 0; k < 720; ++k) {
+    const double phi = 2.0 * M_PI * k / 720;
+    for (double rho = 0.0; rho < best; rho += 0.0005) {
+      const Eigen::Vector3d d = Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z) - p.centre;
+      const double t = d.dot(p.axis);
+      if (std::abs(t) <= 0.5 * w && (d - t * p.axis).norm() <= R) {
+        best = rho;
+        break;
+      }
+    }
+  }
+  return best;
+}
+
+TEST(GrindTurning, SwivelledWheelFollowsItsGeneratorsToo) {
+  const double w = 4.0;
+  // Machine X, Z that put the wheel's centre at x = 0, z = 15 of the blank once swivelled 60 deg.
+  const std::string program =
+      "OP od_sharpening turn\nG0 W60\nG0 X12.990381 Y100 Z7.5\nG0 Y44\nG1 A360 F100\nG0 Y100\n";
+  const GrindScene scene = testing::make_scene(kR, kL, kWheelR, w, 0.0, program);
+  SectionOptions o;
+  o.spacing = 0.5;
+  const SectionStack stack = simulate_sections(scene, o);
+  const WheelPose pose = wheel_pose(Axes{12.990381, 44, 7.5, 0, 0, 60});
+  int checked = 0;
+  for (const Section& s : stack.sections) {
+    if (std::fmod(s.z, 1.0) != 0.0) continue;  // every second section: the scan is slow
+    const double want = swivelled_ground_radius(pose, kWheelR, w, s.z);
+    if (want >= kR - 0.01) continue;
+    const auto [lo, hi] = radius_range(s);
+    // As above, and the 180 generators' chords, R (1 - cos(pi / 180)) = 0.006 mm, and the scan's 0.0005 mm.
+    EXPECT_NEAR(lo, want, 0.011) << "z " << s.z;
+    EXPECT_NEAR(hi, want, 0.011) << "z " << s.z;
+    ++checked;
+  }
+  EXPECT_GE(checked, 6);
+}
+
 TEST(GrindTurning, CylindricalGrindingKeepsTheRadiusAtTheDefaultStep) { expect_cylindrical_grinding(4.0, 0.25); }
 
 TEST(GrindTurning, AWideWheelAndACoarseStepToo) { expect_cylindrical_grinding(10.0, 1.0); }

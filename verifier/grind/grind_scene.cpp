@@ -2,6 +2,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -64,8 +65,9 @@ void check_axis_range(double v, char axis, const std::string& file, int line, co
   const double limit = rotary ? kMaxTurnDeg : kMaxTravelMm;
   if (std::abs(v) <= limit) return;
   std::ostringstream msg;
-  msg << "puts " << char(std::toupper(static_cast<unsigned char>(axis))) << " at " << v << (rotary ? " deg" : " mm")
-      << ", beyond +-" << limit << (rotary ? " deg" : " mm") << " (a lost decimal point?)";
+  msg << std::fixed << std::setprecision(3) << "puts " << char(std::toupper(static_cast<unsigned char>(axis)))
+      << " at " << v << (rotary ? " deg" : " mm") << ", beyond +-" << std::setprecision(0) << limit
+      << (rotary ? " deg" : " mm") << " (a lost decimal point?)";
   throw InputError(file, line, field, msg.str());
 }
 
@@ -173,7 +175,7 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
         ++j;
       // A number like 1e3 splits into the words "X1" and "e3": name the number, not the exponent.
       if (j < line.size() && (line[j] == 'e' || line[j] == 'E') && j > i + 1 &&
-          std::isdigit(static_cast<unsigned char>(line[j - 1]))) {
+          (std::isdigit(static_cast<unsigned char>(line[j - 1])) || line[j - 1] == '.')) {
         size_t k = j + 1;
         while (k < line.size() && !std::isalpha(static_cast<unsigned char>(line[k])) &&
                !std::isspace(static_cast<unsigned char>(line[k])))

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <polyclipping/clipper.hpp>
 #include <unordered_map>
@@ -116,10 +117,12 @@ std::vector<PoseInfo> operation_poses(const Operation& op, const Axes& before, c
   Axes from = before;
   for (const Move& m : op.moves) {
     const int n = increments(from, m.target, scene.blank, step);
-    if (n > kMaxIncrements)
-      throw InputError(scene.program, m.line, "--step",
-                       "this move needs more than " + std::to_string(kMaxIncrements) + " increments of " +
-                           std::to_string(step) + " mm; split it or give a larger --step");
+    if (n > kMaxIncrements) {
+      std::ostringstream msg;
+      msg << "this move needs more than " << kMaxIncrements << " increments of --step " << step
+          << " mm; split it or give a larger --step";
+      throw InputError(scene.program, m.line, "", msg.str());
+    }
     for (int i = 1; i <= n; ++i) {
       const Axes axes = interpolate(from, m.target, double(i) / n);
       PoseInfo p = detail::pose_info(wheel_pose(axes), scene.wheel, scene.blank);
@@ -218,6 +221,12 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
     Path path;
     path.reserve(part.size());
     for (const auto& q : part) path.push_back(to_int(q));
+    // Rounded to the integer grid a sliver may have turned over: under the union's NonZero rule a
+    // clockwise piece would cancel the cover of another, so it is turned back, or dropped when it has no
+    // area to speak of.
+    const double area = ClipperLib::Area(path);
+    if (std::abs(area) <= opt.clean_tolerance * kScale * opt.clean_tolerance * kScale) return;
+    if (area < 0) std::reverse(path.begin(), path.end());
     clips.push_back(std::move(path));
   };
   for (size_t k = 0; k + 1 < poses.size(); ++k) {

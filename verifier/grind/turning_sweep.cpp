@@ -62,10 +62,11 @@ void add_segment_sweep(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const
 bool hull_and_edge_sweeps(const Polygon& from, const std::vector<int>& id_from, const Polygon& to,
                           const std::vector<int>& index_to, std::vector<Polygon>& out) {
   const std::vector<int> hull = convex_hull_indices(from);
-  if (hull.size() < 3) return true;
+  if (hull.size() < 3) return false;  // a degenerate section: the caller's hull of both takes it
   Polygon h;
   for (const int i : hull) h.push_back(from[size_t(i)]);
   add_ccw(h, out);
+  int followed = 0;
   auto counterpart = [&](int i) {
     const int id = id_from[size_t(i)];
     return id >= 0 && size_t(id) < index_to.size() ? index_to[size_t(id)] : -1;
@@ -73,7 +74,11 @@ bool hull_and_edge_sweeps(const Polygon& from, const std::vector<int>& id_from, 
   for (size_t k = 0; k < hull.size(); ++k) {
     const int ia = hull[k], ib = hull[(k + 1) % hull.size()];
     const int ja = counterpart(ia), jb = counterpart(ib);
-    if (ja < 0 || jb < 0) return false;
+    // An end with no counterpart (a ring entering or leaving the plane, a generator moving to the next
+    // segment of the profile): the edge lies where the section changes its shape, and the other section's
+    // edges, or the sections themselves, cover what it sweeps.
+    if (ja < 0 || jb < 0) continue;
+    ++followed;
     const Eigen::Vector2d &a = from[size_t(ia)], &b = from[size_t(ib)], &a1 = to[size_t(ja)], &b1 = to[size_t(jb)];
     // An edge whose ends both move into the hull (its outside is on its right) sweeps the side it leaves
     // behind, which the other section's edges sweep outward when followed back.
@@ -81,7 +86,7 @@ bool hull_and_edge_sweeps(const Polygon& from, const std::vector<int>& id_from, 
     if (outward.dot(a1 - a) <= 0 && outward.dot(b1 - a) <= 0) continue;
     add_segment_sweep(a, b, a1, b1, out);
   }
-  return true;
+  return followed > 0;
 }
 
 // index[id] = the point of `pts` with that id (-1 for none).

@@ -9,7 +9,10 @@ PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank
   PoseInfo info;
   info.pose = pose;
   const Eigen::Vector3d& a = pose.axis;
-  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  // The generators' angles start from a x z, which turns with the blank (A) and follows the swivel (W), so
+  // that a generator keeps its id from one pose to the next (turning_sweep follows points by id); x only
+  // for a spindle along the blank's axis.
+  const Eigen::Vector3d helper = std::abs(a.z()) < 0.999 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
   info.u1 = a.cross(helper).normalized();
   info.u2 = a.cross(info.u1);
   const double h = 0.5 * wheel.thickness;
