@@ -249,8 +249,8 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
     }
     if (x1 < bx0 || x0 > bx1 || y1 < by0 || y0 > by1) continue;
     // A section that turns between the poses: its own sweep, where the hull of both would cut a chord
-    // into the material the wheel leaves; a moving one (and one whose points cannot all be followed): the
-    // hull, exact for a convex section that only moves.
+    // into the material the wheel leaves; a moving one (and a turning one none of whose edges can be
+    // followed): the hull, exact for a convex section that only moves.
     const bool turns = p0.a != p1.a || p0.w != p1.w;
     if (turns && prev.size() >= 3 && cur.size() >= 3 && detail::turning_sweep(prev, prev_ids, cur, cur_ids, swept)) {
       for (const auto& poly : swept) add_clip(poly);

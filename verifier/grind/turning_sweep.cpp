@@ -57,8 +57,8 @@ void add_segment_sweep(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const
   }
 }
 
-// The hull of `from`, and the sweep of each of its edges whose ends are found in `to`. False when an end
-// has no counterpart.
+// The hull of `from`, and the sweep of each of its edges whose ends are found in `to`. False when the hull
+// is degenerate or none of its edges can be followed.
 bool hull_and_edge_sweeps(const Polygon& from, const std::vector<int>& id_from, const Polygon& to,
                           const std::vector<int>& index_to, std::vector<Polygon>& out) {
   const std::vector<int> hull = convex_hull_indices(from);

@@ -48,8 +48,9 @@ std::vector<int> convex_hull_indices(const std::vector<Eigen::Vector2d>& pts);
 // area it sweeps as its ends move straight there (any point the moving section covers is crossed by one of
 // its edges). The hull of both sections instead joins opposite corners of the turned sections, a chord
 // through material the wheel leaves: an error first order in the turn, where this one is second order (the
-// ends' arcs taken as chords). False when a hull vertex has no counterpart (a ring entering or leaving the
-// plane between the poses); `out` is then not to be used.
+// ends' arcs taken as chords). An edge with an end that has no counterpart (a ring entering or leaving the
+// plane) is left to the sections and the other edges. False when a section is degenerate or no edge of
+// either can be followed; `out` is then not to be used.
 bool turning_sweep(const std::vector<Eigen::Vector2d>& p0, const std::vector<int>& id0,
                    const std::vector<Eigen::Vector2d>& p1, const std::vector<int>& id1,
                    std::vector<std::vector<Eigen::Vector2d>>& out);
