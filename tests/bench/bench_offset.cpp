@@ -6,10 +6,12 @@
 #include <polyclipping/clipper.hpp>
 #include <sstream>
 
+#include "offset/clipper_reference.hpp"
 #include "tiltfield/offset/offset.hpp"
 
 namespace {
 using namespace tf::offset;
+using tf::offset::test::polygonise;
 
 // A wavy closed profile (radius 200 +- 5 mm, 50 waves) of n elements, lines and arcs alternating; the
 // arcs bulge by chord/40, alternately to the left and the right.
@@ -32,23 +34,6 @@ Profile wavy_profile(int n) {
   Profile p = parse_profile(s.str(), "wavy");
   validate_profile(p);
   return p;
-}
-
-ClipperLib::Path polygonise(const Profile& p, double sagitta, double scale) {
-  ClipperLib::Path path;
-  for (const auto& s : p.elements) {
-    int n = 1;
-    if (s.is_arc()) {
-      const double step = 2 * std::acos(std::max(-1.0, 1 - sagitta / s.r));
-      n = std::max(1, static_cast<int>(std::ceil(std::abs(s.sweep) / step)));
-    }
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector2d q = point_at(s, static_cast<double>(k) / n);
-      path.emplace_back(static_cast<ClipperLib::cInt>(std::llround(q.x() * scale)),
-                        static_cast<ClipperLib::cInt>(std::llround(q.y() * scale)));
-    }
-  }
-  return path;
 }
 
 const Profile& profile() {

@@ -62,14 +62,19 @@ std::vector<Case> cases() {
   };
 }
 
+// Writes the case's scene and program into dir.
+void write_case(const Case& c, const test::TempDir& dir) {
+  json j = valid_scene();
+  std::string prog = kProgram;
+  c.mutate(j, prog);
+  test::write_text(dir / "grind.json", j.dump());
+  test::write_text(dir / "prog.ngc", prog);
+}
+
 TEST(GrindInput, LoaderNamesFileAndField) {
   for (const Case& c : cases()) {
     test::TempDir dir;
-    json j = valid_scene();
-    std::string prog = kProgram;
-    c.mutate(j, prog);
-    test::write_text(dir / "grind.json", j.dump());
-    test::write_text(dir / "prog.ngc", prog);
+    write_case(c, dir);
     try {
       load_grind_scene(dir / "grind.json");
       ADD_FAILURE() << c.name << ": accepted";
@@ -82,11 +87,7 @@ TEST(GrindInput, LoaderNamesFileAndField) {
 TEST(GrindInput, CliExitsTwoWithOneLineAndNoOutput) {
   for (const Case& c : cases()) {
     test::TempDir dir;
-    json j = valid_scene();
-    std::string prog = kProgram;
-    c.mutate(j, prog);
-    test::write_text(dir / "grind.json", j.dump());
-    test::write_text(dir / "prog.ngc", prog);
+    write_case(c, dir);
     const auto r = test::run_tiltfield("grind grind.json -o tool.ply --sections s.svg", dir.path());
     EXPECT_EQ(r.exit_code, 2) << c.name << ": " << r.out;
     EXPECT_EQ(test::count_lines(r.out), 1) << c.name << ": " << r.out;
