@@ -89,4 +89,18 @@ TEST(OutputNames, FoldersAndMissingFoldersExitTwoBeforeTheWork) {
   EXPECT_FALSE(fs::exists(dir / "p.csv"));
 }
 
+// --quiet belongs to every sub-command: after it as well as before it; an unknown option stays refused.
+TEST(OutputNames, QuietAfterTheSubCommandToo) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "profile.txt", "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n");
+  const std::string exe = std::string(TILTFIELD_EXE) + " ";
+  const std::string args = "offset " + (dir / "profile.txt").string() + " -d 1 -o " + (dir / "o.ngc").string();
+  EXPECT_EQ(tf::test::run_command(exe + args + " --quiet").exit_code, 0);
+  EXPECT_EQ(tf::test::run_command(exe + args + " -q").exit_code, 0);
+  EXPECT_EQ(tf::test::run_command(exe + "-q " + args).exit_code, 0);
+  const auto r = tf::test::run_command(exe + args + " --loud");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("--loud"), std::string::npos) << r.out;
+}
+
 }  // namespace

@@ -9,6 +9,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("tiltfield ") + TILTFIELD_VERSION);
   app.add_flag("-q,--quiet", tf::cli::global_options().quiet, "no progress output");
   app.require_subcommand(1);
+  // `tiltfield verify ... --quiet` as well as `tiltfield --quiet verify ...`: a sub-command hands the
+  // options it does not know to this one (set before the sub-commands are made, which inherit it).
+  app.fallthrough();
   tf::cli::add_run_command(app);
   tf::cli::add_plan_command(app);
   tf::cli::add_post_command(app);
