@@ -241,6 +241,20 @@ TEST(SceneCli, PocketLoadsBackWithAnOverhangTheNominalAxisMeets) {
   EXPECT_EQ(hits_vertical, 0);
 }
 
+// A ball kept closer to the walls than the planner's default 1 mm: the scene's safety distance follows
+// it, so that the planner can clear the rows (with 1 mm it failed all 324 rows by the wall).
+TEST(SceneCli, SafetyDistanceIsNoMoreThanTheBallClearance) {
+  TempDir d("pocket_safety");
+  const std::string dir = (d.path / "p").string();
+  ASSERT_EQ(run_tiltfield("--quiet scene pocket --ball-clearance 0.5 -o '" + dir + "'", d.path).exit_code, 0);
+  const tf::Scene s = tf::load_scene(d.path / "p" / "scene.json");
+  EXPECT_DOUBLE_EQ(s.planner.safety_distance, 0.5);
+  const RunResult r = run_tiltfield("--quiet plan '" + dir + "/scene.json' -o '" + dir + "/o.csv'", d.path);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(run_tiltfield("--quiet scene pocket -o '" + dir + "2'", d.path).exit_code, 0);
+  EXPECT_DOUBLE_EQ(tf::load_scene(d.path / "p2" / "scene.json").planner.safety_distance, 1.0);
+}
+
 TEST(SceneCli, BlockLoadsBackAsAThreeAxisFacingScene) {
   TempDir d("block_cli");
   const RunResult r = run_tiltfield("scene block -o '" + (d.path / "b").string() + "'", d.path);

@@ -3,6 +3,7 @@
 
 #include "scene_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -23,7 +24,9 @@ SceneBundle make_impeller_scene(const ImpellerOptions& o, const nlohmann::json& 
   s.feed = o.feed;
   s.planner.lead_deg = 0.0;
   s.planner.tilt_deg = 0.0;
-  s.planner.safety_distance = 1.0;
+  // The planner's default 1 mm, but never more than the ball is kept from the check surfaces: a row the
+  // ball itself holds closer than the safety distance cannot be cleared by any tilt.
+  s.planner.safety_distance = std::min(1.0, o.ball_clearance);
   s.machine = machine;
   s.generator = {
       {"command", "tiltfield scene impeller"},

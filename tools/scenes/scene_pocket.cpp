@@ -1,5 +1,6 @@
 #include "scene_pocket.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -74,7 +75,9 @@ SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& mach
   }
   if (min_clear < o.ball_clearance) throw JobError("scene pocket: the ball is not clear of the walls (internal error)");
   s.feed = o.feed;
-  s.planner.safety_distance = 1.0;
+  // The planner's default 1 mm, but never more than the ball is kept from the check surfaces: a row the
+  // ball itself holds closer than the safety distance cannot be cleared by any tilt.
+  s.planner.safety_distance = std::min(1.0, o.ball_clearance);
   s.machine = machine;
   s.generator = {{"command", "tiltfield scene pocket"},
                  {"options",
