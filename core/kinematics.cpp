@@ -67,12 +67,16 @@ double c_of_lean(KinematicsType k, const Eigen::Vector2d& w) {
 // `near` is convex in k, so the best turn is the unconstrained one clamped to the turns inside the limit
 // (however many turns from 0 the limit lies).
 double unwind(double v, double near, const AxisLimit& limit) {
+  // An angle computed at a limit (acos(0.5) is 60.00000000000001; an axis read with 9 decimals is off by
+  // about 1e-8 deg) is the limit: the planner's and the post's ways of computing it must not disagree
+  // about a pose the machine reaches.
+  constexpr double kSnap = 1e-6;  // deg: far below the 0.0001 deg a program is written with
   double k = std::round((near - v) / 360.0);
-  const double k_lo = std::ceil((limit.min - v) / 360.0 - 1e-12), k_hi = std::floor((limit.max - v) / 360.0 + 1e-12);
+  const double k_lo = std::ceil((limit.min - kSnap - v) / 360.0), k_hi = std::floor((limit.max + kSnap - v) / 360.0);
   if (k_lo > k_hi) return std::numeric_limits<double>::quiet_NaN();
   k = std::clamp(k, k_lo, k_hi);  // infinite bounds leave k as it is
   const double cand = v + 360.0 * k;
-  return limit.contains(cand) ? cand : std::numeric_limits<double>::quiet_NaN();
+  return std::clamp(cand, limit.min, limit.max);
 }
 
 AxisLimit limit_of(const MachineSpec& m, char letter) {

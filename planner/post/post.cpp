@@ -9,6 +9,7 @@
 #include "transit_check.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/core/local_frame.hpp"
 
 namespace tf {
 using namespace post_detail;
@@ -442,6 +443,49 @@ struct RowMove {
     }
     return false;
   }
+
+  // The limits end the present configuration between the rows (a limited C reaching its end while the
+  // axis turns on): cut in it up to where it ends, change there (retract, turn, re-approach) and cut on
+  // to this row in the configuration chosen for it.
+  bool change_between() {
+    const ToolPose& p1 = rows.poses[i];
+    auto pose_at = [&](double s) { return ToolPose{p0.tip + s * (p1.tip - p0.tip), slerp_axis(p0.axis, p1.axis, s)}; };
+    // The present configuration at s: the solution nearest the previous row's joints, unless that is the
+    // other configuration (half a turn of C away, or the tilt's sign changed far from the pole).
+    constexpr double kSameConfiguration = 90.0;  // deg of rotary motion
+    auto present = [&](double s, Joints& out) {
+      const std::vector<Joints> near = by_rotary_distance(all_solutions(pose_at(s), kin, j0), j0);
+      if (near.empty() || rotary_distance(near.front(), j0) > kSameConfiguration) return false;
+      out = near.front();
+      return true;
+    };
+    Joints jm = j0, probe;
+    if (present(1.0, probe)) return false;  // not a limit between the rows: the other ways failed for another reason
+    double s0 = 0.0, s1 = 1.0;
+    for (int k = 0; k < 40; ++k) {
+      const double s = 0.5 * (s0 + s1);
+      if (present(s, probe)) s0 = s, jm = probe;
+      else s1 = s;
+    }
+    if (s0 <= 0.0) return false;
+    const ToolPose m = pose_at(s0);
+    std::vector<PosedJoints> tail;
+    for (const Joints& other : by_rotary_distance(all_solutions(m, kin, joints[i]), joints[i])) {
+      tail.clear();
+      if (rotary_distance(other, jm) < 1e-6 || !linearize(kin, m, other, p1, joints[i], lo, tail)) continue;
+      pieces.clear();
+      if (!linearize(kin, p0, j0, m, jm, lo, pieces)) return false;
+      cut_pieces();
+      b.program().warnings.push_back("row " + std::to_string(i) +
+                                     ": change of configuration before it, where the limits end the move (retract, turn, re-approach)");
+      b.reposition(m, jm, m, other, rows.feeds[i]);
+      p0 = m;
+      j0 = other;
+      pieces = std::move(tail);
+      return true;
+    }
+    return false;
+  }
 };
 
 // The cutting blocks between consecutive rows, each move linearised within the tolerances.
@@ -458,7 +502,7 @@ void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, const s
     pieces.clear();
     RowMove move{kin, rows, joints, lo, b, i, poses[i - 1], joints[i - 1], pieces};
     if (!linearize(kin, move.p0, move.j0, poses[i], joints[i], lo, pieces) && !move.change_before() &&
-        !move.change_at())
+        !move.change_at() && !move.change_between())
       throw JobError(segment_failure(i - 1, lo));
     move.cut_pieces();
     if (i % 4096 == 0) report(progress, "post", 0.2 + 0.8 * double(i) / double(poses.size()));

@@ -162,4 +162,35 @@ inline double distance_to_arc(const Eigen::Vector3d& v, const Eigen::Vector3d& a
   return std::asin(std::min(1.0, std::abs(v.dot(u)))) / kDeg;
 }
 
+// A post job on one of the bundled machines: ball R3, gauge length 60, F1500, a part of 100 x 100 x 25.
+inline tf::PostJob job_for(const std::string& machine) {
+  tf::PostJob job;
+  job.machine = tf::read_machine_json(machine_file(machine));
+  job.tool.cutter = tf::BallCutter{3.0};
+  job.tool.length = 60.0;
+  job.feed = 1500.0;
+  job.part_bounds = Eigen::AlignedBox3d(Eigen::Vector3d(-50, -50, 0), Eigen::Vector3d(50, 50, 25));
+  return job;
+}
+
+// The cutting blocks between the approach plunge and the final retract, with the joints before each.
+struct Cut {
+  tf::Joints from, to;
+};
+inline std::vector<Cut> cutting_blocks(const tf::Program& p) {
+  std::vector<Cut> out;
+  tf::Joints cur = p.start;
+  bool plunged = false;
+  for (const tf::Block& b : p.blocks) {
+    if (b.motion == tf::Motion::Linear) {
+      if (plunged) out.push_back({cur, b.target});
+      plunged = true;
+    } else {
+      plunged = false;
+    }
+    cur = b.target;
+  }
+  return out;
+}
+
 }  // namespace post_test

@@ -17,41 +17,11 @@ using tf::Joints;
 using tf::Kinematics;
 using tf::ToolPose;
 
-tf::PostJob job_for(const std::string& machine) {
-  tf::PostJob job;
-  job.machine = tf::read_machine_json(machine_file(machine));
-  job.tool.cutter = tf::BallCutter{3.0};
-  job.tool.length = 60.0;
-  job.feed = 1500.0;
-  job.part_bounds = Eigen::AlignedBox3d(Eigen::Vector3d(-50, -50, 0), Eigen::Vector3d(50, 50, 25));
-  return job;
-}
-
 const char* kFiveAxisMachines[] = {"table-table-ac", "table-table-bc", "head-table-bc", "head-head-ac"};
 
 Joints lerp(const Joints& a, const Joints& b, double s) {
   return Joints{a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s, a.z + (b.z - a.z) * s,
                 a.a + (b.a - a.a) * s, a.b + (b.b - a.b) * s, a.c + (b.c - a.c) * s};
-}
-
-// The cutting blocks between the approach plunge and the final retract, with the joints before each.
-struct Cut {
-  Joints from, to;
-};
-std::vector<Cut> cutting_blocks(const tf::Program& p) {
-  std::vector<Cut> out;
-  Joints cur = p.start;
-  bool plunged = false;
-  for (const tf::Block& b : p.blocks) {
-    if (b.motion == tf::Motion::Linear) {
-      if (plunged) out.push_back({cur, b.target});
-      plunged = true;
-    } else {
-      plunged = false;
-    }
-    cur = b.target;
-  }
-  return out;
 }
 
 TEST(Post, LinearisesALargeRotaryMoveWithinTolerance) {

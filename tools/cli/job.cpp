@@ -142,7 +142,18 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
     summary.seconds.replan += seconds_since(t);
     ++summary.rounds;
     uncleared = re.uncleared;
-    Round next = post_and_verify(re.path, summary.seconds);
+    // A re-planned path the post cannot take (a row or a move beyond the machine) ends the rounds: the
+    // last one posted is kept, and the reason is reported with the collisions left.
+    Round next;
+    try {
+      next = post_and_verify(re.path, summary.seconds);
+    } catch (const PostRowError& e) {
+      summary.replan_not_posted = "row " + std::to_string(e.row()) + ": " + e.what();
+      break;
+    } catch (const JobError& e) {
+      summary.replan_not_posted = e.what();
+      break;
+    }
     if (next.verified.report.collisions.size() >= current.verified.report.collisions.size()) break;
     summary.rows_replanned += re.rows_changed;
     for (const auto& w : re.windows) replanned.push_back({static_cast<int>(w.first), static_cast<int>(w.last)});
@@ -252,6 +263,16 @@ void stop_at_unreachable_rows(const PlanResult& planned, const JobOptions& optio
   throw JobError(msg.str());
 }
 
+// The plan could not be posted: it is written (oriented.csv) and the job stops saying why, rather than
+// leaving nothing.
+[[noreturn]] void stop_unposted(const PlanResult& planned, const JobOptions& options, const std::string& why) {
+  std::error_code ec;
+  fs::create_directories(options.out_dir, ec);
+  const fs::path out = options.out_dir / "oriented.csv";
+  write_oriented_csv(planned.path, out);
+  throw JobError("the plan could not be posted (" + why + "); the plan is in " + out.string() + ", nothing was posted");
+}
+
 }  // namespace
 
 JobSummary run_job(const Scene& scene, const JobOptions& options) {
@@ -262,7 +283,14 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
   const Planned planned = plan_stage(scene, options, summary);
   stop_at_unreachable_rows(planned.result, options);
   const PostAndVerify post_and_verify(scene, options);
-  Round current = post_and_verify(planned.result.path, summary.seconds);
+  Round current;
+  try {
+    current = post_and_verify(planned.result.path, summary.seconds);
+  } catch (const PostRowError& e) {
+    stop_unposted(planned.result, options, "row " + std::to_string(e.row()) + ": " + e.what());
+  } catch (const JobError& e) {
+    stop_unposted(planned.result, options, e.what());
+  }
   summary.collisions_first = current.verified.report.collisions.size();
   std::vector<size_t> uncleared;
   const std::vector<reporting::RowWindow> replanned =
@@ -284,6 +312,9 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
     << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n";
   for (const auto& l : s.left)
     o << "  left         " << l.count << " " << l.kind << ", rows " << l.first_row << "-" << l.last_row << ": " << l.reason
+      << "\n";
+  if (!s.replan_not_posted.empty())
+    o << "  re-plan      the last re-planned path could not be posted, the round before it kept: " << s.replan_not_posted
       << "\n";
   o
     << "  gouges       " << s.gouges_final << " (max " << fixed(s.max_gouge_mm, 3) << " mm)\n"

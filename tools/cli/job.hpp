@@ -43,6 +43,7 @@ struct JobSummary {
   int rounds = 0;                // re-plan rounds done
   size_t rows_replanned = 0;
   std::vector<LeftCollisions> left;
+  std::string replan_not_posted;  // why the last re-planned path could not be posted (the round not kept)
   double removed_volume_mm3 = 0;
   StageSeconds seconds;
   std::vector<std::string> files;  // written, in order

@@ -1,0 +1,61 @@
+// The post-processor where the machine's limits end a configuration: between rows, and at the limit itself.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "post_fixture.hpp"
+#include "tiltfield/core/kinematics.hpp"
+
+namespace post_limits_test {
+
+using namespace post_test;
+using tf::Kinematics;
+
+// C limited to +-90 deg and the axis turning on around the pole between two rows past where C ends: the
+// configuration changes between them, where the limit is reached (retract, turn, re-approach); before,
+// neither row could be taken in the other's configuration and the post failed.
+TEST(Post, LimitReachedBetweenRowsChangesTheConfigurationThere) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['A'] = {-60.0, 60.0};
+  job.machine.limits['C'] = {-90.0, 90.0};
+  tf::OrientedPath path;
+  for (int i = 0; i < 400; ++i) {
+    tf::OrientedRow r;
+    r.p = {i * 0.1, 0, 20};
+    r.axis = polar_axis(12.0, -9.75 + 0.5 * i);
+    path.rows.push_back(r);
+  }
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  const Kinematics kin(job.machine, job.tool.length);
+  for (const tf::Block& b : prog.blocks) EXPECT_TRUE(kin.within_limits(b.target));
+  bool between = false;
+  for (const std::string& w : prog.warnings) between |= w.find("where the limits end the move") != std::string::npos;
+  EXPECT_TRUE(between);
+  for (const Cut& c : cutting_blocks(prog)) EXPECT_LT(tf::rotary_distance(c.from, c.to), 30.0);
+}
+
+// A tilt computed at its limit (acos(0.5) is 60.00000000000001 deg; the axis read with 9 decimals)
+// is the limit: the row is reached with A at 60, not refused.
+TEST(Post, TiltExactlyAtItsLimitIsReached) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['A'] = {-60.0, 60.0};
+  job.machine.limits['C'] = {-90.0, 90.0};
+  tf::OrientedPath path;
+  for (int i = 0; i < 5; ++i) {
+    tf::OrientedRow r;
+    r.p = {10.0 + i, 20, 3};
+    r.axis = Eigen::Vector3d(0, -0.866025404, 0.5);
+    path.rows.push_back(r);
+  }
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  const Kinematics kin(job.machine, job.tool.length);
+  double most = 0;
+  for (const tf::Block& b : prog.blocks) {
+    EXPECT_TRUE(kin.within_limits(b.target));
+    most = std::max(most, std::abs(b.target.a));
+  }
+  EXPECT_DOUBLE_EQ(most, 60.0);
+}
+
+}  // namespace post_limits_test
