@@ -77,7 +77,9 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
   std::string raw, record;
   int line = 0, record_line = 0;
   double feed = std::numeric_limits<double>::quiet_NaN();
-  bool skip_next_goto = false;
+  double unit = 1.0;                               // mm per file unit (UNITS/INCHES: 25.4)
+  Eigen::Vector3d last_axis = Eigen::Vector3d::UnitZ();  // a GOTO of three values keeps the tool axis in force
+  bool skip_next_goto = false, finished = false;
   auto handle = [&](const std::string& rec, int at) {
     std::string r = upper(rec);
     r.erase(std::remove_if(r.begin(), r.end(), [](unsigned char c) { return std::isspace(c); }), r.end());
@@ -91,26 +93,45 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       std::string item;
       while (std::getline(ss, item, ',')) a.push_back(item);
     }
-    if (word == "RAPID") {
+    if (word == "FINI") {
+      finished = true;  // the end of the part program: nothing after it is read
+    } else if (word == "UNITS") {
+      if (a.size() == 1 && (a[0] == "MM" || a[0] == "MILLIMETERS" || a[0] == "MILLIMETRES")) unit = 1.0;
+      else if (a.size() == 1 && (a[0] == "INCHES" || a[0] == "INCH" || a[0] == "IN")) unit = 25.4;
+      else throw InputError(name, at, "UNITS", "unknown units '" + args + "' (MM or INCHES)");
+    } else if (word == "RAPID") {
       skip_next_goto = true;
     } else if (word == "FEDRAT") {
       if (a.empty()) throw InputError(name, at, "FEDRAT", "missing feed value");
-      // FEDRAT/MMPM,f or FEDRAT/f[,MMPM]
-      const std::string& v = (a[0] == "MMPM" || a[0] == "IPM") && a.size() > 1 ? a[1] : a[0];
-      feed = parse_number(v, name, at, "FEDRAT");
+      // FEDRAT/[MMPM|IPM,]f or FEDRAT/f[,MMPM|IPM]: per minute, in the file's units unless named.
+      std::string mode;
+      std::string value = a[0];
+      if (std::isalpha(static_cast<unsigned char>(a[0][0]))) {
+        mode = a[0];
+        value = a.size() > 1 ? a[1] : "";
+      } else if (a.size() > 1) {
+        mode = a[1];
+      }
+      if (mode == "IPR" || mode == "MMPR")
+        throw InputError(name, at, "FEDRAT/" + mode, "feed per revolution is not supported: give it per minute (MMPM or IPM)");
+      if (!mode.empty() && mode != "MMPM" && mode != "IPM")
+        throw InputError(name, at, "FEDRAT/" + mode, "unknown feed unit (MMPM or IPM)");
+      feed = parse_number(value, name, at, "FEDRAT");
       if (feed <= 0) throw InputError(name, at, "FEDRAT", "feed must be positive");
+      feed *= mode == "MMPM" ? 1.0 : mode == "IPM" ? 25.4 : unit;
     } else if (word == "GOTO") {
       if (a.size() != 3 && a.size() != 6)
         throw InputError(name, at, "GOTO", "expected x,y,z or x,y,z,i,j,k, found " + std::to_string(a.size()) + " values");
-      double v[6] = {0, 0, 0, 0, 0, 1};
+      double v[6] = {0, 0, 0, last_axis.x(), last_axis.y(), last_axis.z()};
       for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, "GOTO") : parse_number(a[i], name, at, "GOTO");
+      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GOTO i,j,k");
+      last_axis = axis;
       if (skip_next_goto) {
         skip_next_goto = false;
         return;
       }
-      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GOTO i,j,k");
       CLPoint pt;
-      pt.p = Eigen::Vector3d(v[0], v[1], v[2]) + tool.cl_height() * axis;
+      pt.p = unit * Eigen::Vector3d(v[0], v[1], v[2]) + tool.cl_height() * axis;
       pt.n = axis;
       pt.feed = feed;
       path.rows.push_back(pt);
@@ -120,10 +141,14 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
   while (std::getline(in, raw)) {
     ++line;
     if (raw.find('\0') != std::string::npos) throw InputError(name, line, "", "binary data in a CLDATA file");
+    if (finished) break;
     std::string t = raw;
+    // "$$" starts a comment that runs to the end of the line, whether the line holds a record or not.
+    if (const size_t c = t.find("$$"); c != std::string::npos) t.erase(c);
     while (!t.empty() && (t.back() == '\r' || t.back() == ' ' || t.back() == '\t')) t.pop_back();
+    if (t.empty()) continue;  // blank, or a comment only (also between the lines of a continued record)
     if (record.empty()) record_line = line;
-    if (!t.empty() && t.back() == '$' && !(t.size() >= 2 && t[t.size() - 2] == '$')) {
+    if (t.back() == '$') {  // continued on the next line
       t.pop_back();
       record += t;
       continue;
@@ -132,7 +157,7 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
     handle(record, record_line);
     record.clear();
   }
-  if (!record.empty()) handle(record, record_line);
+  if (!record.empty() && !finished) handle(record, record_line);
   if (path.rows.empty()) throw InputError(name, 0, "", "no GOTO records");
   return path;
 }

@@ -56,6 +56,34 @@ TEST(PathIO, AptCldataGivesCutterLocations) {
   EXPECT_EQ(tf::read_toolpath(dir / "p.apt", ball3()).rows.size(), 3u);
 }
 
+// UNITS/INCHES scales the coordinates and a feed without its own unit; FEDRAT/IPM is inches a minute;
+// "$$" ends a record's line as a comment; a GOTO of three values keeps the tool axis in force; nothing
+// after FINI is read. Units the reader does not know, and feeds per revolution, are refused by name.
+TEST(PathIO, AptUnitsInlineCommentsAndFini) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "in.cl",
+                       "UNITS/INCHES $$ the part in inches\nFEDRAT/IPM,20\nGOTO/1,0,0.5,0.6,0,0.8 $$ first\n"
+                       "FEDRAT/10\nGOTO/2,0,0.5\nFINI\nGOTO/9,9,9\n");
+  const auto p = tf::read_toolpath_apt(dir / "in.cl", ball3());
+  ASSERT_EQ(p.rows.size(), 2u);
+  EXPECT_NEAR((p.rows[0].p - (Eigen::Vector3d(25.4, 0, 12.7) + 3.0 * Eigen::Vector3d(0.6, 0, 0.8))).norm(), 0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.rows[0].feed, 508.0);
+  EXPECT_NEAR((p.rows[1].n - Eigen::Vector3d(0.6, 0, 0.8)).norm(), 0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.rows[1].p.x(), 50.8 + 1.8);
+  EXPECT_DOUBLE_EQ(p.rows[1].feed, 254.0);
+  for (const auto& [text, field] : {std::pair<std::string, std::string>{"UNITS/FURLONG\nGOTO/1,2,3\n", "UNITS"},
+                                    {"FEDRAT/IPR,0.1\nGOTO/1,2,3\n", "FEDRAT/IPR"}}) {
+    tf::test::write_text(dir / "bad.cl", text);
+    try {
+      tf::read_toolpath_apt(dir / "bad.cl", ball3());
+      ADD_FAILURE() << text;
+    } catch (const tf::InputError& e) {
+      EXPECT_EQ(e.line(), 1) << text;
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(PathIO, BadAptNamesTheLine) {
   tf::test::TempDir dir;
   tf::test::write_text(dir / "p.cl", "MULTAX/ON\nGOTO/1,2,3\nGOTO/1,2\n");
