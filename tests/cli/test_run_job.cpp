@@ -103,4 +103,30 @@ TEST(OutputNames, QuietAfterTheSubCommandToo) {
   EXPECT_NE(r.out.find("--loud"), std::string::npos) << r.out;
 }
 
+// An output named like an input (or like another output) is refused before the work: it would be
+// renamed over the input at the end.
+TEST(OutputNames, AnOutputThatIsAnInputOrAnotherOutputExitsTwo) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const std::string profile_text = "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n";
+  tf::test::write_text(dir / "profile.txt", profile_text);
+  const std::string scene_text = tf::test::read_text(scene_file);
+  const std::string exe = std::string(TILTFIELD_EXE) + " --quiet ";
+  const std::string scene = scene_file.string(), profile = (dir / "profile.txt").string();
+  const std::string sub = (dir / "sub").string();
+  fs::create_directories(sub);
+  for (const std::string& command :
+       {"offset " + profile + " -d 1 -o " + profile, "offset " + profile + " -d 1 -o " + sub + "/../profile.txt",
+        "offset " + profile + " -d 1 -o " + (dir / "o.ngc").string() + " --svg " + (dir / "o.ngc").string(),
+        "plan " + scene + " -o " + scene, "plan " + scene + " -o " + (dir / "p.csv").string() + " --json " + (dir / "p.csv").string()}) {
+    const auto r = tf::test::run_command(exe + command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  }
+  EXPECT_EQ(tf::test::read_text(dir / "profile.txt"), profile_text);
+  EXPECT_EQ(tf::test::read_text(scene_file), scene_text);
+  EXPECT_FALSE(fs::exists(dir / "o.ngc"));
+  EXPECT_FALSE(fs::exists(dir / "p.csv"));
+}
+
 }  // namespace

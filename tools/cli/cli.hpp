@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "tiltfield/engagement/feed_schedule.hpp"
 #include "tiltfield/core/progress.hpp"
@@ -29,6 +31,11 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& opti
 // Throws InputError naming `option` and `path` when the file could not be written there (its folder is
 // missing or not writable), so that a command refuses it before its long work; an empty path is not asked.
 void check_output_file(const std::string& option, const std::string& path);
+// Throws InputError (naming the option and the path) when an output would replace one of the command's
+// input files or another output of the same run: the output is renamed onto its name at the end, so the
+// input would be lost. `outputs`: (option, path); empty paths are not asked.
+void check_outputs_apart(const std::vector<std::pair<std::string, std::string>>& outputs,
+                         const std::vector<std::string>& inputs);
 // The same test as a validator of an output option, so that a command's parse refuses the name (exit 2)
 // before its work.
 CLI::Validator output_file();

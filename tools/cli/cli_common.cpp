@@ -33,6 +33,29 @@ void check_output_file(const std::string& option, const std::string& path) {
   if (fs::is_directory(path, ec)) throw InputError(path, 0, option, "is a folder, not a file name");
 }
 
+namespace {
+// Whether two paths name one file: the same file where both exist, else the same normalised path.
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+}  // namespace
+
+void check_outputs_apart(const std::vector<std::pair<std::string, std::string>>& outputs,
+                         const std::vector<std::string>& inputs) {
+  for (size_t k = 0; k < outputs.size(); ++k) {
+    const auto& [option, path] = outputs[k];
+    if (path.empty()) continue;
+    for (const std::string& in : inputs)
+      if (!in.empty() && same_file(path, in))
+        throw InputError(path, 0, option, "is the input file '" + in + "': writing it would replace it");
+    for (size_t m = 0; m < k; ++m)
+      if (!outputs[m].second.empty() && same_file(path, outputs[m].second))
+        throw InputError(path, 0, option, "is also the file of " + outputs[m].first + ": give each output its own name");
+  }
+}
+
 CLI::Validator output_file() {
   return CLI::Validator(
       [](std::string& path) -> std::string {

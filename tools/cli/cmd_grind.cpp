@@ -24,6 +24,7 @@ void add_grind_command(CLI::App& app) {
     if (!(args.sections.spacing >= 0.001)) throw InputError("", 0, "--spacing", "must be at least 0.001 mm");
     if (!(args.sections.step >= 0.001)) throw InputError("", 0, "--step", "must be at least 0.001 mm");
     const grind::GrindScene scene = grind::load_grind_scene(args.scene);
+    check_outputs_apart({{"-o", args.out}, {"--sections", args.svg}}, {args.scene, scene.program});
     if (scene.blank.length / args.sections.spacing > 1e6)
       throw InputError("", 0, "--spacing", "more than a million sections: use a larger spacing");
     const Progress progress = terminal_progress();

@@ -64,6 +64,7 @@ void check_mcode(const std::string& code, const char* field) {
 }
 
 void run_offset(const OffsetCliOptions& o) {
+  check_outputs_apart({{"-o", o.out}, {"--svg", o.svg}, {"--profile-out", o.profile_out}}, {o.profile, o.gap_law, o.mesh});
   check_positive(o.gap, "gap");
   check_program_options(o.milling, o.ecm);
   check_mcode(o.ecm.electrolyte_on, "ecm-electrolyte-on");

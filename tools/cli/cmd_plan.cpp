@@ -55,6 +55,7 @@ void add_plan_command(CLI::App& app) {
       ->check(CLI::IsMember({"dynamic", "pointwise"}));
   cmd->add_flag("--smooth", a.smooth, "global smoothing pass (Ceres) after the dynamics");
   cmd->callback([] {
+    check_outputs_apart({{"-o", a.out}, {"--json", a.json}}, {a.scene});
     const Scene scene = load_scene(a.scene);
     require_for_planning(scene);
     PlanOptions options = parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);

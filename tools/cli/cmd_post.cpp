@@ -52,6 +52,7 @@ std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const s
 }
 
 void run_post(PostArgs& a) {
+  check_outputs_apart({{"-o", a.out}}, {a.scene, a.oriented});
   PostOptions& o = a.options;
   positive_option(o.tip_tolerance_mm, "--tip-tol");
   positive_option(o.axis_tolerance_deg, "--axis-tol");

@@ -26,6 +26,7 @@ struct ReplanArgs {
 }
 
 void run_replan(const ReplanArgs& a) {
+  check_outputs_apart({{"-o", a.out}}, {a.scene, a.oriented, a.verify, a.stock_mesh});
   const Scene scene = load_scene(a.scene);
   require_for_planning(scene);
   const OrientedPath original = read_oriented_csv(a.oriented);

@@ -44,6 +44,9 @@ struct VerifyArgs {
 };
 
 void run_verify(const VerifyArgs& a) {
+  check_outputs_apart({{"-o", a.out}, {"--blocks", a.blocks}, {"--stock-mesh", a.stock_mesh}, {"--engagement", a.pairs},
+                       {"--report", a.report}, {"--html", a.html}},
+                      {a.scene, a.program});
   if (!(a.resolution > 0.0)) throw InputError("", 0, "--resolution", "must be a positive number of mm");
   if (!(a.tolerance > 0.0)) throw InputError("", 0, "--tolerance", "must be a positive number of mm");
   if (!(a.holder_tolerance > 0.0)) throw InputError("", 0, "--holder-tolerance", "must be a positive number of mm");
