@@ -50,6 +50,27 @@ TEST(AxisLimits, BlockEndsAndArcExtremesBeyondTheLimits) {
   EXPECT_NE(r.warnings.back().find("limits"), std::string::npos);
 }
 
+// A 3-axis program under tool length offsets moves the spindle nose (its targets are read as the tips, a
+// gauge length below): the limits are the nose's. Checking the tips had reported a Z the machine never
+// reaches and missed one it does (found by black-box testing).
+TEST(AxisLimits, ThreeAxisProgramWithLengthOffsetsIsCheckedAtTheNose) {
+  const Tool tool = test::ball_tool(3, 10, 3, 40, {});
+  Scene s = test::box_scene({0, 0, 0}, {50, 50, 10}, tool);
+  MachineSpec m;
+  m.limits['Z'] = {-100, -10};
+  s.machine = m;
+  Program p;
+  p.xyz_nose_programmed = true;
+  p.start = {100, 100, -40, 0, 0, 0};
+  p.blocks = {block(Motion::Rapid, {100, 100, -40, 0, 0, 0}, 1),    // nose at 0: beyond -10
+              block(Motion::Rapid, {100, 100, -60, 0, 0, 0}, 2),    // nose at -20
+              block(Motion::Rapid, {100, 100, -130, 0, 0, 0}, 3)};  // nose at -90 (the tip is beyond -100)
+  const VerifyReport r = verify(s, p);
+  ASSERT_EQ(r.axis_limits.size(), 1u);
+  EXPECT_EQ(r.axis_limits[0].line, 1);
+  EXPECT_NEAR(r.axis_limits[0].value, -40.0 + tool.length, 1e-9);
+}
+
 TEST(AxisLimits, TcpBlocksAreCheckedInMachineAxes) {
   Scene s = test::box_scene({-30, -30, 0}, {30, 30, 10}, test::ball_tool(3, 10, 3, 40, {}));
   MachineSpec m;

@@ -55,7 +55,7 @@ std::vector<double> times_to_check(const Block& b, const Joints& from) {
 }  // namespace
 
 void check_axis_limits(const MachineSpec& machine, const Block& b, const Joints& from, int index,
-                       const ForwardFn& forward, VerifyReport& rep) {
+                       const ForwardFn& forward, VerifyReport& rep, double nose_above_tip) {
   if (machine.limits.empty()) return;
   std::array<bool, 6> reported{};
   for (const double tau : times_to_check(b, from)) {
@@ -63,6 +63,8 @@ void check_axis_limits(const MachineSpec& machine, const Block& b, const Joints&
     if (b.tcp) {  // X Y Z are the tip in the part frame: the machine's come from the kinematics
       const Eigen::Vector3d x = machine_xyz(forward, j, Eigen::Vector3d(j.x, j.y, j.z));
       j.x = x.x(), j.y = x.y(), j.z = x.z();
+    } else {
+      j.z += nose_above_tip;
     }
     // A rounding's worth of slack: a program written to 4 decimals at the limit is within it.
     for (const AxisOutside& e : axes_outside_limits(machine, j, 1e-6)) {

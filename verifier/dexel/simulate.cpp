@@ -88,7 +88,10 @@ VerifyResult Simulator::run() {
       }
       prev_tcp = b.tcp;
     }
-    if (scene_.machine) check_axis_limits(*scene_.machine, b, from, static_cast<int>(bi) + 1, tools_.forward(b.tool), rep);
+    if (scene_.machine) {
+      const double nose = program_.xyz_nose_programmed && !b.tcp ? tools_.tool(b.tool).length : 0.0;
+      check_axis_limits(*scene_.machine, b, from, static_cast<int>(bi) + 1, tools_.forward(b.tool), rep, nose);
+    }
     BlockResult br = simulate_block(b, from, static_cast<int>(bi) + 1, continuing, rep);
     rep.per_block.push_back(br);
     rep.removed_volume_mm3 += br.removed_mm3;

@@ -214,6 +214,7 @@ void Reader::drop_blocks_sent_home(const std::vector<bool>& drop) {
 // offset - gauge length along the tool axis (zero when the offset is the loaded tool's own).
 void Reader::tool_tip_targets() {
   if (!uses_length_offsets_) return;
+  program_.xyz_nose_programmed = machine_.kinematics == KinematicsType::XYZ;
   const Kinematics kin(machine_, 0.0);
   for (size_t b = 0; b < program_.blocks.size(); ++b) {
     Block& blk = program_.blocks[b];

@@ -44,6 +44,9 @@ struct Program {
   Joints start;                       // axis values before the first block
   std::vector<Block> blocks;          // motion blocks only
   std::vector<std::string> warnings;  // "file:line: ..." for codes read but not simulated
+  // A 3-axis program that uses tool length offsets moves the spindle nose: its blocks' targets are the
+  // tips, each a gauge length (of the block's tool) below the machine position the controller checks.
+  bool xyz_nose_programmed = false;
 };
 
 }  // namespace tf
