@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "post_fixture.hpp"
 #include "tiltfield/core/kinematics.hpp"
@@ -12,20 +14,32 @@ namespace post_limits_test {
 using namespace post_test;
 using tf::Kinematics;
 
+// head-head-ac with A within +-60 deg and C within +-90 deg.
+tf::PostJob limited_head() {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['A'] = {-60.0, 60.0};
+  job.machine.limits['C'] = {-90.0, 90.0};
+  return job;
+}
+
+// n rows, row i's ball centre and axis from row_at(i).
+template <class RowAt>
+tf::OrientedPath rows(int n, RowAt row_at) {
+  tf::OrientedPath path;
+  for (int i = 0; i < n; ++i) {
+    tf::OrientedRow r;
+    std::tie(r.p, r.axis) = row_at(i);
+    path.rows.push_back(r);
+  }
+  return path;
+}
+
 // C limited to +-90 deg and the axis turning on around the pole between two rows past where C ends: the
 // configuration changes between them, where the limit is reached (retract, turn, re-approach); before,
 // neither row could be taken in the other's configuration and the post failed.
 TEST(Post, LimitReachedBetweenRowsChangesTheConfigurationThere) {
-  tf::PostJob job = job_for("head-head-ac");
-  job.machine.limits['A'] = {-60.0, 60.0};
-  job.machine.limits['C'] = {-90.0, 90.0};
-  tf::OrientedPath path;
-  for (int i = 0; i < 400; ++i) {
-    tf::OrientedRow r;
-    r.p = {i * 0.1, 0, 20};
-    r.axis = polar_axis(12.0, -9.75 + 0.5 * i);
-    path.rows.push_back(r);
-  }
+  const tf::PostJob job = limited_head();
+  const tf::OrientedPath path = rows(400, [](int i) { return std::pair{Eigen::Vector3d(i * 0.1, 0, 20), polar_axis(12.0, -9.75 + 0.5 * i)}; });
   const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
   const Kinematics kin(job.machine, job.tool.length);
   for (const tf::Block& b : prog.blocks) EXPECT_TRUE(kin.within_limits(b.target));
@@ -38,16 +52,8 @@ TEST(Post, LimitReachedBetweenRowsChangesTheConfigurationThere) {
 // A tilt computed at its limit (acos(0.5) is 60.00000000000001 deg; the axis read with 9 decimals)
 // is the limit: the row is reached with A at 60, not refused.
 TEST(Post, TiltExactlyAtItsLimitIsReached) {
-  tf::PostJob job = job_for("head-head-ac");
-  job.machine.limits['A'] = {-60.0, 60.0};
-  job.machine.limits['C'] = {-90.0, 90.0};
-  tf::OrientedPath path;
-  for (int i = 0; i < 5; ++i) {
-    tf::OrientedRow r;
-    r.p = {10.0 + i, 20, 3};
-    r.axis = Eigen::Vector3d(0, -0.866025404, 0.5);
-    path.rows.push_back(r);
-  }
+  const tf::PostJob job = limited_head();
+  const tf::OrientedPath path = rows(5, [](int i) { return std::pair{Eigen::Vector3d(10.0 + i, 20, 3), Eigen::Vector3d(0, -0.866025404, 0.5)}; });
   const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
   const Kinematics kin(job.machine, job.tool.length);
   double most = 0;
