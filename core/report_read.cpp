@@ -155,6 +155,8 @@ VerifyReport read_verify_json(const std::filesystem::path& path) {
   const std::string file = path.string();
   const json j = jf::parse_file(file, "verification report");
   jf::require_object(j, file, "");
+  // Every report `verify` writes lists its collisions, if only as []: a file without them is another one.
+  if (!j.contains("collisions")) throw InputError(file, 0, "collisions", "missing: not a verification report (VERIFY.json)");
   VerifyReport r;
   read_figures(j, file, r);
   if (const json* cs = array_field(j, "collisions", file))

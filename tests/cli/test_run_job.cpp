@@ -129,4 +129,11 @@ TEST(OutputNames, AnOutputThatIsAnInputOrAnotherOutputExitsTwo) {
   EXPECT_FALSE(fs::exists(dir / "p.csv"));
 }
 
+// `check` with nothing to check says so (it exited 0 with no word).
+TEST(CheckCli, NothingToCheckExitsTwo) {
+  const auto r = tf::test::run_command(std::string(TILTFIELD_EXE) + " check");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("nothing to check"), std::string::npos) << r.out;
+}
+
 }  // namespace

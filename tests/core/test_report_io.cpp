@@ -144,8 +144,10 @@ TEST(ReportIo, VerifyJsonErrorsNameTheField) {
           "depth_mm": 1, "tool": -1}]})", "collisions[0].tool"},
       {R"({"collisions": [{"block": 2, "line": 30, "component": "ball", "with": "stock", "rapid": false,
           "depth_mm": 1, "tool": "T1"}]})", "collisions[0].tool"},
-      {R"({"gouges": {"block": 1}})", "gouges"},
-      {R"({"removed_volume_mm3": "12"})", "removed_volume_mm3"},
+      {R"({"collisions": [], "gouges": {"block": 1}})", "gouges"},
+      {R"({"collisions": [], "removed_volume_mm3": "12"})", "removed_volume_mm3"},
+      {R"({})", "collisions"},  // another JSON file (a scene, an empty object): not a report
+      {R"({"units": "mm", "stock": {}})", "collisions"},
   };
   for (const auto& [text, field] : cases) {
     test::write_text(dir / "bad.json", text);

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli.hpp"
+#include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/core/oriented_path.hpp"
 #include "tiltfield/core/scene.hpp"
@@ -18,6 +19,8 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--machine", machine, "a machine JSON to validate");
   cmd->add_option("--mesh", mesh, "a mesh file to validate");
   cmd->callback([] {
+    if (scene.empty() && oriented.empty() && machine.empty() && mesh.empty())
+      throw InputError("", 0, "SCENE", "nothing to check: give a scene, --oriented, --machine or --mesh");
     if (!scene.empty()) {
       const Scene s = load_scene(scene);
       size_t check_faces = 0;
