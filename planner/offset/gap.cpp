@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "segment_bvh.hpp"
 #include "offset_internal.hpp"
@@ -42,6 +43,12 @@ bool is_constant(const GapLaw& law) {
   return std::all_of(law.gap.begin(), law.gap.end(), [&](double g) { return g == law.gap.front(); });
 }
 
+std::string beyond_limit(double v) {
+  std::ostringstream msg;
+  msg << "the value " << v << " is beyond +-" << kMaxLengthMm << " mm";
+  return msg.str();
+}
+
 GapLaw read_gap_law(const std::filesystem::path& file) {
   const CsvTable t = read_csv(file);
   const int cs = t.column("s"), cg = t.column("gap");
@@ -53,6 +60,9 @@ GapLaw read_gap_law(const std::filesystem::path& file) {
     const double s = parse_number(t.rows[i][cs], law.file, t.lines[i], "s");
     const double g = parse_number(t.rows[i][cg], law.file, t.lines[i], "gap");
     if (g <= 0) throw InputError(law.file, t.lines[i], "gap", "the gap must be positive");
+    for (const auto& [v, field] : {std::pair{s, "s"}, std::pair{g, "gap"}})
+      if (std::abs(v) > kMaxLengthMm)
+        throw InputError(law.file, t.lines[i], field, beyond_limit(v));
     if (!law.s.empty() && s <= law.s.back())
       throw InputError(law.file, t.lines[i], "s", "s must increase from row to row");
     law.s.push_back(s);

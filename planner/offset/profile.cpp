@@ -64,14 +64,10 @@ double profile_scale(const Profile& p) {
 }
 }  // namespace
 
-// Coordinates, radii and chords beyond this (mm) are typos, not parts: the geometry's tolerances scale with
-// the profile, and a 1e300 came out as a "self-crossing" profile rather than as the number it is.
-constexpr double kMaxCoordinateMm = 1e6;
-
 Profile parse_profile(std::string_view text, const std::string& file) {
   if (text.find('\0') != std::string_view::npos) throw InputError(file, 0, "", "binary data in a profile file");
   auto within = [&](double v, int line, const std::string& field, const char* what = "the value") {
-    if (std::abs(v) <= kMaxCoordinateMm) return v;
+    if (std::abs(v) <= kMaxLengthMm) return v;
     std::ostringstream msg;
     msg << what << " " << v << " is beyond +-1000000 mm";
     throw InputError(file, line, field, msg.str());

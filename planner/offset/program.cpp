@@ -1,4 +1,5 @@
 // NC programs for copy milling and ECM from an offset result, and the lead moves they share.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <ostream>
@@ -30,6 +31,23 @@ std::vector<Segment> rotate_to_longest(const std::vector<Segment>& c) {
   for (size_t k = 1; k < c.size(); ++k) out.push_back(c[(best + k) % c.size()]);
   out.push_back(sub_segment(c[best], 0.0, 0.5));
   out.back().b = out.front().a;
+  return out;
+}
+
+// Under a gap law one voltage set-point a move keeps U/g constant only where the gap is: a line whose gap
+// runs from 0.5 to 1.2 mm had U/g 41 % off at its ends. Each move is cut where its gap (linear along it)
+// has changed by kGapStep of the smaller end gap, so U/g stays within half of that of the nominal field.
+// Pieces are kept at least kMinPieceMm long, far above the printed resolution.
+constexpr double kGapStep = 0.01;
+constexpr double kMinPieceMm = 0.01;
+std::vector<Segment> gap_pieces(const Segment& s) {
+  const double change = std::abs(s.g1 - s.g0), smaller = std::min(s.g0, s.g1);
+  const double by_gap = smaller > 0 ? std::ceil(change / (kGapStep * smaller)) : 1.0;
+  const double by_length = std::floor(length(s) / kMinPieceMm);
+  const int n = static_cast<int>(std::clamp(std::min(by_gap, by_length), 1.0, 1e5));
+  if (n == 1) return {s};
+  std::vector<Segment> out;
+  for (int k = 0; k < n; ++k) out.push_back(sub_segment(s, double(k) / n, double(k + 1) / n));
   return out;
 }
 
@@ -173,9 +191,11 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     std::string f = feed;
     double since_retract = 0;
     auto emit = [&](const Segment& s, bool path) {
-      if (path) {
+      // The set-point in force is kept while U/g at both ends of the move stays within 0.5 % of nominal.
+      auto off_field = [&](double g) { return std::abs(u * o.gap / (o.voltage * g) - 1) > 0.005; };
+      if (path && o.voltage_follows_gap && o.gap > 0 && o.voltage > 0 && (off_field(s.g0) || off_field(s.g1))) {
         const double v = voltage_for(s);
-        if (std::abs(v - u) > 0.005 * std::max(std::abs(u), 1e-9)) {
+        if (v != u) {
           u = v;
           out << "M67 E" << o.voltage_channel << " Q" << num(u) << " (voltage follows the gap)\n";
         }
@@ -198,7 +218,13 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
       emit(rc.lead_in, false);
     }
     out << "(path)\n";
-    for (const auto& s : rc.path) emit(s, true);
+    for (const auto& s : rc.path) {
+      if (!o.voltage_follows_gap) {
+        emit(s, true);
+        continue;
+      }
+      for (const auto& piece : gap_pieces(s)) emit(piece, true);
+    }
     if (rc.has_leads) {
       out << "(lead-out)\n";
       emit(rc.lead_out, false);

@@ -1,7 +1,7 @@
 // RS274/NGC rules the reader follows as LinuxCNC does (each case checked against LinuxCNC's rs274): full
 // circles without axis words, axes a block needs before the program set them, inverse-time arcs of
-// several turns, G94 clearing the feed, the arc-centre tolerance, one code per modal group, words nothing
-// uses, splines.
+// several turns, G94 clearing the feed, the arc-centre tolerance, one code per modal group, "%" lines,
+// words nothing uses, splines.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -95,6 +95,15 @@ TEST(GcodeLinuxcncRules, OneCodePerModalGroup) {
   EXPECT_EQ(p.blocks[2].motion, Motion::Linear);
   EXPECT_DOUBLE_EQ(p.blocks[2].target.x, 5.0);
   expect_gcode_error("G21\nG0 G1 G80 X1 F100\n", 2, "G1");
+}
+
+// A "%" line opens a program only before any other line but blank ones, and then the next one ends it;
+// anywhere else rs274 refuses it ("Bad character '%' used"; a stray one was read as an opening before).
+TEST(GcodeLinuxcncRules, PercentOnlyOpensAndEndsAProgram) {
+  expect_gcode_error("G21 G90\nG0 X1\n%\nG0 X2\nM2\n", 3, "%");
+  expect_gcode_error("(title)\n%\nG0 X1\n%\n", 2, "%");
+  EXPECT_EQ(parse_program("\n  %\nG21\nG0 X1 Y1 Z1\n%\nG0 X2\n").blocks.size(), 1u);
+  EXPECT_EQ(parse_program("G21\nG0 X1 Y1 Z1\nM2\n%\n").blocks.size(), 1u);
 }
 
 // Words nothing in the block uses, and an arc's offset across its plane: LinuxCNC refuses them (found in

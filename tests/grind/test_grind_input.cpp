@@ -53,6 +53,13 @@ std::vector<Case> cases() {
        "prog.ngc:9: field 'U60000': puts U at 120000.000 mm"},
       {"rotary axis out of range", [](json&, std::string& p) { p += "G0 A720000\n"; }, "field 'A720000': puts A at"},
       {"start out of range", [](json& j, std::string&) { j["start"]["x"] = -2e5; }, "field 'start.x': puts X at"},
+      {"axis word twice", [](json&, std::string& p) { p += "G1 Y44 Y50\n"; }, "prog.ngc:7: field 'Y50': a second Y word"},
+      {"motion G code twice", [](json&, std::string& p) { p += "G0 G1 X1\n"; }, "prog.ngc:7: field 'G1': a second motion"},
+      {"feed twice", [](json&, std::string& p) { p += "G1 X1 F10 F20\n"; }, "prog.ngc:7: field 'F20'"},
+      {"blank radius beyond travel", [](json& j, std::string&) { j["blank"]["radius"] = 1e308; }, "field 'blank.radius': is 1e+308"},
+      {"blank length beyond travel", [](json& j, std::string&) { j["blank"]["length"] = 1e9; }, "field 'blank.length'"},
+      {"wheel beyond travel", [](json& j, std::string&) { j["wheel"]["radius"] = 1e7; }, "field 'wheel.radius'"},
+      {"program is a directory", [](json& j, std::string&) { j["program"] = "."; }, "is a directory"},
       {"concave profile",
        [](json& j, std::string&) {
          j["wheel"].erase("edge_radius");
@@ -95,6 +102,23 @@ TEST(GrindInput, CliExitsTwoWithOneLineAndNoOutput) {
     EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply")) << c.name;
     EXPECT_FALSE(std::filesystem::exists(dir / "s.svg")) << c.name;
   }
+}
+
+// A key given twice (the parser kept the last one) and a directory given as the scene (exit 1 before).
+TEST(GrindInput, DuplicateKeysAndADirectoryAreBadInput) {
+  test::TempDir dir;
+  test::write_text(dir / "prog.ngc", kProgram);
+  test::write_text(dir / "grind.json", R"({"blank": {"radius": 3, "length": 6, "radius": 4},
+    "wheel": {"radius": 20, "thickness": 3}, "program": "prog.ngc"})");
+  auto r = test::run_tiltfield("grind grind.json -o tool.ply", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("field 'blank.radius': appears twice"), std::string::npos) << r.out;
+  std::filesystem::create_directory(dir / "scene.json");
+  r = test::run_tiltfield("grind scene.json -o tool.ply", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(test::count_lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("is a directory"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply"));
 }
 
 TEST(GrindInput, CliWritesAClosedPlyAndTheSectionsSvg) {

@@ -79,6 +79,22 @@ TEST(OffsetParse, CoordinatesBeyondAKilometreAreNamed) {
   EXPECT_EQ(message("START 0 0\n0 900000 0\n0 0 1\n0 -900000 0\n0 0 -1\n"), "accepted");  // 900 m: kept
 }
 
+// A gap law's values have the profile's bound: a gap of 1e7 took 55 s and 4 GB, 1e12 ended in bad_alloc.
+TEST(OffsetParse, GapLawValuesBeyondAKilometreAreNamed) {
+  auto where = [](const std::string& csv) {
+    const std::string file = write_temp("law.csv", csv);
+    try {
+      read_gap_law(file);
+    } catch (const InputError& e) {
+      return std::to_string(e.line()) + " " + e.field();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(where("s,gap\n0,0.5\n100,1e7\n"), "3 gap");
+  EXPECT_EQ(where("s,gap\n-2e6,0.5\n100,1\n"), "2 s");
+  EXPECT_EQ(where("s,gap\n0,0.5\n100,1000\n"), "accepted");
+}
+
 // Feeds random and mutated profile texts to the parser: it only ever returns or throws InputError.
 TEST(OffsetParse, FuzzOnlyReturnsOrThrowsInputError) {
   std::mt19937 rng(7);

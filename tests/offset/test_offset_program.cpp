@@ -167,6 +167,61 @@ TEST(OffsetProgram, ProgramMovesSampledLieAtTheGap) {
   }
 }
 
+// Under a gap law the voltage follows the gap: at both ends of every path move, the set-point in force over
+// the gap there (the law's value at the closest profile point) is the nominal U/g within 0.5 %. A line whose
+// gap changed along it kept one set-point for its middle (41 % off at its ends; found by a helper).
+TEST(OffsetProgram, EcmVoltageFollowsTheGapAlongEveryMove) {
+  const Profile p = scene_profile("rounded_rect.txt");
+  GapLaw law;
+  law.s = {0, 60, 150, 250};
+  law.gap = {0.5, 1.2, 0.8, 0.5};
+  const auto r = offset_profile(p, law, {});
+  const auto field = make_clearance_field(p, law);
+  EcmOptions o;
+  o.gap = 0.5;
+  o.voltage = 12;
+  std::ostringstream out;
+  write_ecm_program(out, plan_leads(r, *field, 2.0), {}, o);
+  std::istringstream in(out.str());
+  std::string line;
+  bool in_path = false;
+  Eigen::Vector2d cur(0, 0);
+  double q = 0, worst = 0;
+  int moves = 0;
+  auto ratio_error = [&](const Eigen::Vector2d& x) {
+    double sc = 0;
+    profile_distance(*field, x, &sc);
+    return std::abs(q / gap_at(law, sc) / (o.voltage / o.gap) - 1);
+  };
+  while (std::getline(in, line)) {
+    if (line == "(path)") in_path = true;
+    if (line == "(lead-out)") in_path = false;
+    std::istringstream words(line);
+    std::string g, w;
+    words >> g;
+    if (g == "M67" || g == "M68") {
+      while (words >> w)
+        if (w[0] == 'Q') q = std::stod(w.substr(1));
+      continue;
+    }
+    if (g != "G0" && g != "G1" && g != "G2" && g != "G3") continue;
+    Eigen::Vector2d end = cur;
+    bool has_xy = false;
+    while (words >> w) {
+      if (w[0] == 'X') end.x() = std::stod(w.substr(1)), has_xy = true;
+      if (w[0] == 'Y') end.y() = std::stod(w.substr(1)), has_xy = true;
+    }
+    if (!has_xy) continue;
+    if (in_path) {
+      worst = std::max({worst, ratio_error(cur), ratio_error(end)});
+      ++moves;
+    }
+    cur = end;
+  }
+  EXPECT_GT(moves, 20);
+  EXPECT_LE(worst, 0.005 + 1e-6);  // the writer's bound; the law at the closest point matches the move's gap to 1e-9
+}
+
 TEST(OffsetProgram, EmptyOffsetIsAJobFailureWithoutOutput) {
   const fs::path dir = fs::path(write_temp("x.txt", "")).parent_path();
   const fs::path ngc = dir / "empty.ngc";
@@ -186,6 +241,12 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
         "--z-safe nan", "--lead inf"}) {
     SCOPED_TRACE(opt);
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 " + std::string(opt) + " -o " + ngc.string()), 2);
+    EXPECT_FALSE(fs::exists(ngc));
+  }
+  // Lengths beyond the profile's +-1e6 mm are typos: a gap of 1e300 ended in exit 1 naming no option.
+  for (const char* opt : {"-d 1e300 --side outside", "-d 2 --lead 1e9", "-d 2 --gap-blend 2e6"}) {
+    SCOPED_TRACE(opt);
+    EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));
   }
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d nan -o " + ngc.string()), 2);

@@ -31,6 +31,13 @@ void check_positive(double v, const char* field) {
 void check_not_negative(double v, const char* field) {
   if (!(v >= 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a number >= 0, got " + shown(v));
 }
+// A length beyond the profile's own limit is a typo (1e300 ended as a failed job naming no option).
+void check_length(double v, const char* field) {
+  if (!(v > offset::kMaxLengthMm)) return;
+  std::ostringstream msg;
+  msg << "must be at most " << offset::kMaxLengthMm << " mm, got " << v;
+  throw InputError("", 0, field, msg.str());
+}
 void check_finite(double v, const char* field) {
   if (!std::isfinite(v)) throw InputError("", 0, field, "must be a finite number, got " + shown(v));
 }
@@ -71,6 +78,9 @@ void run_offset(const OffsetCliOptions& o) {
   check_mcode(o.ecm.electrolyte_off, "ecm-electrolyte-off");
   check_not_negative(o.lead, "lead");
   check_not_negative(o.gap_blend, "gap-blend");
+  check_length(o.gap, "gap");
+  check_length(o.gap_blend, "gap-blend");
+  check_length(o.lead, "lead");
 
   offset::Profile profile;
   if (!o.mesh.empty()) {

@@ -72,11 +72,15 @@ std::optional<std::string> Reader::code_of(std::string_view raw, int number) {
     view.remove_prefix(1);
   }
   if (!view.empty() && view.front() == '%') {
-    // RS274/NGC: a program opened by "%" ends at the next "%"; what follows is not read.
+    // RS274/NGC: a program opened by "%" (before any other line but blank ones) ends at the next "%";
+    // what follows is not read. Anywhere else LinuxCNC refuses it ("Bad character '%' used").
     if (st_.percent) st_.ended = true;
+    else if (st_.started && static_cast<size_t>(number) <= main_lines_)
+      throw InputError(file_, number, "%", "a '%' line inside the program: '%' only opens a program, on its first line, and ends it");
     st_.percent = true;
     return std::nullopt;
   }
+  if (!view.empty()) st_.started = true;
   return strip_line(view, file_, number);
 }
 

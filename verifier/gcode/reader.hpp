@@ -89,6 +89,7 @@ struct State {
   double dwell = 0.0;          // seconds before the next motion block
   bool ended = false;
   bool percent = false;        // a "%" line opened the program; the next one ends it
+  bool started = false;        // a line that is not blank was read: a "%" now only ends an opened program
 };
 
 class Reader : private ParameterValues {

@@ -22,12 +22,21 @@ constexpr double kMinBlankRadius = 0.01;  // mm
 
 const char* const kKinds[] = {"fluting", "gashing", "od_sharpening", "end_face", "notching"};
 
+void within_travel(double v, const std::string& file, const std::string& field) {
+  if (v <= kMaxTravelMm) return;
+  std::ostringstream msg;
+  msg << "is " << v << " mm, beyond the grinder's +-" << kMaxTravelMm << " mm (a lost decimal point?)";
+  throw InputError(file, 0, field, msg.str());
+}
+
 Wheel parse_wheel(const json& j, const std::string& file) {
   require_object(j, file, "wheel");
   only_keys(j, {"radius", "thickness", "edge_radius", "profile"}, file, "wheel");
   Wheel w;
   w.radius = positive(required_number(j, "radius", file, "wheel"), file, "wheel.radius");
   w.thickness = positive(required_number(j, "thickness", file, "wheel"), file, "wheel.thickness");
+  within_travel(w.radius, file, "wheel.radius");
+  within_travel(w.thickness, file, "wheel.thickness");
   w.edge_radius = number_or(j, "edge_radius", 0.0, file, "wheel");
   if (w.edge_radius < 0.0) throw InputError(file, 0, "wheel.edge_radius", "must not be negative");
   if (w.edge_radius > 0.5 * w.thickness || w.edge_radius > w.radius)
@@ -87,6 +96,8 @@ Axes parse_start(const json& j, const std::string& file) {
 }
 
 std::string read_text(const fs::path& path, const std::string& shown) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(shown, 0, "", "is a directory, not a grinding program");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(shown, 0, "", "cannot open the grinding program");
   std::ostringstream s;
@@ -161,6 +172,11 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
     // Motion line: split into letter + number words ("G1", "X-2.5"); spaces between words optional.
     Axes target = pos;
     bool has_axis = false;
+    std::string seen;  // the words' letters (a G: its modal group) on this line, which G-code allows once
+    auto once = [&](char key, const std::string& word, const char* what) {
+      if (seen.find(key) != std::string::npos) throw InputError(file, n, word, std::string("a second ") + what + " on one line");
+      seen += key;
+    };
     size_t i = 0;
     while (i < line.size()) {
       const unsigned char ch = static_cast<unsigned char>(line[i]);
@@ -190,6 +206,7 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
       if (letter == 'N') continue;  // block number
       const double v = parse_number(num, file, n, std::string(1, letter));
       if (letter == 'G') {
+        once(v == 90.0 || v == 91.0 ? 'd' : 'm', word, v == 90.0 || v == 91.0 ? "G90/G91" : "motion G code");
         if (v == 0.0) rapid = true;
         else if (v == 1.0) rapid = false;
         else if (v == 90.0) incremental = false;
@@ -198,11 +215,13 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
         continue;
       }
       if (letter == 'F') {
+        once('F', word, "F word");
         if (!(v > 0.0)) throw InputError(file, n, word, "feed must be positive");
         continue;
       }
       if (std::string("XYZUAW").find(letter) == std::string::npos)
         throw InputError(file, n, word, "unknown axis word (X, Y, Z, U, A, W, G, F, N)");
+      once(letter, word, (std::string(1, letter) + " word").c_str());
       double& ref = axis_ref(target, letter);
       ref = incremental ? ref + v : v;
       check_axis_range(ref, letter, file, n, word);
@@ -237,6 +256,9 @@ GrindScene load_grind_scene(const fs::path& path) {
   if (s.blank.radius < kMinBlankRadius)
     throw InputError(file, 0, "blank.radius", "must be at least 0.01 mm");
   s.blank.length = positive(required_number(b, "length", file, "blank"), file, "blank.length");
+  // Beyond the grinder's travel a dimension is a typo; it was blamed on --spacing or --step before.
+  within_travel(s.blank.radius, file, "blank.radius");
+  within_travel(s.blank.length, file, "blank.length");
   if (!j.contains("wheel")) throw InputError(file, 0, "wheel", "missing");
   s.wheel = parse_wheel(j.at("wheel"), file);
   if (j.contains("start")) s.start = parse_start(j.at("start"), file);

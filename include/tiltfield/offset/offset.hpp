@@ -23,6 +23,10 @@ struct Profile {
   std::string file;
 };
 
+// Coordinates, radii, chords and gaps beyond this (mm) are typos, not parts: the geometry's tolerances
+// scale with the profile, and a 1e300 came out as a "self-crossing" profile rather than as the number it is.
+inline constexpr double kMaxLengthMm = 1e6;
+
 // Parses the profile text format (`START x y`, then `R DX DY [LONG]` a line; '#' starts a comment).
 // Throws InputError(file, line, field, ...) for garbage, an empty profile, a zero-length element, an arc
 // whose chord is longer than 2|R|, or a profile that does not end where it started (the last element's
@@ -50,7 +54,7 @@ struct GapLaw {
 };
 GapLaw constant_gap(double gap);
 // Reads the CSV `s,gap`. Throws InputError for a missing column, a bad number, s not increasing, a gap
-// that is not positive.
+// that is not positive, or a value beyond +-kMaxLengthMm.
 GapLaw read_gap_law(const std::filesystem::path& file);
 double gap_at(const GapLaw& law, double s);
 bool is_constant(const GapLaw& law);

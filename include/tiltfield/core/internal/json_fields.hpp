@@ -3,11 +3,13 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -74,10 +76,52 @@ inline Eigen::Vector3d vec3(const json& j, const std::string& file, const std::s
   return {number(j[0], file, field + "[0]"), number(j[1], file, field + "[1]"), number(j[2], file, field + "[2]")};
 }
 
-// Parses JSON text; a syntax error becomes an InputError naming `file` and the line it is on.
+// The parser keeps the last of two equal keys in an object, so a scene with "radius" twice would silently
+// use one of them; this callback refuses the second, naming the key's path.
+class DuplicateKeys {
+ public:
+  explicit DuplicateKeys(const std::string& file) : file_(file) {}
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        objects_.push_back({path(), {}});
+        break;
+      case json::parse_event_t::object_end:
+        objects_.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        const std::string key = parsed.get<std::string>();
+        auto& keys = objects_.back().keys;
+        if (std::find(keys.begin(), keys.end(), key) != keys.end())
+          throw InputError(file_, 0, join(objects_.back().path, key), "appears twice in its object");
+        keys.push_back(key);
+        break;
+      }
+      default:
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Object {
+    std::string path;
+    std::vector<std::string> keys;
+  };
+  // The path of the value being parsed: the enclosing objects' last keys (arrays' indices are not tracked).
+  std::string path() const {
+    if (objects_.empty() || objects_.back().keys.empty()) return objects_.empty() ? "" : objects_.back().path;
+    return join(objects_.back().path, objects_.back().keys.back());
+  }
+  const std::string& file_;
+  std::vector<Object> objects_;
+};
+
+// Parses JSON text; a syntax error becomes an InputError naming `file` and the line it is on, and so does a
+// key given twice in one object.
 inline json parse_text(const std::string& text, const std::string& file) {
   try {
-    return json::parse(text);
+    return json::parse(text, DuplicateKeys(file));
   } catch (const json::parse_error& e) {
     int line = 1;
     for (size_t i = 0; i < text.size() && i + 1 < e.byte; ++i) line += text[i] == '\n';
@@ -101,6 +145,8 @@ inline json parse_text(const std::string& text, const std::string& file) {
 
 // Parses a JSON file; a syntax error becomes an InputError with the line it is on.
 inline json parse_file(const std::string& file, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(file, 0, "", "is a directory, not a " + what);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, 0, "", "cannot open " + what);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
