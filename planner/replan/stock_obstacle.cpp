@@ -18,19 +18,32 @@ struct PointCloud {
 };
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>, PointCloud, 3>;
 
-// Splits a triangle in four until no edge is longer than `edge`; appends the pieces.
-void split(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double edge, int depth,
-           std::vector<std::array<Eigen::Vector3d, 3>>& out) {
-  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  if (longest <= edge || depth > 12) {
-    out.push_back({a, b, c});
+using Triangle = std::array<Eigen::Vector3d, 3>;
+
+// Appends the parts of the triangle beyond `reach` of every cutter location: a triangle wholly beyond it
+// is kept whole and one wholly within the reach of one location is dropped; one across it is split in four
+// until its pieces' edges are at most `edge` long, and such a piece is dropped when it may come within
+// reach. Only the pieces along the reach's boundary are small, so the soup grows with the boundary's length
+// over the edge, not with the stock's area over its square (that took 10.7 GB for a tool of radius 0.5).
+void crop(const Triangle& t, double edge, double reach, const KdTree& tree, int depth, std::vector<Triangle>& out) {
+  const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
+  const double spread = std::max({(t[0] - centre).norm(), (t[1] - centre).norm(), (t[2] - centre).norm()});
+  size_t idx = 0;
+  double d2 = 0;
+  nanoflann::KNNResultSet<double> rs(1);
+  rs.init(&idx, &d2);
+  tree.findNeighbors(rs, centre.data(), nanoflann::SearchParams());
+  const double d = std::sqrt(d2);
+  // Every point of the triangle lies within `spread` of its centre.
+  if (d - spread >= reach) {
+    out.push_back(t);
     return;
   }
-  const Eigen::Vector3d ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-  split(a, ab, ca, edge, depth + 1, out);
-  split(ab, b, bc, edge, depth + 1, out);
-  split(ca, bc, c, edge, depth + 1, out);
-  split(ab, bc, ca, edge, depth + 1, out);
+  const double longest = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+  if (d + spread < reach || longest <= edge || depth > 12) return;
+  const Eigen::Vector3d ab = 0.5 * (t[0] + t[1]), bc = 0.5 * (t[1] + t[2]), ca = 0.5 * (t[2] + t[0]);
+  for (const Triangle& piece : {Triangle{t[0], ab, ca}, Triangle{ab, t[1], bc}, Triangle{ca, bc, t[2]}, Triangle{ab, bc, ca}})
+    crop(piece, edge, reach, tree, depth + 1, out);
 }
 
 }  // namespace
@@ -42,40 +55,20 @@ Mesh stock_obstacle(const Mesh& stock, const ToolPath& path, const Tool& tool, c
   const double below = tool.cl_height();
   const double reach = std::max(std::hypot(above, tool.radius()), std::hypot(below, tool.radius())) +
                        basics.safety_distance + margin_mm;
-  // Only the neighbourhood the tool can reach at all needs fine triangles.
-  Eigen::AlignedBox3d near;
-  for (const auto& r : path.rows) near.extend(r.p);
-  near.min().array() -= tool.total_length();
-  near.max().array() += tool.total_length();
-
   PointCloud cloud{&path.rows};
   KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
 
-  std::vector<Eigen::Vector3d> V;
-  std::vector<std::array<Eigen::Vector3d, 3>> pieces;
+  std::vector<Triangle> kept;
   for (auto f : stock.faces()) {
-    Eigen::Vector3d p[3];
+    Triangle t;
     int k = 0;
-    for (auto v : stock.fv_range(f)) p[k++] = to_eigen(stock.point(v));
-    Eigen::AlignedBox3d box;
-    for (const auto& q : p) box.extend(q);
-    pieces.clear();
-    if (box.intersects(near)) split(p[0], p[1], p[2], edge_mm, 0, pieces);
-    else pieces.push_back({p[0], p[1], p[2]});
-    for (const auto& t : pieces) {
-      const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
-      const double spread = std::max({(t[0] - centre).norm(), (t[1] - centre).norm(), (t[2] - centre).norm()});
-      size_t idx = 0;
-      double d2 = 0;
-      nanoflann::KNNResultSet<double> rs(1);
-      rs.init(&idx, &d2);
-      tree.findNeighbors(rs, centre.data(), nanoflann::SearchParams());
-      // Every point of the triangle is at least (centre distance - spread) from every cutter location.
-      if (std::sqrt(d2) - spread < reach) continue;
-      V.insert(V.end(), t.begin(), t.end());
-    }
+    for (auto v : stock.fv_range(f)) t[k++] = to_eigen(stock.point(v));
+    crop(t, edge_mm, reach, tree, 0, kept);
   }
+  std::vector<Eigen::Vector3d> V;
+  V.reserve(3 * kept.size());
+  for (const Triangle& t : kept) V.insert(V.end(), t.begin(), t.end());
   // Separate vertices per triangle: a triangle soup is all the distance queries need.
   Eigen::MatrixX3d VM(static_cast<Eigen::Index>(V.size()), 3);
   Eigen::MatrixX3i FM(static_cast<Eigen::Index>(V.size() / 3), 3);
