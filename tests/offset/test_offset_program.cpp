@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cstdlib>
+#include <functional>
 
 #include "offset_test_util.hpp"
 #include "rs274.hpp"
@@ -42,6 +43,41 @@ std::string read_text(const fs::path& f) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// Walks a program's XY moves in its path section (between "(path)" and "(lead-out)"): path_move(segment)
+// for each G1/G2/G3 there (arcs with I J relative to the start), and voltage(Q) for every M67/M68 line,
+// in program order.
+void walk_path_moves(const std::string& text, const std::function<void(const Segment&)>& path_move,
+                     const std::function<void(double)>& voltage = {}) {
+  std::istringstream in(text);
+  std::string line;
+  bool in_path = false;
+  Eigen::Vector2d cur(0, 0);
+  while (std::getline(in, line)) {
+    if (line == "(path)") in_path = true;
+    if (line == "(lead-out)") in_path = false;
+    std::istringstream words(line);
+    std::string g, w;
+    words >> g;
+    if ((g == "M67" || g == "M68") && voltage) {
+      while (words >> w)
+        if (w[0] == 'Q') voltage(std::stod(w.substr(1)));
+      continue;
+    }
+    if (g != "G0" && g != "G1" && g != "G2" && g != "G3") continue;
+    Eigen::Vector2d end = cur, ij(0, 0);
+    bool has_xy = false;
+    while (words >> w) {
+      if (w[0] == 'X') end.x() = std::stod(w.substr(1)), has_xy = true;
+      if (w[0] == 'Y') end.y() = std::stod(w.substr(1)), has_xy = true;
+      if (w[0] == 'I') ij.x() = std::stod(w.substr(1));
+      if (w[0] == 'J') ij.y() = std::stod(w.substr(1));
+    }
+    if (!has_xy) continue;
+    if (in_path && g != "G0") path_move(g == "G1" ? make_line(cur, end) : make_arc_to(cur, end, cur + ij, g == "G3"));
+    cur = end;
+  }
 }
 
 TEST(OffsetProgram, LinuxCncReadsMillingAndEcmPrograms) {
@@ -131,36 +167,13 @@ TEST(OffsetProgram, ProgramMovesSampledLieAtTheGap) {
       const auto field = make_clearance_field(p, constant_gap(gap));
       std::ostringstream out;
       write_milling_program(out, plan_leads(r, *field, 2.0), {}, {});
-      std::istringstream in(out.str());
-      std::string line;
-      bool in_path = false;
-      Eigen::Vector2d cur(0, 0);
       double worst = 0;
       int moves = 0;
-      while (std::getline(in, line)) {
-        if (line == "(path)") in_path = true;
-        if (line == "(lead-out)") in_path = false;
-        std::istringstream words(line);
-        std::string g, w;
-        words >> g;
-        if (g != "G0" && g != "G1" && g != "G2" && g != "G3") continue;
-        Eigen::Vector2d end = cur, ij(0, 0);
-        bool has_xy = false;
-        while (words >> w) {
-          if (w[0] == 'X') end.x() = std::stod(w.substr(1)), has_xy = true;
-          if (w[0] == 'Y') end.y() = std::stod(w.substr(1)), has_xy = true;
-          if (w[0] == 'I') ij.x() = std::stod(w.substr(1));
-          if (w[0] == 'J') ij.y() = std::stod(w.substr(1));
-        }
-        if (!has_xy) continue;
-        if (in_path) {
-          Segment s = g == "G1" ? make_line(cur, end) : make_arc_to(cur, end, cur + ij, g == "G3");
-          for (int k = 0; k <= 32; ++k)
-            worst = std::max(worst, std::abs(profile_distance(*field, point_at(s, k / 32.0)) - gap));
-          ++moves;
-        }
-        cur = end;
-      }
+      walk_path_moves(out.str(), [&](const Segment& s) {
+        for (int k = 0; k <= 32; ++k)
+          worst = std::max(worst, std::abs(profile_distance(*field, point_at(s, k / 32.0)) - gap));
+        ++moves;
+      });
       EXPECT_GE(moves, 3);
       EXPECT_LE(worst, 1e-6);
     }
@@ -182,10 +195,6 @@ TEST(OffsetProgram, EcmVoltageFollowsTheGapAlongEveryMove) {
   o.voltage = 12;
   std::ostringstream out;
   write_ecm_program(out, plan_leads(r, *field, 2.0), {}, o);
-  std::istringstream in(out.str());
-  std::string line;
-  bool in_path = false;
-  Eigen::Vector2d cur(0, 0);
   double q = 0, worst = 0;
   int moves = 0;
   auto ratio_error = [&](const Eigen::Vector2d& x) {
@@ -193,31 +202,13 @@ TEST(OffsetProgram, EcmVoltageFollowsTheGapAlongEveryMove) {
     profile_distance(*field, x, &sc);
     return std::abs(q / gap_at(law, sc) / (o.voltage / o.gap) - 1);
   };
-  while (std::getline(in, line)) {
-    if (line == "(path)") in_path = true;
-    if (line == "(lead-out)") in_path = false;
-    std::istringstream words(line);
-    std::string g, w;
-    words >> g;
-    if (g == "M67" || g == "M68") {
-      while (words >> w)
-        if (w[0] == 'Q') q = std::stod(w.substr(1));
-      continue;
-    }
-    if (g != "G0" && g != "G1" && g != "G2" && g != "G3") continue;
-    Eigen::Vector2d end = cur;
-    bool has_xy = false;
-    while (words >> w) {
-      if (w[0] == 'X') end.x() = std::stod(w.substr(1)), has_xy = true;
-      if (w[0] == 'Y') end.y() = std::stod(w.substr(1)), has_xy = true;
-    }
-    if (!has_xy) continue;
-    if (in_path) {
-      worst = std::max({worst, ratio_error(cur), ratio_error(end)});
-      ++moves;
-    }
-    cur = end;
-  }
+  walk_path_moves(
+      out.str(),
+      [&](const Segment& s) {
+        worst = std::max({worst, ratio_error(s.a), ratio_error(s.b)});
+        ++moves;
+      },
+      [&](double v) { q = v; });
   EXPECT_GT(moves, 20);
   EXPECT_LE(worst, 0.005 + 1e-6);  // the writer's bound; the law at the closest point matches the move's gap to 1e-9
 }
