@@ -1,6 +1,6 @@
 // The machine's axis limits in the verification: a block's end, an arc's extreme point, and a TCP block
 // whose machine X lies beyond its limit while the programmed tip does not (found in review: a program
-// with A beyond its limit verified with no word).
+// with A beyond its limit verified with no word), and a TCP swing beyond a limit between its ends.
 #include <gtest/gtest.h>
 
 #include "helpers.hpp"
@@ -89,12 +89,38 @@ TEST(AxisLimits, TcpBlocksAreCheckedInMachineAxes) {
   tilted.tcp = true;
   p.blocks = {in, turned, tilted};
   const VerifyReport r = verify(s, p);
-  ASSERT_EQ(r.axis_limits.size(), 2u);
+  ASSERT_EQ(r.axis_limits.size(), 3u);
   EXPECT_EQ(r.axis_limits[0].block, 2);
   EXPECT_EQ(r.axis_limits[0].axis, 'X');
   EXPECT_NEAR(r.axis_limits[0].value, -20.0, 1e-6);
+  // Block 3 turns C back from 180 while A tilts: X starts from -20 and comes back inside along it.
   EXPECT_EQ(r.axis_limits[1].block, 3);
-  EXPECT_EQ(r.axis_limits[1].axis, 'A');
+  EXPECT_EQ(r.axis_limits[1].axis, 'X');
+  EXPECT_LT(r.axis_limits[1].value, -19.9);
+  EXPECT_EQ(r.axis_limits[2].block, 3);
+  EXPECT_EQ(r.axis_limits[2].axis, 'A');
+}
+
+// A TCP swing of the table from C-80 to C80 with the tip at part x = 20: the machine's X is 3.5 at both
+// ends and 20 half-way, beyond X 15; only the block's ends were checked before.
+TEST(AxisLimits, TcpSwingIsCheckedAlongTheBlock) {
+  Scene s = test::box_scene({-30, -30, 0}, {30, 30, 10}, test::ball_tool(3, 10, 3, 40, {}));
+  MachineSpec m;
+  m.kinematics = KinematicsType::TableTableAC;
+  m.limits['X'] = {-100, 15};
+  s.machine = m;
+  Program p;
+  p.start = {20, 0, 50, 0, 0, -80};
+  Block in = block(Motion::Linear, {20, 0, 50, 0, 0, -80}, 1);
+  in.tcp = true;
+  Block swing = block(Motion::Linear, {20, 0, 50, 0, 0, 80}, 2);
+  swing.tcp = true;
+  p.blocks = {in, swing};
+  const VerifyReport r = verify(s, p);
+  ASSERT_EQ(r.axis_limits.size(), 1u);
+  EXPECT_EQ(r.axis_limits[0].block, 2);
+  EXPECT_EQ(r.axis_limits[0].axis, 'X');
+  EXPECT_GT(r.axis_limits[0].value, 19.9);
 }
 
 }  // namespace
