@@ -5,6 +5,7 @@
 // with C. So the inverse is the same for all: T = ±(angle of the axis from +Z), C from the horizontal
 // part of the axis, and X Y Z from the tip through the (affine) joint map.
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -262,6 +263,22 @@ std::optional<Joints> Kinematics::inverse_nearest(const ToolPose& pose, const Jo
   return *std::min_element(all.begin(), all.end(), [&](const Joints& a, const Joints& b) {
     return rotary_distance(a, previous) < rotary_distance(b, previous);
   });
+}
+
+Joints joints_for_tip(const std::function<ToolPose(const Joints&)>& forward, Joints at, const Eigen::Vector3d& tip) {
+  at.x = at.y = at.z = 0.0;
+  const Eigen::Vector3d t0 = forward(at).tip;
+  Eigen::Matrix3d m;
+  for (int k = 0; k < 3; ++k) {
+    Joints e = at;
+    (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
+    m.col(k) = forward(e).tip - t0;
+  }
+  const Eigen::Vector3d x = m.partialPivLu().solve(tip - t0);
+  at.x = x.x();
+  at.y = x.y();
+  at.z = x.z();
+  return at;
 }
 
 }  // namespace tf

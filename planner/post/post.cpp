@@ -75,6 +75,7 @@ class Builder {
     const Transit t = transit(pose, j);
     prog_.start = t.high;
     prog_.start.a = prog_.start.b = prog_.start.c = 0.0;
+    check_turn(prog_.start, t.high);
     rapid(prog_.start);
     rapid(t.high);
     rapid(t.retract);
@@ -124,6 +125,7 @@ class Builder {
     turned.a = b.high.a;
     turned.b = b.high.b;
     turned.c = b.high.c;
+    check_turn(a.high, turned);
     rapid(turned);
     rapid(b.high);
     rapid(b.retract);
@@ -172,13 +174,40 @@ class Builder {
     return kin_.forward(j);
   }
 
+  // The machine's joints for programmed ones: under TCP the program holds the tip, and the machine's
+  // linear axes are those that put it there at the rotaries (the limits are theirs).
+  Joints machine_joints(const Joints& programmed) const {
+    if (!tcp_) return programmed;
+    return joints_for_tip([this](const Joints& j) { return kin_.forward(j); }, programmed,
+                          Eigen::Vector3d(programmed.x, programmed.y, programmed.z));
+  }
+  bool machine_within(const Joints& programmed) const { return kin_.within_limits(machine_joints(programmed)); }
+
+  // A turn of the rotaries at a fixed programmed point. Joint moves are straight in the joints, so their
+  // ends decide; under TCP the linear axes follow the part round and can leave their limits between inside
+  // ends, so the turn is checked every degree (the transit tests had skipped the limits under TCP).
+  void check_turn(const Joints& from, const Joints& to) const {
+    if (!tcp_) return;
+    const double turn = std::max({std::abs(to.a - from.a), std::abs(to.b - from.b), std::abs(to.c - from.c)});
+    const int n = std::max(1, static_cast<int>(std::min(720.0, std::ceil(turn))));
+    for (int k = 0; k <= n; ++k) {
+      Joints j = from;
+      const double s = double(k) / n;
+      j.a += s * (to.a - from.a), j.b += s * (to.b - from.b), j.c += s * (to.c - from.c);
+      if (!machine_within(j))
+        throw JobError("turning the rotaries at the transit point X " + fixed(from.x, 3) + " Y " + fixed(from.y, 3) + " Z " +
+                       fixed(from.z, 3) + " under tool-centre-point control takes the machine outside its limits (" +
+                       outside_limits(machine_joints(j)) + ")");
+    }
+  }
+
   // Whether the rapids through `corners` (rotaries fixed, so each is a translation of the tool in the
   // part frame) stay within the limits and keep half of safe_z from the obstacles. Half: the corners
   // themselves clear by safe_z, so a move that starts at one has room before the margin is reached.
   bool rapids_clear(const std::vector<Joints>& corners, const Eigen::Vector3d& axis) const {
     const double margin = 0.5 * job_.machine.safe_z;
     for (size_t k = 0; k < corners.size(); ++k) {
-      if (!tcp_ && !kin_.within_limits(corners[k])) return false;
+      if (!machine_within(corners[k])) return false;
       if (k == 0) continue;
       const ToolPose p0 = pose_at(corners[k - 1], axis), p1 = pose_at(corners[k], axis);
       if (!check_.translation_clear(p0, p1.tip - p0.tip, margin)) return false;
@@ -251,7 +280,7 @@ class Builder {
   Transit reachable(Transit t) const {
     if (!t.high_within_limits)
       throw JobError("the transit point X " + fixed(t.high.x, 3) + " Y " + fixed(t.high.y, 3) + " Z " + fixed(t.high.z, 3) +
-                     " over a retract is outside the machine's limits (" + outside_limits(t.high) + ")");
+                     " over a retract is outside the machine's limits (" + outside_limits(machine_joints(t.high)) + ")");
     return t;
   }
 
@@ -264,24 +293,28 @@ class Builder {
   Transit transit_at(const ToolPose& pose, const Joints& j, double lift, double full) {
     const double wanted = lift;  // the limits may shorten it
     Transit t;
-    Eigen::Vector3d dir = pose.axis;  // how the programmed XYZ move when the tip moves along its axis
-    if (tcp_) {
-      t.retract = target(ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
-    } else {
-      // Back off along the axis; where the full lift leaves the limits, as far as they allow.
-      std::optional<Joints> r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
-      for (int tries = 1; tries < 8 && !r; ++tries) {
-        lift *= 0.5;
-        r = joints_at_rotaries(kin_, ToolPose{pose.tip + lift * pose.axis, pose.axis}, j);
-      }
-      if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
-      if (tries_warned_ == 0 && lift < std::min(wanted, job_.machine.safe_z) - 1e-9) {
-        prog_.warnings.push_back("a retract is shortened to " + fixed(lift, 3) + " mm by the machine's limits");
-        ++tries_warned_;
-      }
-      t.retract = *r;
-      dir = Eigen::Vector3d(r->x - j.x, r->y - j.y, r->z - j.z).normalized();
+    // The retract `l` along the axis, programmed; nullopt where the machine's limits do not reach it.
+    auto retract_at = [&](double l) -> std::optional<Joints> {
+      const ToolPose p{pose.tip + l * pose.axis, pose.axis};
+      if (!tcp_) return joints_at_rotaries(kin_, p, j);
+      const Joints r = target(p, j);
+      return machine_within(r) ? std::optional<Joints>(r) : std::nullopt;
+    };
+    // Back off along the axis; where the full lift leaves the limits, as far as they allow.
+    std::optional<Joints> r = retract_at(lift);
+    for (int tries = 1; tries < 8 && !r; ++tries) {
+      lift *= 0.5;
+      r = retract_at(lift);
     }
+    if (!r) throw JobError("no retract along the tool axis stays within the machine's limits");
+    if (tries_warned_ == 0 && lift < std::min(wanted, job_.machine.safe_z) - 1e-9) {
+      prog_.warnings.push_back("a retract is shortened to " + fixed(lift, 3) + " mm by the machine's limits");
+      ++tries_warned_;
+    }
+    t.retract = *r;
+    // How the programmed XYZ move when the tip moves along its axis: the axis itself under TCP.
+    const Eigen::Vector3d dir =
+        tcp_ ? pose.axis : Eigen::Vector3d(r->x - j.x, r->y - j.y, r->z - j.z).normalized();
     t.high = t.retract;
     const double z = std::max(zsafe_, t.retract.z);  // zsafe_ is within Z's limits, retract too
     const bool straight_up = lift >= full - 1e-9 && pose.axis.z() >= 0.0;
@@ -291,7 +324,25 @@ class Builder {
       t.high.y += k * dir.y();
     }
     t.high.z = z;
-    t.high_within_limits = tcp_ || kin_.within_limits(t.high);
+    if (tcp_ && !machine_within(t.high)) {
+      // The transit height under TCP is the part's; at these rotaries the machine may not reach it. As high
+      // along the rise as the limits allow (the joint dialect caps it at Z's limit the same way).
+      const Joints from = t.retract, to = t.high;
+      auto along = [&](double s) {
+        Joints q = from;
+        q.x += s * (to.x - from.x), q.y += s * (to.y - from.y), q.z += s * (to.z - from.z);
+        return q;
+      };
+      double inside = 0.0, outside = 1.0;  // the retract is within the limits
+      for (int i = 0; i < 40; ++i) (machine_within(along(0.5 * (inside + outside))) ? inside : outside) = 0.5 * (inside + outside);
+      t.high = along(inside);
+      if (!capped_warned_) {
+        prog_.warnings.push_back("the transit height Z " + fixed(to.z, 3) + " is out of the machine's reach at the rotaries of a retract; lowered to Z " +
+                                 fixed(t.high.z, 3) + " there (tool-centre-point control)");
+        capped_warned_ = true;
+      }
+    }
+    t.high_within_limits = machine_within(t.high);
     return t;
   }
 
@@ -331,6 +382,7 @@ class Builder {
   const TransitChecker& check_;
   double zsafe_ = 0.0;
   int tries_warned_ = 0;
+  bool capped_warned_ = false;  // the TCP transit height lowered to the limits, said once
   Program prog_;
 };
 

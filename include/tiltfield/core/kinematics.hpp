@@ -27,6 +27,7 @@
 // as its xyzac-trt/xyzbc-trt kinematics would with tool-offset = L and the same rot-point/offset pins.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -102,6 +103,12 @@ struct AxisOutside {
 // The axes of j beyond machine.limits by more than `slack` (mm or deg), in the order X Y Z A B C: what the
 // post names when it cannot reach a point and what the verifier reports.
 std::vector<AxisOutside> axes_outside_limits(const MachineSpec& machine, const Joints& j, double slack = 0.0);
+
+// In: `forward` (joints -> tool pose in the part frame: Kinematics::forward, or a per-tool map), the
+// rotaries of `at` (its X Y Z ignored) and a tool tip in the part frame, mm. Out: `at` with the machine's
+// X Y Z that put the tip there: what a controller under tool-centre-point control (G43.4, M428) drives
+// for a programmed tip. Every kinematics here moves the tip affinely with X Y Z at fixed rotaries.
+Joints joints_for_tip(const std::function<ToolPose(const Joints&)>& forward, Joints at, const Eigen::Vector3d& tip);
 
 // The rotary distance between two joint sets, deg: the sum of |difference| over A, B and C.
 double rotary_distance(const Joints& a, const Joints& b);
