@@ -1,7 +1,6 @@
 // The machine's axes against their limits at each block (Simulator::run): where a controller would stop.
 #include "axis_limits.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,20 +12,6 @@
 
 namespace tf::sim {
 namespace {
-
-// The machine's X Y Z that put the tip at `tip` with the rotaries of j. Every kinematics here moves the
-// tip affinely with the linear axes at fixed rotaries, so three unit steps give the map.
-Eigen::Vector3d machine_xyz(const ForwardFn& forward, Joints j, const Eigen::Vector3d& tip) {
-  j.x = j.y = j.z = 0.0;
-  const Eigen::Vector3d t0 = forward(j).tip;
-  Eigen::Matrix3d m;
-  for (int k = 0; k < 3; ++k) {
-    Joints e = j;
-    (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
-    m.col(k) = forward(e).tip - t0;
-  }
-  return m.partialPivLu().solve(tip - t0);
-}
 
 // The block's times where an arc's point reaches an extreme of its plane (the circle's quarter points it
 // passes), then its end.
@@ -73,8 +58,7 @@ void check_axis_limits(const MachineSpec& machine, const Block& b, const Joints&
   for (const double tau : times_to_check(b, from)) {
     Joints j = interpolate_block(from, b, tau);
     if (b.tcp) {  // X Y Z are the tip in the part frame: the machine's come from the kinematics
-      const Eigen::Vector3d x = machine_xyz(forward, j, Eigen::Vector3d(j.x, j.y, j.z));
-      j.x = x.x(), j.y = x.y(), j.z = x.z();
+      j = joints_for_tip(forward, j, Eigen::Vector3d(j.x, j.y, j.z));
     } else {
       j.z += nose_above_tip;
     }
