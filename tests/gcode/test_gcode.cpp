@@ -143,7 +143,12 @@ TEST(Gcode, RotariesAndTcpModes) {
   EXPECT_FALSE(p.blocks[4].tcp);
   EXPECT_TRUE(p.blocks[5].tcp);
   EXPECT_FALSE(p.blocks[6].tcp);
-  EXPECT_TRUE(p.warnings.empty()) << p.warnings.front();
+  // Each switch is followed by a block writing X alone: Y and Z keep numbers of the other mode (said once).
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_NE(p.warnings[0].find("p.ngc:3: the first motion after tool-centre-point control was switched does not write Y Z"),
+            std::string::npos) << p.warnings[0];
+  // A switch before any motion, or followed by a block writing X Y Z, is silent.
+  EXPECT_TRUE(parse("G43.4 H1\nG0 X0 Y0 Z50 A0 C0\nG49\nG0 X1 Y2 Z60\nM2\n", m).warnings.empty());
 }
 
 TEST(Gcode, UnknownCodesAreWarnings) {

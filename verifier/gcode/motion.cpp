@@ -31,6 +31,18 @@ void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
     for (char c : std::string_view("XYZABC"))
       if ((val.has(c) || ((c == 'X' || c == 'Y') && val.polar())) && st_.axes[size_t(axis_index(c))] != AxisState::Set)
         throw InputError(file_, line, "G33.1", std::string("rigid tapping from a ") + c + " position not set yet (it returns there)");
+  // Across a switch of TCP the controller holds the tool where it is, in the other mode's coordinates
+  // (tip or joints); the reader does not convert the position, so an axis the first block after the switch
+  // does not write keeps its number from before, which means another place now.
+  if (st_.tcp_switched) {
+    st_.tcp_switched = false;
+    std::string missing;
+    for (char c : std::string_view("XYZ"))
+      if (!val.has(c) || st_.incremental) missing += missing.empty() ? std::string(1, c) : std::string(" ") + c;
+    if (!missing.empty() && !g53)
+      warn(line, "", "the first motion after tool-centre-point control was switched does not write " + missing +
+                         " (in G90): taken as the numbers before the switch, not where the controller holds the tool");
+  }
   const Axes start = st_.pos;
   if (g53) {
     // G53: the axis words are machine coordinates for this block (the tool length offset included, as

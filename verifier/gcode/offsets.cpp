@@ -117,13 +117,8 @@ void Reader::tool_length_offset(int key, const Values& val, int line) {
     uses_length_offsets_ = true;
   }
   set_offset_keeping_position([&] { st_.tlo = t; });
-  if (key == 434) {
-    st_.tcp = true;
-    st_.tcp_g434 = true;
-  } else if (st_.tcp_g434) {  // G43 and G49 end G43.4 (one modal group), not an M code's TCP
-    st_.tcp = false;
-    st_.tcp_g434 = false;
-  }
+  if (key == 434) set_tcp(true, true);
+  else if (st_.tcp_g434) set_tcp(false, false);  // G43 and G49 end G43.4 (one modal group), not an M code's TCP
 }
 
 // G28/G30: a rapid to the intermediate point given by the axis words, then the named axes (all without

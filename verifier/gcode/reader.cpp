@@ -420,11 +420,17 @@ void Reader::apply_feed_speed_tool(const Values& val, int line) {
   }
 }
 
+void Reader::set_tcp(bool on, bool g434) {
+  if (on != st_.tcp && !program_.blocks.empty()) st_.tcp_switched = true;
+  st_.tcp = on;
+  st_.tcp_g434 = g434;
+}
+
 // The block's M codes but the stops (which act after its motion); the machine's own TCP codes first.
 void Reader::apply_m_codes(const std::vector<int>& ms, const Values& val, int line) {
   for (int m : ms) {
-    if (tcp_on_ && m == *tcp_on_) { st_.tcp = true; st_.tcp_g434 = false; continue; }
-    if (tcp_off_ && m == *tcp_off_) { st_.tcp = false; st_.tcp_g434 = false; continue; }
+    if (tcp_on_ && m == *tcp_on_) { set_tcp(true, false); continue; }
+    if (tcp_off_ && m == *tcp_off_) { set_tcp(false, false); continue; }
     switch (m) {
       case 30: st_.spindle_dir = 1; break;
       case 40: st_.spindle_dir = -1; break;
@@ -442,8 +448,8 @@ void Reader::apply_m_codes(const std::vector<int>& ms, const Values& val, int li
         st_.tool_line = line;
         break;
       }
-      case 1280: st_.tcp = true; st_.tcp_g434 = false; break;
-      case 1290: st_.tcp = false; st_.tcp_g434 = false; break;
+      case 1280: set_tcp(true, false); break;
+      case 1290: set_tcp(false, false); break;
       case 980:  // a call opens its line (programs.cpp); in a block LinuxCNC knows no M98
         throw InputError(file_, line, "M98", "M98 must open its line (after an optional N number), as LinuxCNC reads a call");
       case 990:

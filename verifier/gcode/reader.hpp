@@ -70,6 +70,7 @@ struct State {
   bool inverse_time = false;
   bool tcp = false;       // tool-centre-point control on
   bool tcp_g434 = false;  // switched on by G43.4 (which G49 cancels), not by an M code
+  bool tcp_switched = false;  // TCP switched after motion, and no motion block since
   double feed = 0.0;
   double feed_word = 0.0;  // F as written (#<_feed>: LinuxCNC does not convert it when the units change)
   double spindle = 0.0;
@@ -166,6 +167,8 @@ class Reader : private ParameterValues {
   void block(const std::vector<Word>& words, int line);
   void sort_words(const std::vector<Word>& words, int line, Values& val, std::vector<int>& gs, std::vector<int>& ms) const;
   void apply_m_codes(const std::vector<int>& ms, const Values& val, int line);
+  // Tool-centre-point control on or off (g434: by G43.4, which G43 and G49 end).
+  void set_tcp(bool on, bool g434);
   void apply_units_and_feed_mode(const std::vector<int>& gs, int line);
   void apply_modal_g_codes(const std::vector<int>& gs, const Values& val, int line);
   void apply_feed_speed_tool(const Values& val, int line);
