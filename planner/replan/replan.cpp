@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/kinematics.hpp"
@@ -57,7 +58,44 @@ std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<do
   return merged;
 }
 
+// The rotaries of the blends of a window's rows in the machine's joints; nullopt where an old or a new
+// axis has no joint solution.
+std::optional<std::vector<Eigen::Vector3d>> blend_in_rotaries(const std::vector<Eigen::Vector3d>& cl,
+                                                              const std::vector<Eigen::Vector3d>& old_axes,
+                                                              const std::vector<Eigen::Vector3d>& new_axes,
+                                                              const std::vector<double>& weights, double cl_height,
+                                                              const Kinematics& kin) {
+  std::vector<Eigen::Vector3d> out;
+  Joints prev;
+  for (size_t i = 0; i < cl.size(); ++i) {
+    const auto pose = [&](const Eigen::Vector3d& a) { return ToolPose{cl[i] - cl_height * a, a}; };
+    const std::optional<Joints> j0 = kin.inverse_nearest(pose(old_axes[i].normalized()), prev);
+    if (!j0) return std::nullopt;
+    const std::optional<Joints> j1 = kin.inverse_nearest(pose(new_axes[i].normalized()), *j0);
+    if (!j1) return std::nullopt;
+    Joints j = *j0;
+    const double w = weights[i];
+    j.a += w * (j1->a - j0->a), j.b += w * (j1->b - j0->b), j.c += w * (j1->c - j0->c);
+    out.push_back(kin.forward(j).axis.normalized());
+    prev = *j0;
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, const std::vector<Eigen::Vector3d>& old_axes,
+                                        const std::vector<Eigen::Vector3d>& new_axes, const std::vector<double>& weights,
+                                        double cl_height, const Kinematics* kin) {
+  std::vector<Eigen::Vector3d> out;
+  bool reached = true;
+  for (size_t i = 0; i < cl.size(); ++i) {
+    out.push_back(slerp_axis(old_axes[i], new_axes[i], weights[i]).normalized());
+    if (kin && reached) reached = !kin->inverse(ToolPose{cl[i] - cl_height * out.back(), out.back()}, Joints{}).empty();
+  }
+  if (reached) return out;
+  return blend_in_rotaries(cl, old_axes, new_axes, weights, cl_height, *kin).value_or(out);
+}
 
 std::string unfixable_reason(const Collision& c) {
   if (c.rapid) return "a rapid move: the post's retracts and links must clear it, not the tool axis";
@@ -134,6 +172,8 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   PlanObstacles obstacles = scene_obstacles(scene);
   obstacles.check_surfaces.insert(obstacles.check_surfaces.end(), extra_obstacles.begin(), extra_obstacles.end());
   const std::vector<LocalFrame> frames = local_frames(path);
+  std::optional<Kinematics> kin;
+  if (scene.machine) kin.emplace(*scene.machine, scene.tool.length);
 
   for (const ReplanWindow& w : result.windows) {
     ToolPath sub;
@@ -142,13 +182,20 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
                                          scene.machine ? &*scene.machine : nullptr);
     const double s0 = arc[w.first], length = arc[w.last] - s0;
     const double ramp = std::min(blend, 0.5 * length);
+    std::vector<Eigen::Vector3d> cl, old_axes, new_axes;
+    std::vector<double> weights;
     for (size_t i = w.first; i <= w.last; ++i) {
       const double s = arc[i] - s0;
-      const double weight = ramp > 0 ? smoothstep(std::min(s, length - s) / ramp) : 1.0;
+      weights.push_back(ramp > 0 ? smoothstep(std::min(s, length - s) / ramp) : 1.0);
+      cl.push_back(path.rows[i].p);
+      old_axes.push_back(original.rows[i].axis);
+      new_axes.push_back(planned.path.rows[i - w.first].axis);
+    }
+    const std::vector<Eigen::Vector3d> blended = blend_axes(cl, old_axes, new_axes, weights, scene.tool.cl_height(), kin ? &*kin : nullptr);
+    for (size_t i = w.first; i <= w.last; ++i) {
       const Eigen::Vector3d& old_axis = original.rows[i].axis;
-      const Eigen::Vector3d& new_axis = planned.path.rows[i - w.first].axis;
       OrientedRow& row = result.path.rows[i];
-      row.axis = slerp_axis(old_axis, new_axis, weight).normalized();
+      row.axis = blended[i - w.first];
       const Eigen::Vector2d lt = lead_tilt_from_axis(frames[i], row.axis);
       row.lead_deg = lt.x();
       row.tilt_deg = lt.y();
@@ -172,12 +219,11 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
     }
   }
   // The blended axes on the scene's machine: a window the limits cannot follow is reported, not posted.
-  if (scene.machine) {
-    const Kinematics kin(*scene.machine, scene.tool.length);
+  if (kin) {
     for (size_t i : rows) {
       const OrientedRow& r = result.path.rows[i];
       const Eigen::Vector3d axis = r.axis.normalized();
-      if (kin.inverse(ToolPose{r.p - scene.tool.cl_height() * axis, axis}, Joints{}).empty())
+      if (kin->inverse(ToolPose{r.p - scene.tool.cl_height() * axis, axis}, Joints{}).empty())
         result.unreachable.push_back(i);
     }
   }

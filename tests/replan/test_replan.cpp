@@ -2,9 +2,13 @@
 // non-cutting part of the tool; the collisions read back from a verification report.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "replan/hidden_post_scene.hpp"
 #include "test_support.hpp"
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/kinematics.hpp"
+#include "tiltfield/core/local_frame.hpp"
 #include "tiltfield/core/report.hpp"
 #include "tiltfield/replan/replan.hpp"
 
@@ -130,6 +134,35 @@ TEST(Replan, StockObstacleGrowsWithItsBoundaryNotItsArea) {
   EXPECT_LT(fine.n_faces(), 6 * coarse.n_faces()) << coarse.n_faces() << " -> " << fine.n_faces();
   EXPECT_GE(area(fine), area(coarse) - 1e-6);
   EXPECT_LE(area(fine), area(stock) + 1e-6);
+}
+
+// A table that tilts 100 deg one way and 50 the other: the great circle between two axes tilted 99 deg,
+// 120 deg apart round the pole, runs beyond 100 deg (no joint solution); blended in the rotaries (A held,
+// C turning) every row is reached, and the ends are the old and the new axes.
+TEST(Replan, BlendLeavingTheMachinesReachIsMadeInItsRotaries) {
+  tf::MachineSpec m;
+  m.kinematics = tf::KinematicsType::TableTableAC;
+  m.limits['A'] = {-100.0, 50.0};
+  const tf::Kinematics kin(m, 60.0);
+  auto tilted = [](double tilt_deg, double azimuth_deg) {
+    const double t = tilt_deg * M_PI / 180.0, p = azimuth_deg * M_PI / 180.0;
+    return Eigen::Vector3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+  };
+  const std::vector<double> weights = {0.0, 0.25, 0.5, 0.75, 1.0};
+  const std::vector<Eigen::Vector3d> cl(weights.size(), Eigen::Vector3d(10, 5, 20));
+  const std::vector<Eigen::Vector3d> old_axes(weights.size(), tilted(99, 0)), new_axes(weights.size(), tilted(99, 120));
+  auto reached = [&](const Eigen::Vector3d& a) { return !kin.inverse(tf::ToolPose{Eigen::Vector3d(10, 5, 20) - 3.0 * a, a}, tf::Joints{}).empty(); };
+  ASSERT_TRUE(reached(old_axes[0]) && reached(new_axes[0]));
+  ASSERT_FALSE(reached(tf::slerp_axis(old_axes[0], new_axes[0], 0.5)));  // the great circle leaves the reach
+  const std::vector<Eigen::Vector3d> b = tf::blend_axes(cl, old_axes, new_axes, weights, 3.0, &kin);
+  ASSERT_EQ(b.size(), weights.size());
+  for (const Eigen::Vector3d& a : b) EXPECT_TRUE(reached(a)) << a.transpose();
+  EXPECT_LT((b.front() - old_axes[0]).norm(), 1e-9);
+  EXPECT_LT((b.back() - new_axes[0]).norm(), 1e-9);
+  EXPECT_NEAR(std::acos(b[2].z()) * 180.0 / M_PI, 99.0, 1e-6);  // A held, C half-way round
+  // Without a machine, and where the great circle stays within reach, it is the great circle.
+  const std::vector<Eigen::Vector3d> plain = tf::blend_axes(cl, old_axes, new_axes, weights, 3.0, nullptr);
+  EXPECT_LT((plain[2] - tf::slerp_axis(old_axes[0], new_axes[0], 0.5).normalized()).norm(), 1e-12);
 }
 
 TEST(Replan, BadVerifyReportNamesTheField) {
