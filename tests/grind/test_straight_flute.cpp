@@ -134,5 +134,29 @@ TEST(StraightFlute, MeshVolumeMatchesTheAnalyticIntegral) {
   EXPECT_FALSE(testing::self_intersects(mesh));
 }
 
+// A wheel face exactly in a section plane (the swivel W90 leaves cos 90 deg = 6e-17 in the wheel's axis) is
+// ground like a face a micrometre past the plane: the whole section, not the half on one side that the
+// rounding's sign picked (found by black-box testing). The same at the blank's tip, the last section.
+TEST(StraightFlute, WheelFaceExactlyOnASectionPlaneGrindsTheWholeSection) {
+  SectionOptions o;
+  o.spacing = 0.25;
+  for (const double face_z : {0.5, 1.0}) {
+    SCOPED_TRACE(face_z);
+    auto section_at = [&](double x) {
+      const GrindScene scene = testing::make_scene(2, 1, 10, 2, 0, "OP end_face face\nG1 Y0\n", {x, 30, 0, 0, 0, 90});
+      const SectionStack stack = simulate_sections(scene, o);
+      for (const Section& sec : stack.sections)
+        if (std::abs(sec.z - face_z) < 1e-9) return section_area(sec);
+      ADD_FAILURE() << "no section at " << face_z;
+      return -1.0;
+    };
+    // The wheel's lower face lies at z = x - 1: below the plane by 1e-6, on it, above it by 1e-6.
+    const double past = section_at(face_z + 1.0 - 1e-6), on = section_at(face_z + 1.0), short_of = section_at(face_z + 1.0 + 1e-6);
+    EXPECT_NEAR(short_of, M_PI * 4, 0.03);  // untouched (the circle polygonised within its chord tolerance)
+    EXPECT_NEAR(past, 0.0, 1e-6);           // ground away
+    EXPECT_NEAR(on, past, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace tf::grind

@@ -55,19 +55,35 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
   if (std::abs(a.z()) <= 0.5 || trig.size() < 3) return;
   const double perp = std::sqrt(std::max(0.0, 1.0 - a.z() * a.z()));
   const double base = c.z() - z0;
-  for (size_t i = 0; i + 1 < profile.size(); ++i) {
+  // A generator's end within kOnPlane of the plane lies on it: a face of the wheel exactly in the plane
+  // (a swivel of 90 deg leaves cos 90 deg = 6e-17 in the axis) had the sign of that rounding decide, so
+  // the generators on one side only met the plane and half the face was ground (found by black-box testing).
+  constexpr double kOnPlane = 1e-9;  // mm
+  auto on = [](double v) { return std::abs(v) <= kOnPlane ? 0.0 : v; };
+  const size_t last = profile.size() - 1;
+  for (size_t i = 0; i < last; ++i) {
     const double t0 = profile[i].x(), r0 = profile[i].y(), t1 = profile[i + 1].x(), r1 = profile[i + 1].y();
     const double m0 = base + t0 * a.z(), m1 = base + t1 * a.z();
-    if ((m0 - r0 * perp > 0 && m1 - r1 * perp > 0) || (m0 + r0 * perp < 0 && m1 + r1 * perp < 0)) continue;
+    if ((m0 - r0 * perp > kOnPlane && m1 - r1 * perp > kOnPlane) || (m0 + r0 * perp < -kOnPlane && m1 + r1 * perp < -kOnPlane))
+      continue;
     for (size_t g = 0; g < trig.size(); ++g) {
       const Eigen::Vector2d& cs = trig[g];
       const Eigen::Vector3d dir = cs.x() * info.u1 + cs.y() * info.u2;
-      const double s0 = m0 + r0 * dir.z(), s1 = m1 + r1 * dir.z();
-      if ((s0 > 0) == (s1 > 0) || s0 == s1) continue;
-      const double f = s0 / (s0 - s1);
-      const Eigen::Vector3d p = c + (t0 + f * (t1 - t0)) * a + (r0 + f * (r1 - r0)) * dir;
-      out.emplace_back(p.x(), p.y());
-      if (ids) ids->push_back(2 * rings + static_cast<int>(i * trig.size() + g));
+      const double s0 = on(m0 + r0 * dir.z()), s1 = on(m1 + r1 * dir.z());
+      if ((s0 > 0 && s1 > 0) || (s0 < 0 && s1 < 0)) continue;
+      auto add = [&](double f, size_t id) {
+        const Eigen::Vector3d p = c + (t0 + f * (t1 - t0)) * a + (r0 + f * (r1 - r0)) * dir;
+        out.emplace_back(p.x(), p.y());
+        if (ids) ids->push_back(2 * rings + static_cast<int>(id * trig.size() + g));
+      };
+      // Both ends on the plane: the generator lies in it. Its start is added here, its end by the next
+      // generator's start (or, for the profile's last, under the unused index `last`).
+      if (s0 == 0.0 && s1 == 0.0) {
+        add(0.0, i);
+        if (i + 1 == last) add(1.0, last);
+        continue;
+      }
+      add(s0 == s1 ? 0.0 : s0 / (s0 - s1), i);
     }
   }
 }
