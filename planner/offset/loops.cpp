@@ -219,6 +219,85 @@ bool follow_chain(const std::vector<Slice>& slices, const std::multimap<int, int
   }
 }
 
+// Whether b runs straight back over a from a's end: the same line or circle, the other way. Where the
+// region narrows to zero width (a neck exactly twice the gap wide) the offsets of the two sides coincide
+// and both are valid, so the contour went out along the neck and back (found by black-box testing).
+bool retraces(const Segment& a, const Segment& b, double tol) {
+  if (a.is_arc() != b.is_arc() || (b.a - a.b).norm() > tol) return false;
+  if (a.is_arc()) return (a.c - b.c).norm() <= tol && std::abs(a.r - b.r) <= tol && a.sweep * b.sweep < 0;
+  const Vector2d da = a.b - a.a, db = b.b - b.a;
+  if (da.dot(db) >= 0) return false;
+  const double cross = da.x() * db.y() - da.y() * db.x();
+  return std::abs(cross) <= tol * (da.norm() + db.norm());
+}
+
+// The contour without its zero-width spikes: a piece followed by its own retrace cancels (the longer of
+// the two keeps what the shorter does not cover), as often as that happens, across the contour's start too.
+std::vector<Segment> without_spikes(const std::vector<Segment>& chain, double tol) {
+  std::vector<Segment> out;
+  auto push = [&](Segment s) {
+    while (!out.empty() && retraces(out.back(), s, tol)) {
+      const double la = length(out.back()), lb = length(s);
+      if (std::abs(la - lb) <= tol) {
+        out.pop_back();
+        return;
+      }
+      if (lb < la) {
+        const Vector2d end = s.b;
+        out.back() = sub_segment(out.back(), 0.0, 1.0 - lb / la);
+        out.back().b = end;
+        return;
+      }
+      const Vector2d start = out.back().a;
+      out.pop_back();
+      s = sub_segment(s, la / lb, 1.0);
+      s.a = start;
+    }
+    out.push_back(s);
+  };
+  for (const Segment& s : chain) push(s);
+  // A spike across the start: its first half ends the list, its second half begins it.
+  size_t front = 0;
+  while (front < out.size() && out.size() - front >= 2 && retraces(out.back(), out[front], tol)) {
+    const Segment first = out[front++];
+    std::vector<Segment> rest(out.begin() + long(front), out.end());
+    out.swap(rest);
+    front = 0;
+    push(first);
+  }
+  return out;
+}
+
+// Whether b is a, the other way round (the same line or arc between the same points).
+bool reversed_of(const Segment& a, const Segment& b, double tol) {
+  if (a.is_arc() != b.is_arc() || (a.a - b.b).norm() > tol || (a.b - b.a).norm() > tol) return false;
+  return !a.is_arc() || ((a.c - b.c).norm() <= tol && std::abs(a.r - b.r) <= tol && a.sweep * b.sweep < 0);
+}
+
+// A contour that runs along a zero-width bridge and later back along it (a neck exactly twice the gap
+// wide between two pockets of the region, each traced in between) is two loops touching through the
+// bridge: split there, the bridge dropped, each loop in turn; then without_spikes.
+void split_at_bridges(const std::vector<Segment>& chain, double tol, std::vector<std::vector<Segment>>& out) {
+  const size_t n = chain.size();
+  // Candidates by length: a segment's reverse has its length.
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::vector<double> len(n);
+  for (size_t i = 0; i < n; ++i) len[i] = length(chain[i]);
+  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return len[x] < len[y]; });
+  for (size_t u = 0; u < n; ++u)
+    for (size_t v = u + 1; v < n && len[order[v]] - len[order[u]] <= 2 * tol; ++v) {
+      const size_t i = std::min(order[u], order[v]), j = std::max(order[u], order[v]);
+      if (j == i + 1 || (i == 0 && j + 1 == n) || !reversed_of(chain[i], chain[j], tol)) continue;
+      split_at_bridges(std::vector<Segment>(chain.begin() + long(i) + 1, chain.begin() + long(j)), tol, out);
+      std::vector<Segment> rest(chain.begin() + long(j) + 1, chain.end());
+      rest.insert(rest.end(), chain.begin(), chain.begin() + long(i));
+      split_at_bridges(rest, tol, out);
+      return;
+    }
+  out.push_back(without_spikes(chain, tol));
+}
+
 // Stitches the valid slices end node to start node into closed contours.
 std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices, const std::vector<char>& valid,
                                                 double tol) {
@@ -232,9 +311,14 @@ std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices
     std::vector<Segment> chain;
     const bool closed = follow_chain(slices, by_start, k, used, chain);
     if (!closed || chain.empty()) continue;  // an open chain: pieces of a loop judged inconsistently
-    for (size_t s = 0; s < chain.size(); ++s) chain[(s + 1) % chain.size()].a = chain[s].b;
-    if (std::abs(signed_area(chain)) <= tol * tol) continue;
-    contours.push_back(std::move(chain));
+    std::vector<std::vector<Segment>> loops;
+    split_at_bridges(chain, tol, loops);
+    for (auto& loop : loops) {
+      if (loop.size() < 2) continue;
+      for (size_t s = 0; s < loop.size(); ++s) loop[(s + 1) % loop.size()].a = loop[s].b;
+      if (std::abs(signed_area(loop)) <= tol * tol) continue;
+      contours.push_back(std::move(loop));
+    }
   }
   return contours;
 }

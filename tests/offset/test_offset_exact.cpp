@@ -51,6 +51,33 @@ TEST(OffsetExact, NeckSplitsIntoTwoContours) {
   EXPECT_EQ(offset_profile(p, constant_gap(31.0), {}).contours.size(), 0u);  // wider than the lobes
 }
 
+// A neck exactly twice the gap wide narrows the region to zero width: the two pockets come out as two
+// contours, as a micrometre wider a gap gives, with no piece run out along the neck and back (the contour
+// had retraced the neck; in square lobes it ran there and back round the far pocket; found by black-box
+// testing).
+TEST(OffsetExact, NeckExactlyTwiceTheGapSplitsWithoutABridge) {
+  const std::string square_lobes =
+      "START -15 -10\n0 10 0\n0 0 5\n0 10 0\n0 0 -5\n0 10 0\n0 0 20\n0 -10 0\n0 0 -5\n0 -10 0\n0 0 5\n0 -10 0\n0 0 -20\n";
+  for (const auto& [name, profile] : {std::pair{"two_lobes_neck", scene_profile("two_lobes_neck.txt")},
+                                      std::pair{"square_lobes", profile_text(square_lobes)}})
+    for (Corner corner : {Corner::Round, Corner::Sharp}) {
+      SCOPED_TRACE(std::string(name) + (corner == Corner::Round ? " round" : " sharp"));
+      OffsetOptions o;
+      o.corner = corner;
+      const auto r = offset_profile(profile, constant_gap(5.0), o);
+      const auto wider = offset_profile(profile, constant_gap(5.0 + 1e-6), o);
+      ASSERT_EQ(r.contours.size(), 2u);
+      EXPECT_EQ(wider.contours.size(), 2u);
+      EXPECT_NEAR(total_area(r), total_area(wider), 1e-3);
+      expect_clean_contours(r);
+      std::vector<Eigen::Vector2d> mids;
+      for (const auto& c : r.contours)
+        for (const auto& seg : c) mids.push_back(point_at(seg, 0.5));
+      for (size_t i = 0; i < mids.size(); ++i)
+        for (size_t j = i + 1; j < mids.size(); ++j) EXPECT_GT((mids[i] - mids[j]).norm(), 1e-6) << "a piece run twice";
+    }
+}
+
 TEST(OffsetExact, VariableGapFollowsTheLaw) {
   for (const auto& c : cases()) {
     const double L = chain_length(c.profile.elements);
