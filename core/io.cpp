@@ -69,8 +69,9 @@ std::string fixed(double v, int decimals) {
 
 std::string read_text_file(const fs::path& file, const std::string& what) {
   std::error_code ec;
+  if (fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "is a directory, not a " + what);
   std::ifstream in(file, std::ios::binary);
-  if (!in || fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "cannot read the " + what);
+  if (!in) throw InputError(file.string(), 0, "", "cannot read the " + what);
   // A device or a pipe may never end (/dev/zero): read in chunks up to a bound above any real program (a
   // 3-axis finish of millions of lines is a few hundred MB). A regular file is read whole.
   const size_t max_bytes = fs::is_regular_file(file, ec) ? std::numeric_limits<size_t>::max() : size_t(1) << 30;
@@ -94,6 +95,8 @@ int CsvTable::column(std::string_view name) const {
 }
 
 CsvTable read_csv(const fs::path& file) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "is a directory, not a CSV file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), 0, "", "cannot open file");
   CsvTable t;

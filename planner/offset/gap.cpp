@@ -45,7 +45,7 @@ bool is_constant(const GapLaw& law) {
 
 std::string beyond_limit(double v) {
   std::ostringstream msg;
-  msg << "the value " << v << " is beyond +-" << kMaxLengthMm << " mm";
+  msg << "the value " << v << " is beyond +-" << fixed(kMaxLengthMm, 0) << " mm";
   return msg.str();
 }
 

@@ -182,11 +182,7 @@ void validate_profile(const Profile& p) {
 }
 
 Profile read_profile(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), 0, "", "cannot open profile file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  Profile p = parse_profile(ss.str(), file.string());
+  Profile p = parse_profile(read_text_file(file, "profile file"), file.string());
   validate_profile(p);
   return p;
 }

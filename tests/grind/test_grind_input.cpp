@@ -59,6 +59,7 @@ std::vector<Case> cases() {
       {"blank radius beyond travel", [](json& j, std::string&) { j["blank"]["radius"] = 1e308; }, "field 'blank.radius': is 1e+308"},
       {"blank length beyond travel", [](json& j, std::string&) { j["blank"]["length"] = 1e9; }, "field 'blank.length'"},
       {"wheel beyond travel", [](json& j, std::string&) { j["wheel"]["radius"] = 1e7; }, "field 'wheel.radius'"},
+      {"control byte in the program", [](json&, std::string& p) { p += std::string("G1 X1", 5) + '\0' + "Y2\n"; }, "prog.ngc:7: field '0x00': binary data"},
       {"program is a directory", [](json& j, std::string&) { j["program"] = "."; }, "is a directory"},
       {"concave profile",
        [](json& j, std::string&) {
@@ -104,7 +105,8 @@ TEST(GrindInput, CliExitsTwoWithOneLineAndNoOutput) {
   }
 }
 
-// A key given twice (the parser kept the last one) and a directory given as the scene (exit 1 before).
+// A key given twice (the parser kept the last one), a NUL byte after the object (accepted), an infinite
+// --spacing (two sections) and a directory given as the scene (exit 1 before).
 TEST(GrindInput, DuplicateKeysAndADirectoryAreBadInput) {
   test::TempDir dir;
   test::write_text(dir / "prog.ngc", kProgram);
@@ -113,6 +115,14 @@ TEST(GrindInput, DuplicateKeysAndADirectoryAreBadInput) {
   auto r = test::run_tiltfield("grind grind.json -o tool.ply", dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_NE(r.out.find("field 'blank.radius': appears twice"), std::string::npos) << r.out;
+  // A NUL byte after the object ended the parser's input: the rest was never read.
+  test::write_text(dir / "nul.json", std::string(R"({"blank": {"radius": 3, "length": 6}, "wheel": {"radius": 20, "thickness": 3},
+    "program": "prog.ngc"})") + std::string(1, '\0') + "garbage");
+  r = test::run_tiltfield("grind nul.json -o tool.ply", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("nul.json:2: binary data"), std::string::npos) << r.out;
+  r = test::run_tiltfield("grind grind.json -o tool.ply --spacing inf", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
   std::filesystem::create_directory(dir / "scene.json");
   r = test::run_tiltfield("grind scene.json -o tool.ply", dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.out;

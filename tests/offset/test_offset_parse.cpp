@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 
 #include <cstdlib>
+#include <functional>
 #include <random>
 
 #include "offset_test_util.hpp"
@@ -93,6 +94,16 @@ TEST(OffsetParse, GapLawValuesBeyondAKilometreAreNamed) {
   EXPECT_EQ(where("s,gap\n0,0.5\n100,1e7\n"), "3 gap");
   EXPECT_EQ(where("s,gap\n-2e6,0.5\n100,1\n"), "2 s");
   EXPECT_EQ(where("s,gap\n0,0.5\n100,1000\n"), "accepted");
+  // A directory is named as one (it read as an empty file).
+  const std::filesystem::path dir = std::filesystem::path(write_temp("law.csv", "")).parent_path();
+  for (auto read : {std::function<void()>([&] { read_gap_law(dir); }), std::function<void()>([&] { read_profile(dir); })}) {
+    try {
+      read();
+      ADD_FAILURE() << "a directory accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // Feeds random and mutated profile texts to the parser: it only ever returns or throws InputError.

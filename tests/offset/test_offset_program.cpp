@@ -234,8 +234,13 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));
   }
-  // Lengths beyond the profile's +-1e6 mm are typos: a gap of 1e300 ended in exit 1 naming no option.
-  for (const char* opt : {"-d 1e300 --side outside", "-d 2 --lead 1e9", "-d 2 --gap-blend 2e6"}) {
+  // Values beyond a million are typos: a gap of 1e300 ended in exit 1 naming no option, --z-safe 1e70 was
+  // written as a 63-digit number. Electrolyte codes that stop the program or drive the spindle, and a
+  // --gap-blend with no law to blend, are refused too.
+  for (const char* opt : {"-d 1e300 --side outside", "-d 2 --lead 1e9", "-d 2 --gap-blend 2e6", "-d 2 --z-safe 1e70",
+                          "-d 2 --feed 1e300", "-d 2 --spindle 2e6", "-d 2 --target ecm --ecm-voltage 1e300",
+                          "-d 2 --target ecm --ecm-flush 1e300", "-d 2 --target ecm --ecm-electrolyte-on M2",
+                          "-d 2 --target ecm --ecm-electrolyte-off M30", "-d 2 --gap-blend 1"}) {
     SCOPED_TRACE(opt);
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));

@@ -1,4 +1,5 @@
 // tiltfield grind: cross-section simulation of tool grinding (docs/grinding.md).
+#include <cmath>
 #include <iostream>
 
 #include "cli.hpp"
@@ -21,8 +22,10 @@ void add_grind_command(CLI::App& app) {
   cmd->add_option("--spacing", args.sections.spacing, "section spacing, mm")->capture_default_str();
   cmd->add_option("--step", args.sections.step, "largest relative motion per increment, mm")->capture_default_str();
   cmd->callback([] {
-    if (!(args.sections.spacing >= 0.001)) throw InputError("", 0, "--spacing", "must be at least 0.001 mm");
-    if (!(args.sections.step >= 0.001)) throw InputError("", 0, "--step", "must be at least 0.001 mm");
+    if (!(args.sections.spacing >= 0.001) || !std::isfinite(args.sections.spacing))
+      throw InputError("", 0, "--spacing", "must be a number of at least 0.001 mm");
+    if (!(args.sections.step >= 0.001) || !std::isfinite(args.sections.step))
+      throw InputError("", 0, "--step", "must be a number of at least 0.001 mm");
     const grind::GrindScene scene = grind::load_grind_scene(args.scene);
     check_outputs_apart({{"-o", args.out}, {"--sections", args.svg}}, {args.scene, scene.program});
     if (scene.blank.length / args.sections.spacing > 1e6)

@@ -31,11 +31,12 @@ void check_positive(double v, const char* field) {
 void check_not_negative(double v, const char* field) {
   if (!(v >= 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a number >= 0, got " + shown(v));
 }
-// A length beyond the profile's own limit is a typo (1e300 ended as a failed job naming no option).
-void check_length(double v, const char* field) {
-  if (!(v > offset::kMaxLengthMm)) return;
+// A value beyond a million (mm, mm/min, rpm, V, s) is a typo: a gap of 1e300 ended as a failed job naming
+// no option, a --z-safe of 1e70 was written as a 63-digit number.
+void check_length(double v, const char* field, const char* unit = "mm") {
+  if (!(std::abs(v) > offset::kMaxLengthMm)) return;
   std::ostringstream msg;
-  msg << "must be at most " << offset::kMaxLengthMm << " mm, got " << v;
+  msg << "must be within +-" << fixed(offset::kMaxLengthMm, 0) << " " << unit << ", got " << v;
   throw InputError("", 0, field, msg.str());
 }
 void check_finite(double v, const char* field) {
@@ -62,12 +63,30 @@ void check_program_options(const offset::MillingOptions& m, const offset::EcmOpt
   check_finite(e.z_safe, "ecm-z-safe");
   if (!(e.z_safe > e.z_work))
     throw InputError("", 0, "ecm-z-safe", "must lie above --ecm-z-work (" + shown(e.z_work) + ")");
+  const std::pair<double, const char*> lengths[] = {{m.z_cut, "z-cut"}, {m.z_safe, "z-safe"}, {e.retract_every_mm, "ecm-retract-every"},
+                                                    {e.retract_height, "ecm-retract-height"}, {e.z_work, "ecm-z-work"}, {e.z_safe, "ecm-z-safe"}};
+  for (const auto& [v, field] : lengths) check_length(v, field);
+  for (const auto& [v, field] : {std::pair{m.feed, "feed"}, std::pair{m.plunge_feed, "plunge-feed"}, std::pair{e.feed, "ecm-feed"}})
+    check_length(v, field, "mm/min");
+  check_length(m.spindle_rpm, "spindle", "rpm");
+  check_length(e.voltage, "ecm-voltage", "V");
+  for (const auto& [v, field] : {std::pair{e.flush_dwell_s, "ecm-flush"}, std::pair{e.start_dwell_s, "ecm-dwell"}, std::pair{e.end_dwell_s, "ecm-end-dwell"}})
+    check_length(v, field, "s");
 }
+// An M code for the electrolyte: M and one to three digits, and not one whose meaning would break the
+// program (a stop or program end, the spindle, a tool change), which LinuxCNC would obey mid-program.
 void check_mcode(const std::string& code, const char* field) {
   const bool digits = code.size() >= 2 && code.size() <= 4 &&
                       std::all_of(code.begin() + 1, code.end(), [](unsigned char c) { return std::isdigit(c); });
-  if (code.empty() || code[0] != 'M' || !digits)
-    throw InputError("", 0, field, "expected an M-code like M8, got '" + code + "'");
+  if (code.empty() || code[0] != 'M' || !digits) {
+    std::string shown_code;  // one line, whatever was typed
+    for (unsigned char c : code) shown_code += std::isprint(c) ? std::string(1, char(c)) : "?";
+    throw InputError("", 0, field, "expected an M-code like M8, got '" + shown_code + "'");
+  }
+  const int m = std::stoi(code.substr(1));
+  for (int reserved : {0, 1, 2, 3, 4, 5, 6, 30, 60})
+    if (m == reserved)
+      throw InputError("", 0, field, code + " stops, ends the program, drives the spindle or changes the tool; use the machine's electrolyte M code");
 }
 
 void run_offset(const OffsetCliOptions& o) {
@@ -81,6 +100,7 @@ void run_offset(const OffsetCliOptions& o) {
   check_length(o.gap, "gap");
   check_length(o.gap_blend, "gap-blend");
   check_length(o.lead, "lead");
+  if (o.gap_blend > 0 && o.gap_law.empty()) throw InputError("", 0, "gap-blend", "blends the knots of a --gap-law; none is given");
 
   offset::Profile profile;
   if (!o.mesh.empty()) {

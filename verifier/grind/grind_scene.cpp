@@ -1,6 +1,7 @@
 // Grinding scene loader: JSON scene + G-code-like program (format in docs/grinding.md).
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -147,6 +148,13 @@ std::vector<Operation> parse_grind_program(const std::string& text, const std::s
   bool incremental = false, rapid = false;
   while (std::getline(in, raw)) {
     ++n;
+    // Control bytes (a NUL cut the message short) are no G-code.
+    for (const unsigned char c : raw)
+      if (c < 0x20 && c != '\t' && c != '\r') {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "0x%02x", c);
+        throw InputError(file, n, hex, "binary data: a control byte in a program line");
+      }
     std::string line = strip_comments(raw, file, n);
     std::istringstream words(line);
     std::string first;

@@ -120,6 +120,10 @@ class DuplicateKeys {
 // Parses JSON text; a syntax error becomes an InputError naming `file` and the line it is on, and so does a
 // key given twice in one object.
 inline json parse_text(const std::string& text, const std::string& file) {
+  // The parser ends its input at a NUL byte: what followed (a binary file's rest) was never read.
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw InputError(file, 1 + static_cast<int>(std::count(text.begin(), text.begin() + long(nul), '\n')), "",
+                     "binary data (a NUL byte) in a JSON file");
   try {
     return json::parse(text, DuplicateKeys(file));
   } catch (const json::parse_error& e) {
