@@ -247,6 +247,7 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   }
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d nan -o " + ngc.string()), 2);
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d inf -o " + ngc.string()), 2);
+  EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d '' -o " + ngc.string()), 2);  // read as 0 before
 }
 
 TEST(OffsetProgram, ArcsTooSmallForTheControllerGoOutAsLines) {

@@ -39,6 +39,9 @@ void check_outputs_apart(const std::vector<std::pair<std::string, std::string>>&
 // The same test as a validator of an output option, so that a command's parse refuses the name (exit 2)
 // before its work.
 CLI::Validator output_file();
+// A finite number above (strictly) or at least `lowest`; the message quotes what was given (CLI11's own
+// range validators print the largest double in full).
+CLI::Validator number_at_least(double lowest, bool strictly);
 
 // The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.

@@ -1,6 +1,8 @@
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "cli.hpp"
@@ -67,6 +69,18 @@ CLI::Validator output_file() {
         return {};
       },
       "FILE");
+}
+
+CLI::Validator number_at_least(double lowest, bool strictly) {
+  return CLI::Validator(
+      [lowest, strictly](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool number = !text.empty() && end && *end == '\0' && std::isfinite(v);
+        if (number && (strictly ? v > lowest : v >= lowest)) return {};
+        return "must be a number " + std::string(strictly ? "above " : "of at least ") + fixed(lowest, 0) + ", got '" + text + "'";
+      },
+      strictly ? "POSITIVE" : "NONNEGATIVE");
 }
 
 Progress terminal_progress() {

@@ -156,7 +156,7 @@ void add_offset_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("offset", "offset-profile trajectory for copy milling or ECM");
   auto o = std::make_shared<OffsetCliOptions>();
   cmd->add_option("PROFILE", o->profile, "profile text file (START x y, then R DX DY [LONG] a line)");
-  cmd->add_option("-d,--gap", o->gap, "gap (offset distance, tool radius or ECM gap), mm")->required();
+  cmd->add_option("-d,--gap", o->gap, "gap (offset distance, tool radius or ECM gap), mm")->required()->check(number_at_least(0, true));
   cmd->add_option("--gap-law", o->gap_law, "CSV s,gap: gap along the profile's arc length (overrides -d's value)");
   cmd->add_option("--gap-blend", o->gap_blend, "half-width of the parabolic blend at gap-law knots, mm (0: linear)");
   cmd->add_option("--side", o->side, "inside or outside the figure")->check(CLI::IsMember({"inside", "outside"}));

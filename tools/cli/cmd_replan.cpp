@@ -74,9 +74,9 @@ void add_replan_command(CLI::App& app) {
   cmd->add_option("-o,--output", a.out, "re-planned oriented path CSV")->required()->check(output_file());
   cmd->add_option("--stock-mesh", a.stock_mesh, "in-process stock mesh from `verify --stock-mesh` (default: the raw stock)");
   cmd->add_option("--window", a.options.window_mm, "rows within this arc length of a collision are re-planned, mm (0: derived)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_at_least(0, false));
   cmd->add_option("--blend", a.options.blend_mm, "blend length at each window end, mm (0: derived)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_at_least(0, false));
   cmd->callback([] { run_replan(a); });
 }
 

@@ -18,7 +18,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("SCENE", a.scene, "scene JSON (default: the bundled impeller)");
   cmd->add_option("-o,--output", a.dir, "output folder")->capture_default_str();
   cmd->add_option("--resolution", a.options.resolution_mm, "verification dexel spacing, mm")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(number_at_least(0, true));
   cmd->add_option("--rounds", a.options.max_rounds, "re-plan rounds at most")->capture_default_str()->check(CLI::Range(0, 20));
   // Exit 1 when collisions are left is the default now; the flag stays so that scripts keep working.
   cmd->add_flag("--fail-on-collision", a.fail_on_collision, "(the default) exit 1 when collisions are left");
