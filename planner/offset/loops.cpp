@@ -2,8 +2,10 @@
 // closer to the profile than the gap (an invalid local or global loop, or an arc that vanished) is dropped;
 // the remaining slices are stitched into closed contours. A narrow neck thus splits the result.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <numeric>
 
 #include "segment_bvh.hpp"
@@ -228,7 +230,7 @@ bool retraces(const Segment& a, const Segment& b, double tol) {
   const Vector2d da = a.b - a.a, db = b.b - b.a;
   if (da.dot(db) >= 0) return false;
   const double cross = da.x() * db.y() - da.y() * db.x();
-  return std::abs(cross) <= tol * (da.norm() + db.norm());
+  return std::abs(cross) <= tol * std::min(da.norm(), db.norm());  // both ends within tol of the other's line
 }
 
 // The contour without its zero-width spikes: a piece followed by its own retrace cancels (the longer of
@@ -276,26 +278,41 @@ bool reversed_of(const Segment& a, const Segment& b, double tol) {
 
 // A contour that runs along a zero-width bridge and later back along it (a neck exactly twice the gap
 // wide between two pockets of the region, each traced in between) is two loops touching through the
-// bridge: split there, the bridge dropped, each loop in turn; then without_spikes.
-void split_at_bridges(const std::vector<Segment>& chain, double tol, std::vector<std::vector<Segment>>& out) {
-  const size_t n = chain.size();
-  // Candidates by length: a segment's reverse has its length.
-  std::vector<size_t> order(n);
-  for (size_t i = 0; i < n; ++i) order[i] = i;
-  std::vector<double> len(n);
-  for (size_t i = 0; i < n; ++i) len[i] = length(chain[i]);
-  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return len[x] < len[y]; });
-  for (size_t u = 0; u < n; ++u)
-    for (size_t v = u + 1; v < n && len[order[v]] - len[order[u]] <= 2 * tol; ++v) {
-      const size_t i = std::min(order[u], order[v]), j = std::max(order[u], order[v]);
-      if (j == i + 1 || (i == 0 && j + 1 == n) || !reversed_of(chain[i], chain[j], tol)) continue;
-      split_at_bridges(std::vector<Segment>(chain.begin() + long(i) + 1, chain.begin() + long(j)), tol, out);
-      std::vector<Segment> rest(chain.begin() + long(j) + 1, chain.end());
-      rest.insert(rest.end(), chain.begin(), chain.begin() + long(i));
-      split_at_bridges(rest, tol, out);
-      return;
+// bridge: split there, the bridge dropped, each loop in turn; then without_spikes. A bridge's two pieces
+// run between the same crossing nodes (cut_into_slices sets their ends to the node's point), so a
+// piece's reverse is found by its ends' exact values.
+void split_at_bridges(std::vector<Segment> chain, double tol, std::vector<std::vector<Segment>>& out) {
+  using Ends = std::array<double, 4>;
+  struct EndsHash {
+    size_t operator()(const Ends& e) const {
+      size_t h = 0;
+      for (double v : e) h = h * 1000003u ^ std::hash<double>()(v);
+      return h;
     }
-  out.push_back(without_spikes(chain, tol));
+  };
+  std::vector<std::vector<Segment>> work{std::move(chain)};
+  while (!work.empty()) {
+    std::vector<Segment> c = std::move(work.back());
+    work.pop_back();
+    const size_t n = c.size();
+    std::unordered_map<Ends, size_t, EndsHash> by_ends;
+    bool split = false;
+    for (size_t j = 0; j < n && !split; ++j) {
+      const auto it = by_ends.find(Ends{c[j].b.x(), c[j].b.y(), c[j].a.x(), c[j].a.y()});
+      if (it != by_ends.end()) {
+        const size_t i = it->second;
+        if (j != i + 1 && !(i == 0 && j + 1 == n) && reversed_of(c[i], c[j], tol)) {
+          work.emplace_back(c.begin() + long(i) + 1, c.begin() + long(j));
+          std::vector<Segment> rest(c.begin() + long(j) + 1, c.end());
+          rest.insert(rest.end(), c.begin(), c.begin() + long(i));
+          work.push_back(std::move(rest));
+          split = true;
+        }
+      }
+      by_ends.emplace(Ends{c[j].a.x(), c[j].a.y(), c[j].b.x(), c[j].b.y()}, j);
+    }
+    if (!split) out.push_back(without_spikes(c, tol));
+  }
 }
 
 // Stitches the valid slices end node to start node into closed contours.

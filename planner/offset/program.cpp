@@ -37,9 +37,10 @@ std::vector<Segment> rotate_to_longest(const std::vector<Segment>& c) {
 // Under a gap law one voltage set-point a move keeps U/g constant only where the gap is: a line whose gap
 // runs from 0.5 to 1.2 mm had U/g 41 % off at its ends. Each move is cut where its gap (linear along it)
 // has changed by kGapStep of the smaller end gap, so U/g stays within half of that of the nominal field.
-// Pieces are kept at least kMinPieceMm long, far above the printed resolution.
+// Pieces are kept at least kMinPieceMm long, a thousand times the printed resolution (a gap changing
+// faster than that along a move is beyond any generator's response anyway).
 constexpr double kGapStep = 0.01;
-constexpr double kMinPieceMm = 0.01;
+constexpr double kMinPieceMm = 1e-5;
 std::vector<Segment> gap_pieces(const Segment& s) {
   const double change = std::abs(s.g1 - s.g0), smaller = std::min(s.g0, s.g1);
   const double by_gap = smaller > 0 ? std::ceil(change / (kGapStep * smaller)) : 1.0;
@@ -179,7 +180,7 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     out << "(contour " << k + 1 << " of " << contours.size() << (rc.has_leads ? "" : ", no room for leads") << ")\n";
     w.rapid_xy(rc.has_leads ? rc.lead_in.a : rc.path.front().a);
     out << "G1 Z" << num(o.z_work) << " F" << num(o.approach_feed) << "\n";
-    double u = voltage_for(rc.path.front());
+    double u = voltage_for(o.voltage_follows_gap ? gap_pieces(rc.path.front()).front() : rc.path.front());
     auto power_on = [&] {
       out << o.electrolyte_on << " (electrolyte on)\n";
       out << "G4 P" << num(o.flush_dwell_s) << " (flush the gap)\n";

@@ -75,7 +75,6 @@ class Builder {
     const Transit t = transit(pose, j);
     prog_.start = t.high;
     prog_.start.a = prog_.start.b = prog_.start.c = 0.0;
-    check_turn(prog_.start, t.high);
     rapid(prog_.start);
     rapid(t.high);
     rapid(t.retract);
@@ -280,7 +279,10 @@ class Builder {
   Transit reachable(Transit t) const {
     if (!t.high_within_limits)
       throw JobError("the transit point X " + fixed(t.high.x, 3) + " Y " + fixed(t.high.y, 3) + " Z " + fixed(t.high.z, 3) +
-                     " over a retract is outside the machine's limits (" + outside_limits(machine_joints(t.high)) + ")");
+                     " over a retract is outside the machine's limits (" + outside_limits(machine_joints(t.high)) + ")" +
+                     (tcp_ ? "; under tool-centre-point control the transit height is the part's top + safe_z, which the "
+                             "machine must reach at every retract's rotaries (the joint dialect caps it at Z's limit)"
+                           : ""));
     return t;
   }
 
@@ -324,24 +326,6 @@ class Builder {
       t.high.y += k * dir.y();
     }
     t.high.z = z;
-    if (tcp_ && !machine_within(t.high)) {
-      // The transit height under TCP is the part's; at these rotaries the machine may not reach it. As high
-      // along the rise as the limits allow (the joint dialect caps it at Z's limit the same way).
-      const Joints from = t.retract, to = t.high;
-      auto along = [&](double s) {
-        Joints q = from;
-        q.x += s * (to.x - from.x), q.y += s * (to.y - from.y), q.z += s * (to.z - from.z);
-        return q;
-      };
-      double inside = 0.0, outside = 1.0;  // the retract is within the limits
-      for (int i = 0; i < 40; ++i) (machine_within(along(0.5 * (inside + outside))) ? inside : outside) = 0.5 * (inside + outside);
-      t.high = along(inside);
-      if (!capped_warned_) {
-        prog_.warnings.push_back("the transit height Z " + fixed(to.z, 3) + " is out of the machine's reach at the rotaries of a retract; lowered to Z " +
-                                 fixed(t.high.z, 3) + " there (tool-centre-point control)");
-        capped_warned_ = true;
-      }
-    }
     t.high_within_limits = machine_within(t.high);
     return t;
   }
@@ -382,7 +366,6 @@ class Builder {
   const TransitChecker& check_;
   double zsafe_ = 0.0;
   int tries_warned_ = 0;
-  bool capped_warned_ = false;  // the TCP transit height lowered to the limits, said once
   Program prog_;
 };
 

@@ -41,7 +41,9 @@ void Reader::motion_block(int motion, bool g53, const Values& val, int line) {
       if (!val.has(c) || st_.incremental) missing += missing.empty() ? std::string(1, c) : std::string(" ") + c;
     if (!missing.empty() && !g53)
       warn(line, "", "the first motion after tool-centre-point control was switched does not write " + missing +
-                         " (in G90): taken as the numbers before the switch, not where the controller holds the tool");
+                         (st_.incremental ? " as absolute values (G91)" : "") +
+                         ": taken as the numbers before the switch, not where the controller holds the tool");
+    if (g53) st_.tcp_switched = true;  // G53's machine coordinates say nothing of the program's position
   }
   const Axes start = st_.pos;
   if (g53) {

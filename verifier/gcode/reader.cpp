@@ -67,11 +67,14 @@ std::optional<std::string> Reader::code_of(std::string_view raw, int number) {
   if (st_.ended) return std::nullopt;
   std::string_view view = raw;
   while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
+  bool slash = false;
   if (!view.empty() && view.front() == '/') {
     if (options_.block_delete) return std::nullopt;
     view.remove_prefix(1);
+    slash = true;
   }
   if (!view.empty() && view.front() == '%') {
+    if (slash) throw InputError(file_, number, "%", "a '%' line cannot be block-deleted ('/%'); rs274 refuses it");
     // RS274/NGC: a program opened by "%" (before any other line but blank ones) ends at the next "%";
     // what follows is not read. Anywhere else LinuxCNC refuses it ("Bad character '%' used").
     if (st_.percent) st_.ended = true;
