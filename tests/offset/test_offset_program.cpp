@@ -248,6 +248,7 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d nan -o " + ngc.string()), 2);
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d inf -o " + ngc.string()), 2);
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d '' -o " + ngc.string()), 2);  // read as 0 before
+  EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 --z-cut '' -o " + ngc.string()), 2);
 }
 
 TEST(OffsetProgram, ArcsTooSmallForTheControllerGoOutAsLines) {

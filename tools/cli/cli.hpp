@@ -42,6 +42,8 @@ CLI::Validator output_file();
 // A finite number above (strictly) or at least `lowest`; the message quotes what was given (CLI11's own
 // range validators print the largest double in full).
 CLI::Validator number_at_least(double lowest, bool strictly);
+// Any finite number (CLI11 read an empty string as 0).
+CLI::Validator finite_number();
 
 // The bundled scene `name` ("impeller", "pocket", "block"), generated at build time next to the
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.

@@ -71,6 +71,17 @@ CLI::Validator output_file() {
       "FILE");
 }
 
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (!text.empty() && end && *end == '\0' && std::isfinite(v)) return {};
+        return "must be a finite number, got '" + text + "'";
+      },
+      "NUMBER");
+}
+
 CLI::Validator number_at_least(double lowest, bool strictly) {
   return CLI::Validator(
       [lowest, strictly](std::string& text) -> std::string {

@@ -187,6 +187,10 @@ void add_offset_command(CLI::App& app) {
   cmd->add_option("--ecm-retract-height", o->ecm.retract_height, "retract lift, mm")->default_val(2);
   cmd->add_option("--ecm-z-work", o->ecm.z_work, "ECM working height, mm")->default_val(0);
   cmd->add_option("--ecm-z-safe", o->ecm.z_safe, "ECM clearance height, mm")->default_val(10);
+  for (const char* name : {"--gap-blend", "--fit-tolerance", "--lead", "--feed", "--plunge-feed", "--spindle", "--z-safe",
+                           "--z-cut", "--ecm-feed", "--ecm-voltage", "--ecm-flush", "--ecm-dwell", "--ecm-end-dwell",
+                           "--ecm-retract-every", "--ecm-retract-height", "--ecm-z-work", "--ecm-z-safe"})
+    cmd->get_option(name)->check(finite_number());
   cmd->callback([o] { run_offset(*o); });
 }
 
