@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
@@ -71,13 +72,20 @@ CLI::Validator output_file() {
       "FILE");
 }
 
+namespace {
+// The number a whole option text spells, when finite.
+std::optional<double> finite_text(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || !end || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+}  // namespace
+
 CLI::Validator finite_number() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (!text.empty() && end && *end == '\0' && std::isfinite(v)) return {};
-        return "must be a finite number, got '" + text + "'";
+        return finite_text(text) ? std::string() : "must be a finite number, got '" + text + "'";
       },
       "NUMBER");
 }
@@ -85,10 +93,8 @@ CLI::Validator finite_number() {
 CLI::Validator number_at_least(double lowest, bool strictly) {
   return CLI::Validator(
       [lowest, strictly](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        const bool number = !text.empty() && end && *end == '\0' && std::isfinite(v);
-        if (number && (strictly ? v > lowest : v >= lowest)) return {};
+        const std::optional<double> v = finite_text(text);
+        if (v && (strictly ? *v > lowest : *v >= lowest)) return {};
         return "must be a number " + std::string(strictly ? "above " : "of at least ") + fixed(lowest, 0) + ", got '" + text + "'";
       },
       strictly ? "POSITIVE" : "NONNEGATIVE");

@@ -2,7 +2,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -94,16 +93,6 @@ Axes parse_start(const json& j, const std::string& file) {
   const std::pair<double, char> values[] = {{s.x, 'x'}, {s.y, 'y'}, {s.z, 'z'}, {s.u, 'u'}, {s.a, 'a'}, {s.w, 'w'}};
   for (const auto& [v, axis] : values) check_axis_range(v, axis, file, 0, std::string("start.") + axis);
   return s;
-}
-
-std::string read_text(const fs::path& path, const std::string& shown) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(shown, 0, "", "is a directory, not a grinding program");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(shown, 0, "", "cannot open the grinding program");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // Strips "( ... )" and ";" comments; an unclosed "(" is an error.
@@ -277,7 +266,7 @@ GrindScene load_grind_scene(const fs::path& path) {
       throw InputError(file, 0, "program", "is empty: name the program file, or give its lines as an array");
     const fs::path prog = path.parent_path() / p.get<std::string>();
     s.program = prog.string();
-    s.operations = parse_grind_program(read_text(prog, prog.string()), prog.string(), s.start);
+    s.operations = parse_grind_program(read_text_file(prog, "grinding program"), prog.string(), s.start);
   } else if (p.is_array()) {
     std::string text;
     for (size_t i = 0; i < p.size(); ++i) text += string(p[i], file, "program[" + std::to_string(i) + "]") + "\n";

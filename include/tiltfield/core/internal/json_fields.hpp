@@ -3,9 +3,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -14,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
 
 namespace tf::json_fields {
 
@@ -149,12 +147,7 @@ inline json parse_text(const std::string& text, const std::string& file) {
 
 // Parses a JSON file; a syntax error becomes an InputError with the line it is on.
 inline json parse_file(const std::string& file, const std::string& what) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw InputError(file, 0, "", "is a directory, not a " + what);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, 0, "", "cannot open " + what);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_text(text, file);
+  return parse_text(read_text_file(file, what), file);
 }
 
 }  // namespace tf::json_fields
