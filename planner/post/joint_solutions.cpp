@@ -40,15 +40,17 @@ bool is_pole(const ToolPose& pose, double pole_tolerance_deg) {
 }
 
 // The values v + 360 k inside `limit`, however far from 0 it lies: at most kMaxTurns of them, those nearest
-// to v (a limit of many turns offers more than the dynamic programme needs).
+// to v (a limit of many turns offers more than the dynamic programme needs). A value within kLimitSnap of
+// a limit is the limit, as in core's unwinding: C computed as 179.99999999999997 on C [-180, 180] offers
+// -180 too (its turn had been dropped as -180.00000000000003, and the post unwound a whole turn).
 constexpr int kMaxTurns = 16;
+constexpr double kLimitSnap = 1e-6;  // deg
 std::vector<double> turns_within(double v, const AxisLimit& limit) {
-  const double k_lo = std::ceil((limit.min - v) / 360.0 - 1e-12), k_hi = std::floor((limit.max - v) / 360.0 + 1e-12);
+  const double k_lo = std::ceil((limit.min - kLimitSnap - v) / 360.0), k_hi = std::floor((limit.max + kLimitSnap - v) / 360.0);
   std::vector<double> out;
   if (!(k_lo <= k_hi)) return out;
   const double first = std::max(k_lo, std::min(k_hi, 0.0) - kMaxTurns / 2), last = std::min(k_hi, first + kMaxTurns - 1);
-  for (double k = first; k <= last; ++k)
-    if (limit.contains(v + 360.0 * k)) out.push_back(v + 360.0 * k);
+  for (double k = first; k <= last; ++k) out.push_back(std::clamp(v + 360.0 * k, limit.min, limit.max));
   return out;
 }
 
@@ -178,9 +180,11 @@ std::vector<Candidate> cheapest_candidates(const Layers& layers, const RotaryMet
 }
 
 // C of every run of pole rows: held from the neighbours, or (PoleMode::Interpolate, between two of them)
-// interpolated along the tip path.
+// interpolated along the tip path. A path wholly in the cone takes C at its rest: 0, or the value nearest
+// 0 that C's limits allow (any C reaches the pole; 0 was refused on a table whose C runs 100..460).
 void fill_pole_runs(const std::vector<ToolPose>& poses, const std::vector<char>& pole, const PostOptions& options,
-                    std::vector<double>& c_of) {
+                    const AxisLimit* c_limit, std::vector<double>& c_of) {
+  const double c_rest = c_limit ? std::clamp(0.0, c_limit->min, c_limit->max) : 0.0;
   const size_t n = poses.size();
   size_t i = 0;
   while (i < n) {
@@ -191,7 +195,7 @@ void fill_pole_runs(const std::vector<ToolPose>& poses, const std::vector<char>&
     size_t e = i;
     while (e + 1 < n && pole[e + 1]) ++e;
     const bool has_before = i > 0, has_after = e + 1 < n;
-    const double c0 = has_before ? c_of[i - 1] : has_after ? c_of[e + 1] : 0.0;
+    const double c0 = has_before ? c_of[i - 1] : has_after ? c_of[e + 1] : c_rest;
     const double c1 = has_after ? c_of[e + 1] : c0;
     // Path length along the tips from the row before the run to the row after it.
     const size_t a = has_before ? i - 1 : i, b = has_after ? e + 1 : e;
@@ -308,7 +312,7 @@ std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kine
     tilt_hint[layers.row[l]] = chosen[l].tilt;
     pole[layers.row[l]] = 0;
   }
-  fill_pole_runs(poses, pole, options, c_of);
+  fill_pole_runs(poses, pole, options, c_limit, c_of);
   return joints_at_c(poses, kin, options, c_of, tilt_hint, pole);
 }
 

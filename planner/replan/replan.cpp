@@ -99,9 +99,17 @@ std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, 
 
 std::string unfixable_reason(const Collision& c) {
   if (c.rapid) return "a rapid move: the post's retracts and links must clear it, not the tool axis";
-  if (c.component == ToolComponent::Ball)
-    return std::string("the ball itself meets the ") + (c.with == HitWith::Check ? "check surface" : std::string(to_string(c.with))) +
-           " at the cutter location; no tool axis moves it";
+  if (c.component == ToolComponent::Ball) {
+    const std::string with = c.with == HitWith::Check ? "check surface" : std::string(to_string(c.with));
+    // A feed along the tool's own axis is the post's approach or retract, not a move between cutter
+    // locations (the message had blamed the cutter location of a row that was clear, found by black-box
+    // testing): the re-planner does not move approaches.
+    const Eigen::Vector3d d = c.end.tip - c.start.tip;
+    if ((c.start.axis - c.end.axis).norm() < 1e-9 && d.norm() > 1e-6 && d.normalized().cross(c.start.axis).norm() < 1e-6)
+      return "the ball meets the " + with + " on a move along the tool axis (the post's approach or retract)," +
+             " not at a cutter location; re-planning the axes does not move it";
+    return "the ball itself meets the " + with + " at the cutter location; no tool axis moves it";
+  }
   return {};
 }
 

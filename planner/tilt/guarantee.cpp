@@ -38,11 +38,21 @@ BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, Clearance
     out.margin = c.margin;
     out.piece = c.piece;
   }
+  if (row < inside_solid.size() && inside_solid[row] >= 0) {
+    // Inside a solid by at least the body's distance to its surface.
+    const auto s = static_cast<size_t>(inside_solid[row]);
+    const double d = std::isfinite(out.distance) ? out.distance : 0.0;
+    out.distance = -d;
+    out.margin = -d - *std::max_element(obstacles[s].required.begin(), obstacles[s].required.end()) - 1e-9;
+    out.nearest_set = out.margin_set = static_cast<int>(s);
+    out.piece = 0;
+  }
   return out;
 }
 
 bool PlanContext::clears(size_t row, const Vector3d& axis, double extra, ClearanceHints* hints,
                          double ball_extra) const {
+  if (row < inside_solid.size() && inside_solid[row] >= 0) return false;
   const Pose p = pose(row, axis);
   for (size_t s = 0; s < obstacles.size(); ++s) {
     const ObstacleSet& set = obstacles[s];

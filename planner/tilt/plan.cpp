@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "dynamics.hpp"
+#include "inside_solids.hpp"
 #include "plan_context.hpp"
 #include "tiltfield/core/angles.hpp"
 
@@ -116,6 +117,22 @@ void set_up_obstacles(PlanContext& ctx, const PlanObstacles& obstacles, PlanMetr
   ctx.obstacles[1].bvh = ClearanceBvh(obstacles.fixtures);
   metrics.check_triangles = ctx.obstacles[0].bvh.size();
   metrics.fixture_triangles = ctx.obstacles[1].bvh.size();
+  std::vector<Vector3d> cl;
+  for (const CLPoint& r : ctx.path->rows) cl.push_back(r.p);
+  ctx.inside_solid = points_inside_solids({obstacles.check_surfaces, obstacles.fixtures}, cl);
+}
+
+// Rows whose cutter location lies inside a solid obstacle, named in the notes (the first of each set).
+void note_rows_inside_solids(const PlanContext& ctx, std::vector<std::string>& notes) {
+  for (size_t s = 0; s < ctx.obstacles.size(); ++s) {
+    size_t count = 0, first = 0;
+    for (size_t i = ctx.inside_solid.size(); i-- > 0;)
+      if (ctx.inside_solid[i] == static_cast<int8_t>(s)) ++count, first = i;
+    if (count > 0)
+      notes.push_back(std::to_string(count) + " row(s) have the cutter location inside a closed mesh of " +
+                      ctx.obstacles[s].name + " (first: row " + std::to_string(first + 1) +
+                      "): the whole tool is in that solid, no tool axis clears them");
+  }
 }
 
 // How many rows the nominal axis leaves too close (for the report).
@@ -353,6 +370,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   set_up_body(ctx, tool, basics, machine);
   report(progress, "plan", 0.0);
   set_up_obstacles(ctx, obstacles, result.metrics);
+  note_rows_inside_solids(ctx, result.notes);
   stage("bvh");
   report(progress, "plan", 0.05);
 

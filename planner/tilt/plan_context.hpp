@@ -36,6 +36,9 @@ struct PlanContext {
   std::vector<BodyPiece> pieces;
   std::vector<double> reach;           // per piece: its farthest point from the cutter location, mm (body_reach)
   std::vector<ObstacleSet> obstacles;  // [0] the check surfaces, [1] the fixtures
+  // Per row: the obstacle set one of whose solids holds its cutter location (the whole tool is inside it
+  // wherever the distances say it is clear: no axis helps), or -1 (inside_solids.hpp).
+  std::vector<int8_t> inside_solid;
   double cos_max_tilt = 0.5;
   // Set when the scene's machine has rotary axes with limits: axes must then have a joint solution.
   std::optional<Kinematics> kinematics;

@@ -115,6 +115,10 @@ TEST(GcodeLinuxcncRules, WordsNothingUsesAreRefused) {
   expect_gcode_error("G21 G17\nG0 X0 Y0 Z0\nG2 F100 X10 Y0 I5 K3\n", 3, "K3");
   expect_gcode_error("G21 G90.1\nG0 X0 Y0 Z0\nG2 F100 X10 Y10 I5\n", 3, "J");
   expect_gcode_error("G21\nS-100 M3\n", 2, "S-100");
+  // A line number only begins a line: rs274 stops at "G1 N5 X10" ("Bad character 'n' used").
+  expect_gcode_error("G21\nG0 X0 Y0 Z0\nG1 N5 X10 F100\n", 3, "N5");
+  expect_gcode_error("G21\nN4 N5 G0 X1\n", 2, "N5");
+  EXPECT_EQ(parse_program("G21\nN4 G0 X0 Y0 Z0\n/N5 G1 X10 F100\n").blocks.size(), 2u);
   // What uses them: arcs (modal too), helices, the other planes, cycles' R.
   EXPECT_EQ(parse_program("G21\nG0 X0 Y0 Z0\nG2 F100 X10 Y0 Z-1 I5 J0\nX0 Y0 I-5 J0\nG18 G2 X10 Z-1 I5 K0\n"
                           "G19 G3 Y10 Z-1 J5 K0\nG17 G3 X0 Y0 R12\nG90.1 G2 X10 Y0 I5 J0\n")

@@ -72,6 +72,24 @@ TEST(PostCli, UnreachableRowExitsTwoNamingTheLine) {
   EXPECT_EQ(std::count(p.result.output.begin(), p.result.output.end(), '\n'), 1);
 }
 
+// A feed too small to write (it would read as F0) names its row and line (it named neither).
+TEST(PostCli, FeedTooSmallToWriteExitsTwoNamingTheRow) {
+  TempDir dir("cli-feed");
+  const fs::path scene = write_scene(dir.path, machine_file("table-table-bc"), impeller_like_path(10));
+  {
+    std::ofstream csv(dir.path / "oriented.csv");
+    csv << "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm,feed\n";
+    csv << "10,0,5,0,0,1,0,0,1,500\n";
+    csv << "11,0,5,0,0,1,0,0,1,1e-12\n";
+  }
+  const fs::path out = dir.path / "p.ngc";
+  const auto r = run_command(std::string(TILTFIELD_EXE) + " --quiet post " + scene.string() + " " +
+                             (dir.path / "oriented.csv").string() + " -o " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("oriented.csv:3: row 2: feed 1e-12"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // Options a controller or the method cannot use: exit 2 naming the option, no program written (found in
 // review: --spindle inf crashed the number format, 1e-9 wrote S0, T0 empties LinuxCNC's spindle).
 TEST(PostCli, UnusableOptionsExitTwoNamingTheOption) {

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <tuple>
 #include <utility>
 
@@ -97,6 +100,79 @@ TEST(Post, TcpTransitsStayWithinTheLinearLimits) {
     highest = std::max(highest, m.z);
   }
   EXPECT_GT(highest, 99.35);  // the transits at the part's top + safe_z: beyond the first machine's Z 90
+}
+
+// A C computed a hair inside +180 on C [-180, 180] (the axis's x 2.8e-16 from sin and cos) offers -180 as
+// well: the next row's C -177 is reached without a turn. Its -180.00000000000003 had been dropped, and
+// the post unwound a whole turn of C between the rows (the tcp dialect failed at the transit's turn).
+TEST(Post, RowAtTheCLimitTakesItsOtherTurn) {
+  tf::PostJob job = job_for("head-head-ac");
+  job.machine.limits['A'] = {-10.0, 100.0};
+  job.machine.limits['C'] = {-180.0, 180.0};
+  const double s = std::sin(M_PI / 6), c = std::cos(M_PI / 6);
+  const tf::OrientedPath path = rows(2, [&](int i) {
+    const double az = (90.0 + 3.0 * i) * M_PI / 180.0;
+    return std::pair{Eigen::Vector3d(-i * 0.785, 15, -3), Eigen::Vector3d(s * std::cos(az), s * std::sin(az), c)};
+  });
+  ASSERT_GT(path.rows[0].axis.x(), 0.0);  // the rounding the test is about
+  for (const tf::OutputMode mode : {tf::OutputMode::Joint, tf::OutputMode::Tcp}) {
+    job.machine.output = mode;
+    const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+    for (const std::string& w : prog.warnings) EXPECT_EQ(w.find("change of configuration"), std::string::npos) << w;
+    for (size_t i = 1; i < prog.blocks.size(); ++i) EXPECT_LE(prog.blocks[i].target.c, -176.9);  // [0] lifts Z only
+  }
+}
+
+// A path wholly in the pole's cone reaches it at any C: on a table whose C runs 100..460 it takes C 100
+// (it was refused for C 0).
+TEST(Post, PathAtThePoleTakesACWithinTheLimits) {
+  tf::PostJob job = job_for("head-table-bc");
+  job.machine.limits['C'] = {100.0, 460.0};
+  const tf::OrientedPath path = rows(4, [](int i) { return std::pair{Eigen::Vector3d(i, 5, 3), Eigen::Vector3d(0, 0, 1)}; });
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  const Kinematics kin(job.machine, job.tool.length);
+  ASSERT_GT(prog.blocks.size(), 4u);
+  // The first block only lifts Z (the rotaries' values before the program are not known).
+  for (size_t i = 1; i < prog.blocks.size(); ++i) EXPECT_TRUE(kin.within_limits(prog.blocks[i].target)) << "C " << prog.blocks[i].target.c;
+}
+
+// Under G93 the controller times each block's axes as written (4 decimals): through the pole, blocks of
+// 0.0002 mm had F 79 267 356 and drove X 58 % over max_feed as written (found by black-box testing). Every
+// block of the program as written keeps every axis within its top speed.
+TEST(Post, InverseTimeFeedsHoldTheAxisSpeedsAsWritten) {
+  tf::PostJob job = job_for("head-table-bc");
+  job.machine.limits['B'] = {-20.0, 100.0};
+  job.machine.limits['C'] = {100.0, 460.0};
+  const tf::OrientedPath path = rows(41, [](int i) {
+    const double s = (30.0 - 1.5 * i) * M_PI / 180.0;
+    return std::pair{Eigen::Vector3d(-10.0 + 0.5 * i, 0, 3), Eigen::Vector3d(std::sin(s), 0, std::cos(s))};
+  });
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  std::ostringstream text;
+  tf::write_gcode(text, prog, job, tf::PostOptions{});
+  std::istringstream lines(text.str());
+  std::array<double, 6> at{}, was{};
+  bool inverse = false;
+  int checked = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("G93", 0) == 0) inverse = true;
+    if (line.rfind("G94", 0) == 0) inverse = false;
+    was = at;
+    double f = 0;
+    std::istringstream words(line);
+    for (std::string w; words >> w;) {
+      const size_t k = std::string("XYZABC").find(w[0]);
+      if (k != std::string::npos && w.size() > 1) at[k] = std::stod(w.substr(1));
+      if (w[0] == 'F') f = std::stod(w.substr(1));
+    }
+    if (!inverse || line.find("G1") == std::string::npos) continue;
+    const double xyz = std::hypot(at[0] - was[0], at[1] - was[1], at[2] - was[2]);
+    const double rot = std::max({std::abs(at[3] - was[3]), std::abs(at[4] - was[4]), std::abs(at[5] - was[5])});
+    EXPECT_LE(xyz * f, job.machine.max_feed * 1.0001) << line;
+    EXPECT_LE(rot * f, job.machine.max_rotary_feed * 1.0001) << line;
+    ++checked;
+  }
+  EXPECT_GT(checked, 40);
 }
 
 }  // namespace post_limits_test

@@ -84,6 +84,10 @@ TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   ball.component = tf::ToolComponent::Ball;
   EXPECT_TRUE(tf::unfixable_reason(site).empty());
   EXPECT_NE(tf::unfixable_reason(ball).find("ball itself"), std::string::npos);
+  tf::Collision approach = ball;  // down the tool's axis onto the row: the post's approach
+  approach.start.tip = Eigen::Vector3d(20, 0, 30);
+  EXPECT_NE(tf::unfixable_reason(approach).find("along the tool axis (the post's approach or retract)"), std::string::npos)
+      << tf::unfixable_reason(approach);
   EXPECT_TRUE(tf::replan(scene, planned.path, {ball}, {}, po).windows.empty());
 
   const tf::ReplanResult r = tf::replan(scene, planned.path, {site}, {}, po);

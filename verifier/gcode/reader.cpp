@@ -298,6 +298,8 @@ void Reader::sort_words(const std::vector<Word>& words, int line, Values& val, s
   for (const Word& w : words) {
     if (w.letter == 'G') { gs.push_back(code_key(w, file_, line)); previous = &w; continue; }
     if (w.letter == 'M') { ms.push_back(code_key(w, file_, line)); previous = &w; continue; }
+    if (w.letter == 'N' && &w != &words.front())  // rs274: "Bad character 'n' used"
+      throw InputError(file_, line, w.text, "a line number N must begin the line");
     if (w.letter == 'N' || w.letter == 'O') { previous = &w; continue; }
     if (w.letter == 'E' && !io)
       throw InputError(file_, line, previous ? previous->text + w.text : w.text,
