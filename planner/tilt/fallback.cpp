@@ -101,58 +101,86 @@ std::vector<double> blend_weights(const PlanContext& ctx, const std::vector<char
 
 }  // namespace
 
-FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Vector3d>& axes,
-                                      std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
+namespace {
+
+// Runs a last resort (`resort(bad, axes, clear)`, which changes copies and returns their motions' checks)
+// on the rows still failing or whipping; keeps what it made only when that is better by Quality: fewer
+// rows failing, or as many and fewer whipping, none deeper below its clearance than before.
+template <class Resort>
+FallbackResult keep_if_better(const PlanContext& ctx, std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
+                              std::vector<SegmentCheck>& segments, const Resort& resort) {
   std::vector<char> bad = failing_rows(ctx, axes, clear, segments);
   const std::vector<char> whips = whipping_rows(ctx, axes);
   if (count(bad) == 0 && count(whips) == 0) return {};
   const Quality before = quality(ctx, axes, clear, segments);
   for (size_t i = 0; i < bad.size(); ++i) bad[i] |= whips[i];
-  const size_t n = axes.size();
-  std::vector<Vector3d> baseline(n);
-  std::vector<char> known(n, 0), found(n, 0);
-  const double step = ctx.options.pointwise_step_deg * std::numbers::pi / 180.0;
-  std::vector<Vector3d> candidate;
-  std::vector<BodyClearance> candidate_clear;
-  // The blend between a detour and the baseline can itself cross the blade; its failing rows then join
-  // the rows taken whole from the baseline, and the blend moves out, until it clears or stops growing.
-  for (int round = 0; round < kFallbackRounds; ++round) {
-    const std::vector<double> w = blend_weights(ctx, bad);
-    std::vector<size_t> rows;
-    for (size_t i = 0; i < n; ++i)
-      if (w[i] > 0) rows.push_back(i);
-    candidate = axes;
-    candidate_clear = clear;
-    tbb::parallel_for(size_t{0}, rows.size(), [&](size_t k) {
-      const size_t i = rows[k];
-      if (!known[i]) {
-        const Vector3d a0 = clamp_to_cone(ctx.nominal[i], ctx.frames[i].n, ctx.cos_max_tilt);
-        Vector3d turn;
-        found[i] = smallest_clearing_turn(ctx, i, a0, ctx.options.correction_margin_mm, step, turn) ? 1 : 0;
-        baseline[i] = rotate_axis(a0, turn);
-        known[i] = 1;
-      }
-      if (!found[i]) return;
-      candidate[i] = slerp_axis(axes[i], baseline[i], w[i]).normalized();
-      candidate_clear[i] = ctx.clearance(i, candidate[i]);
-    });
-    const std::vector<char> now =
-        failing_rows(ctx, candidate, candidate_clear, check_segments(ctx, candidate, candidate_clear));
-    bool grew = false;
-    for (size_t i = 0; i < n; ++i)
-      if (now[i] && !bad[i]) bad[i] = 1, grew = true;
-    if (!grew) break;
-  }
-  // No progress reported from this pass: the bar would go back to where the first corrections were.
-  std::vector<SegmentCheck> candidate_segments = enforce_clearance(ctx, candidate, candidate_clear, Progress{});
-  bridge_failing_motions(ctx, candidate, candidate_clear, candidate_segments);
-  // Never worse than what the corrections left: the blend is kept only when fewer rows fail, or as many
-  // and fewer whip.
+  std::vector<Vector3d> candidate = axes;
+  std::vector<BodyClearance> candidate_clear = clear;
+  std::vector<SegmentCheck> candidate_segments = resort(bad, candidate, candidate_clear);
   if (!quality(ctx, candidate, candidate_clear, candidate_segments).better_than(before)) return {};
   axes = std::move(candidate);
   clear = std::move(candidate_clear);
   segments = std::move(candidate_segments);
   return {before.failing, before.whips};
+}
+
+}  // namespace
+
+FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Vector3d>& axes,
+                                      std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
+  const std::vector<Vector3d> planned = axes;
+  const std::vector<BodyClearance> planned_clear = clear;
+  return keep_if_better(ctx, axes, clear, segments, [&](std::vector<char>& bad, std::vector<Vector3d>& candidate,
+                                                         std::vector<BodyClearance>& candidate_clear) {
+    const size_t n = planned.size();
+    std::vector<Vector3d> baseline(n);
+    std::vector<char> known(n, 0), found(n, 0);
+    const double step = ctx.options.pointwise_step_deg * std::numbers::pi / 180.0;
+    // The blend between a detour and the baseline can itself cross the blade; its failing rows then join
+    // the rows taken whole from the baseline, and the blend moves out, until it clears or stops growing.
+    for (int round = 0; round < kFallbackRounds; ++round) {
+      const std::vector<double> w = blend_weights(ctx, bad);
+      std::vector<size_t> rows;
+      for (size_t i = 0; i < n; ++i)
+        if (w[i] > 0) rows.push_back(i);
+      candidate = planned;
+      candidate_clear = planned_clear;
+      tbb::parallel_for(size_t{0}, rows.size(), [&](size_t k) {
+        const size_t i = rows[k];
+        if (!known[i]) {
+          const Vector3d a0 = clamp_to_cone(ctx.nominal[i], ctx.frames[i].n, ctx.cos_max_tilt);
+          Vector3d turn;
+          found[i] = smallest_clearing_turn(ctx, i, a0, ctx.options.correction_margin_mm, step, turn) ? 1 : 0;
+          baseline[i] = rotate_axis(a0, turn);
+          known[i] = 1;
+        }
+        if (!found[i]) return;
+        candidate[i] = slerp_axis(planned[i], baseline[i], w[i]).normalized();
+        candidate_clear[i] = ctx.clearance(i, candidate[i]);
+      });
+      const std::vector<char> now =
+          failing_rows(ctx, candidate, candidate_clear, check_segments(ctx, candidate, candidate_clear));
+      bool grew = false;
+      for (size_t i = 0; i < n; ++i)
+        if (now[i] && !bad[i]) bad[i] = 1, grew = true;
+      if (!grew) break;
+    }
+    // No progress reported from this pass: the bar would go back to where the first corrections were.
+    std::vector<SegmentCheck> candidate_segments = enforce_clearance(ctx, candidate, candidate_clear, Progress{});
+    bridge_failing_motions(ctx, candidate, candidate_clear, candidate_segments);
+    return candidate_segments;
+  });
+}
+
+FallbackResult fall_back_to_cone_search(const PlanContext& ctx, std::vector<Vector3d>& axes,
+                                        std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
+  return keep_if_better(ctx, axes, clear, segments, [&](std::vector<char>& bad, std::vector<Vector3d>& candidate,
+                                                         std::vector<BodyClearance>& candidate_clear) {
+    search_cone(ctx, bad, candidate, candidate_clear);
+    std::vector<SegmentCheck> candidate_segments = check_segments(ctx, candidate, candidate_clear);
+    bridge_failing_motions(ctx, candidate, candidate_clear, candidate_segments);
+    return candidate_segments;
+  });
 }
 
 namespace {

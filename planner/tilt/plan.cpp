@@ -306,6 +306,12 @@ std::vector<SegmentCheck> guarantee_stages(const PlanContext& ctx, const Progres
                       std::to_string(fb.whipping) +
                       " row(s) at a whipping turn: the pointwise axes were blended in around them");
   }
+  const FallbackResult cone = fall_back_to_cone_search(ctx, axes, clear, segments);
+  if (cone.failing + cone.whipping > 0)
+    notes.push_back("the stages before left " + std::to_string(cone.failing) + " row(s) failing and " +
+                    std::to_string(cone.whipping) +
+                    " row(s) at a whipping turn: the smoothest clear axes in the max-tilt cone were searched around "
+                    "them");
   result.metrics.corrected_rows = 0;
   for (size_t i = 0; i < axes.size(); ++i) result.metrics.corrected_rows += axes[i] != planned[i] ? 1 : 0;
   return segments;

@@ -106,6 +106,15 @@ struct FallbackResult {
 FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
                                       std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
 
+// The last resort (cone_search.cpp): over windows around the rows `bad` flags (at most 1500 rows in
+// all), the smoothest axes that clear, by dynamic programming over fixed axes in each row's max-tilt cone
+// (rings 5 degrees apart). Sets `axes` and their `clear` there; returns the rows searched.
+size_t search_cone(const PlanContext& ctx, const std::vector<char>& bad, std::vector<Eigen::Vector3d>& axes,
+                   std::vector<BodyClearance>& clear);
+// The rows still failing or whipping searched by search_cone; kept only when better, as the fall-back's.
+FallbackResult fall_back_to_cone_search(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
+                                        std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
+
 // Where a motion between two clear rows fails (the axis passes from one side of an obstacle to the other
 // between them), one side's region is followed row by row until a motion back to the planned axes is
 // proven: the fewer rows of the two directions are changed. Returns the motions it mended.
