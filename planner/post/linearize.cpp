@@ -68,10 +68,21 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
   const ToolPose pm{0.5 * (p0.tip + p1.tip), slerp_axis(p0.axis, p1.axis, 0.5)};
   const Joints mid = lerp(j0, j1, 0.5);
   std::optional<Joints> jm;
+  const double pole_angle = Kinematics::pole_angle_deg(pm.axis);
   if (kin.machine().kinematics != KinematicsType::XYZ &&
-      (Kinematics::pole_angle_deg(pm.axis) < o.pole_tolerance_deg || std::hypot(pm.axis.x(), pm.axis.y()) < 1e-12)) {
+      (pole_angle < o.pole_tolerance_deg || std::hypot(pm.axis.x(), pm.axis.y()) < 1e-12)) {
     jm = kin.inverse_with_c(pm, mid.c, mid);
-  } else {
+  } else if (kin.machine().kinematics != KinematicsType::XYZ && pole_angle < o.pole_tolerance_deg + o.axis_tolerance_deg) {
+    // Just outside the cone the exact C is the axis's azimuth, which turns fast around the pole: on a
+    // head-head machine the points bisected beside it swung C 28 deg either way with A within 0.15 deg.
+    // C interpolated, with the tilt that fits best, is kept where it is within half the axis tolerance.
+    const std::optional<Joints> held = kin.inverse_with_c(pm, mid.c, mid);
+    if (held) {
+      const Eigen::Vector3d a = kin.forward(*held).axis;
+      if (std::atan2(a.cross(pm.axis).norm(), a.dot(pm.axis)) <= 0.5 * o.axis_tolerance_deg * kDeg) jm = held;
+    }
+  }
+  if (!jm) {
     InverseOptions exact;
     exact.pole_tolerance_deg = kin.machine().kinematics == KinematicsType::XYZ ? o.pole_tolerance_deg : 0.0;
     // Stay on the ends' solution branch (sign of the tilt) when they share one: near the pole the

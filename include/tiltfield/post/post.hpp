@@ -38,7 +38,7 @@ struct PostOptions {
   std::optional<TcpStyle> tcp_style;   // default: the machine's `tcp_style`
   double tip_tolerance_mm = 0.01;      // largest tip deviation from the straight segment between rows
   double axis_tolerance_deg = 0.1;     // largest tool-axis deviation from the great-circle interpolation
-  double pole_tolerance_deg = 0.01;    // singular-pole cone half-angle (see PoleMode), deg
+  double pole_tolerance_deg = 0.1;     // singular-pole cone half-angle (see PoleMode), deg
   PoleMode pole_mode = PoleMode::Interpolate;
   double spindle_rpm = 10000.0;        // S word, rev/min
   int tool_number = 1;                 // T and H words
