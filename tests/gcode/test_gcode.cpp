@@ -143,12 +143,37 @@ TEST(Gcode, RotariesAndTcpModes) {
   EXPECT_FALSE(p.blocks[4].tcp);
   EXPECT_TRUE(p.blocks[5].tcp);
   EXPECT_FALSE(p.blocks[6].tcp);
-  // Each switch is followed by a block writing X alone: Y and Z keep numbers of the other mode (said once).
-  ASSERT_EQ(p.warnings.size(), 1u);
-  EXPECT_NE(p.warnings[0].find("p.ngc:3: the first motion after tool-centre-point control was switched does not write Y Z"),
-            std::string::npos) << p.warnings[0];
+  // Each switch converts the position (every axis is known): nothing to warn of.
+  EXPECT_TRUE(p.warnings.empty()) << p.warnings.front();
+  // Where an axis is not known yet the numbers are kept, and a block that does not write X Y Z is named.
+  const Program q = parse("G0 X0 Y0 Z50\nM201\nG1 X1 F100\nM2\n", m);
+  ASSERT_EQ(q.warnings.size(), 1u);
+  EXPECT_NE(q.warnings[0].find("p.ngc:3: the first motion after tool-centre-point control was switched does not write Y Z"),
+            std::string::npos) << q.warnings[0];
   // A switch before any motion, or followed by a block writing X Y Z, is silent.
   EXPECT_TRUE(parse("G43.4 H1\nG0 X0 Y0 Z50 A0 C0\nG49\nG0 X1 Y2 Z60\nM2\n", m).warnings.empty());
+}
+
+// LinuxCNC's switchkins demo (xyzac_switchkins_test_3.ngc, its xyzac-trt machine): across M428 and M429
+// the controller holds the tool and reports its place in the other coordinates, which the demo's debug
+// lines expect: joints X 10 Y 0 Z 2 at C 90 read as the tip X 0 Y -10 Z 2, and back. The reader had kept
+// the numbers (the Z move after M428 went to X 10 Y 0 in the part frame, through the part).
+TEST(Gcode, TcpSwitchConvertsThePosition) {
+  MachineSpec m = ac();
+  m.tilt_offset = Eigen::Vector3d(0, 20, 10);
+  m.tcp_on_code = "M428";
+  m.tcp_off_code = "M429";
+  const Program p = parse("m429\nG0 X0 Y0 Z0 A0 C0\nG0 C90 X10 Y0\nG1 F1000 Z2\nm428\ng1f1000 z0\nm429\nG1 Z1\nm2\n", m);
+  ASSERT_EQ(p.blocks.size(), 5u);
+  ASSERT_TRUE(p.blocks[3].tcp);
+  EXPECT_NEAR(p.blocks[3].target.x, 0, 1e-9);
+  EXPECT_NEAR(p.blocks[3].target.y, -10, 1e-9);
+  EXPECT_NEAR(p.blocks[3].target.z, 0, 1e-9);
+  ASSERT_FALSE(p.blocks[4].tcp);
+  EXPECT_NEAR(p.blocks[4].target.x, 10, 1e-9);
+  EXPECT_NEAR(p.blocks[4].target.y, 0, 1e-9);
+  EXPECT_NEAR(p.blocks[4].target.z, 1, 1e-9);
+  EXPECT_TRUE(p.warnings.empty()) << p.warnings.front();
 }
 
 TEST(Gcode, UnknownCodesAreWarnings) {

@@ -79,12 +79,9 @@ VerifyResult Simulator::run() {
         from.y = p.tip.y();
         from.z = p.tip.z();
       } else {
-        rep.warnings.push_back(
-            "block " + std::to_string(bi + 1) + " (line " + std::to_string(b.line) +
-            "): tool-centre-point control switched off; the block is simulated from its end position");
-        from.x = b.target.x;
-        from.y = b.target.y;
-        from.z = b.target.z;
+        // The tip held where the last TCP block left it: the joints that put it there.
+        const auto forward = tools_.forward(b.tool);
+        from = joints_for_tip(forward, from, Eigen::Vector3d(from.x, from.y, from.z));
       }
       prev_tcp = b.tcp;
     }

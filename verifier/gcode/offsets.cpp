@@ -116,9 +116,45 @@ void Reader::tool_length_offset(int key, const Values& val, int line) {
     t = tool_length(h, line, val.has('H') ? val.word('H') : code_name('G', key));
     uses_length_offsets_ = true;
   }
+  // G43 and G49 end G43.4 (one modal group), not an M code's TCP: the tip is converted with the offset
+  // it was programmed under, before that offset changes.
+  if (key != 434 && st_.tcp_g434) set_tcp(false, false);
   set_offset_keeping_position([&] { st_.tlo = t; });
   if (key == 434) set_tcp(true, true);
-  else if (st_.tcp_g434) set_tcp(false, false);  // G43 and G49 end G43.4 (one modal group), not an M code's TCP
+}
+
+// Across a switch of tool-centre-point control the controller holds the tool where it is and reports
+// its place in the other mode's coordinates (LinuxCNC's switchkins demos expect exactly that: C at 90,
+// joints X 10 Y 0 read as the tip at X 0 Y -10 after M428). The program position is converted so: on,
+// the machine position's tip in the part frame (the TCP target's conventions, tool_tip_targets); off,
+// the joints that put that tip there at the rotaries held. Returns false where it cannot (a 3-axis
+// machine, or an axis not set yet), and the numbers are kept.
+bool Reader::convert_position_for_tcp(bool on) {
+  if (machine_.kinematics == KinematicsType::XYZ) return false;
+  for (char c : "XYZ" + machine_.rotary_axes())
+    if (st_.axes[size_t(axis_index(c))] != AxisState::Set) return false;
+  const auto it = options_.tool_lengths.find(st_.tool);
+  const double gauge = it != options_.tool_lengths.end() ? it->second : options_.tool_length;
+  const Kinematics kin(machine_, gauge);
+  const Axes off = offset();
+  Joints j;
+  for (int a = 0; a < 6; ++a) axis_value(j, a) = st_.pos[size_t(a)] + off[size_t(a)];
+  // The tip of a TCP target P: P + work offset + G92 (off less the length offset along Z), moved by
+  // offset - gauge along the axis where the program uses length offsets (tool_tip_targets).
+  const Eigen::Vector3d axis = kin.forward(j).axis;
+  const Eigen::Vector3d shift =
+      Eigen::Vector3d(off[0], off[1], off[2] - st_.tlo) + (uses_length_offsets_ ? (st_.tlo - gauge) : 0.0) * axis;
+  Eigen::Vector3d p;
+  if (on) {
+    p = kin.forward(j).tip - shift;
+  } else {
+    const Eigen::Vector3d tip = Eigen::Vector3d(st_.pos[0], st_.pos[1], st_.pos[2]) + shift;
+    const Joints m = joints_for_tip([&](const Joints& q) { return kin.forward(q); }, j, tip);
+    p = Eigen::Vector3d(m.x - off[0], m.y - off[1], m.z - off[2]);
+  }
+  for (int a = 0; a < 3; ++a) st_.pos[size_t(a)] = p[a];
+  if (!uses_length_offsets_) tcp_converted_without_offsets_ = true;
+  return true;
 }
 
 // G28/G30: a rapid to the intermediate point given by the axis words, then the named axes (all without
@@ -235,6 +271,10 @@ Program Reader::finish() {
   if (!st_.ended && !program_.blocks.empty())
     program_.warnings.push_back(file_ + ": the file ends without M2, M30 or a closing %: is it cut short?");
   fill_unknown_axes();
+  if (tcp_converted_without_offsets_ && uses_length_offsets_)
+    program_.warnings.push_back(file_ + ": a switch of tool-centre-point control before the program's first tool length "
+                                        "offset converted the position without one; the offsets that follow move TCP "
+                                        "targets by offset - gauge length along the tool axis");
   tool_tip_targets();
   if (options_.start) program_.start = *options_.start;
   else if (!program_.blocks.empty()) program_.start = program_.blocks.front().target;

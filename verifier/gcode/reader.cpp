@@ -426,7 +426,7 @@ void Reader::apply_feed_speed_tool(const Values& val, int line) {
 }
 
 void Reader::set_tcp(bool on, bool g434) {
-  if (on != st_.tcp && !program_.blocks.empty()) st_.tcp_switched = true;
+  if (on != st_.tcp && !program_.blocks.empty() && !convert_position_for_tcp(on)) st_.tcp_switched = true;
   st_.tcp = on;
   st_.tcp_g434 = g434;
 }

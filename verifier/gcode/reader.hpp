@@ -204,6 +204,7 @@ class Reader : private ParameterValues {
   void reference_return(int key, const Values& val, int line);
   void fill_unknown_axes();
   void tool_tip_targets();
+  bool convert_position_for_tcp(bool on);
 
   // splines.cpp
   void spline(int motion, const Values& val, int line);
@@ -221,6 +222,7 @@ class Reader : private ParameterValues {
   std::vector<std::array<AxisState, 6>> axes_;  // per block: which axes the program has set
   std::vector<double> block_tlo_;           // per block: the tool length offset in force
   bool uses_length_offsets_ = false;        // G43 / G43.4 anywhere
+  bool tcp_converted_without_offsets_ = false;  // a TCP switch converted the position before any G43
   int reference_line_ = 0;                  // the last G28/G30
   std::set<std::string> warned_;
   std::vector<double> numbered_ = std::vector<double>(kMaxParameter + 1, 0.0);  // #1 ... #5000 (index = number)
