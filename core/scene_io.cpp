@@ -47,14 +47,17 @@ Tool parse_tool_json(const json& j, const std::string& file, const std::string& 
 }
 
 namespace {
-fs::path resolve(const Scene& s, const json& j, const std::string& field) {
+// The file a field names, relative to the scene's folder; recorded among the files the scene reads.
+fs::path resolve(Scene& s, const json& j, const std::string& field) {
   const std::string name = string(j, s.file.string(), field);
   if (name.empty()) throw InputError(s.file.string(), 0, field, "empty file name");
   fs::path p(name);
-  return p.is_absolute() ? p : s.dir / p;
+  if (!p.is_absolute()) p = s.dir / p;
+  s.files.push_back(p);
+  return p;
 }
 
-Stock parse_stock(const Scene& s, const json& j) {
+Stock parse_stock(Scene& s, const json& j) {
   const std::string file = s.file.string();
   require_object(j, file, "stock");
   if (j.size() != 1) throw InputError(file, 0, "stock", "must have exactly one of 'mesh', 'box' or 'cylinder'");
@@ -200,6 +203,7 @@ Scene parse_scene(const std::string& text, const fs::path& file) {
   Scene s;
   s.file = file;
   s.dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (!file.empty()) s.files.push_back(file);
   const std::string name = file.string();
   const json j = parse_text(text, name);
   require_object(j, name, "(top level)");

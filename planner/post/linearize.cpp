@@ -68,11 +68,19 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
   const ToolPose pm{0.5 * (p0.tip + p1.tip), slerp_axis(p0.axis, p1.axis, 0.5)};
   const Joints mid = lerp(j0, j1, 0.5);
   std::optional<Joints> jm;
+  const KinematicsType k = kin.machine().kinematics;
+  auto tilt = [k](const Joints& j) {
+    return std::remainder(k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC ? j.a : j.b, 360.0);
+  };
   const double pole_angle = Kinematics::pole_angle_deg(pm.axis);
-  if (kin.machine().kinematics != KinematicsType::XYZ &&
-      (pole_angle < o.pole_tolerance_deg || std::hypot(pm.axis.x(), pm.axis.y()) < 1e-12)) {
+  if (k != KinematicsType::XYZ && (pole_angle < o.pole_tolerance_deg || std::hypot(pm.axis.x(), pm.axis.y()) < 1e-12 ||
+                                   tilt(j0) * tilt(j1) < 0.0)) {
+    // In the cone, or on a move that changes to the mirror solution (the tilt passes 0 at a held C, which
+    // the joint solutions take only where the wanted axis passes the pole within the tolerances): C as
+    // the joints interpolate it, the tilt that fits best. Solved exactly, the points of such a move swung
+    // C 30 deg either way, following the wanted axis's azimuth round the pole (black-box testing).
     jm = kin.inverse_with_c(pm, mid.c, mid);
-  } else if (kin.machine().kinematics != KinematicsType::XYZ && pole_angle < o.pole_tolerance_deg + o.axis_tolerance_deg) {
+  } else if (k != KinematicsType::XYZ && pole_angle < o.pole_tolerance_deg + o.axis_tolerance_deg) {
     // Just outside the cone the exact C is the axis's azimuth, which turns fast around the pole: on a
     // head-head machine the points bisected beside it swung C 28 deg either way with A within 0.15 deg.
     // C interpolated, with the tilt that fits best, is kept where it is within half the axis tolerance.
@@ -87,10 +95,6 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
     exact.pole_tolerance_deg = kin.machine().kinematics == KinematicsType::XYZ ? o.pole_tolerance_deg : 0.0;
     // Stay on the ends' solution branch (sign of the tilt) when they share one: near the pole the
     // nearest solution can be the mirror one, and a branch change inside the move never converges.
-    const KinematicsType k = kin.machine().kinematics;
-    auto tilt = [k](const Joints& j) {
-      return std::remainder(k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC ? j.a : j.b, 360.0);
-    };
     const bool same_branch = (tilt(j0) > 0) == (tilt(j1) > 0) && tilt(j0) != 0 && tilt(j1) != 0;
     double best = std::numeric_limits<double>::infinity();
     for (const Joints& c : kin.inverse(pm, mid, exact)) {

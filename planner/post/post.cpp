@@ -398,8 +398,7 @@ PostRows post_rows(const OrientedPath& path, const PostJob& job) {
     rows.feeds[i] = std::isnan(r.feed) ? job.feed : r.feed;
     // The program writes F with at most 8 decimals (gcode_writer's feed_word): a smaller feed would read as
     // F0, which a controller refuses. Named here, where the row is known, rather than at the writing.
-    if (std::min(rows.feeds[i], job.machine.max_feed) < 1e-8)
-      {
+    if (std::min(rows.feeds[i], job.machine.max_feed) < 1e-8) {
       char text[32];
       std::snprintf(text, sizeof text, "%g", rows.feeds[i]);
       throw PostRowError(i, std::string("feed ") + text + " mm/min is too small to write (it reads as F0)");

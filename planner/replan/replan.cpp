@@ -3,13 +3,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
+#include "tiltfield/core/angles.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/kinematics.hpp"
 #include "tiltfield/core/local_frame.hpp"
 
 namespace tf {
+namespace {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+}  // namespace
 
 namespace {
 
@@ -97,15 +102,23 @@ std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, 
   return blend_in_rotaries(cl, old_axes, new_axes, weights, cl_height, *kin).value_or(out);
 }
 
+namespace {
+// A feed along the tool's own axis: the post's approach or retract (or a plunge), not a move between
+// cutter locations. Within what a program written to 4 decimals keeps: 2e-4 mm off the line, 0.01 deg.
+bool along_tool_axis(const Collision& c) {
+  const Eigen::Vector3d d = c.end.tip - c.start.tip;
+  return d.norm() > 0.01 && c.start.axis.normalized().dot(c.end.axis.normalized()) > std::cos(0.01 * kDeg) &&
+         d.cross(c.start.axis.normalized()).norm() < 2e-4;
+}
+}  // namespace
+
 std::string unfixable_reason(const Collision& c) {
   if (c.rapid) return "a rapid move: the post's retracts and links must clear it, not the tool axis";
   if (c.component == ToolComponent::Ball) {
     const std::string with = c.with == HitWith::Check ? "check surface" : std::string(to_string(c.with));
-    // A feed along the tool's own axis is the post's approach or retract, not a move between cutter
-    // locations (the message had blamed the cutter location of a row that was clear, found by black-box
-    // testing): the re-planner does not move approaches.
-    const Eigen::Vector3d d = c.end.tip - c.start.tip;
-    if ((c.start.axis - c.end.axis).norm() < 1e-9 && d.norm() > 1e-6 && d.normalized().cross(c.start.axis).norm() < 1e-6)
+    // The message had blamed the cutter location of a row that was clear (black-box testing): the
+    // re-planner does not move approaches.
+    if (along_tool_axis(c))
       return "the ball meets the " + with + " on a move along the tool axis (the post's approach or retract)," +
              " not at a cutter location; re-planning the axes does not move it";
     return "the ball itself meets the " + with + " at the cutter location; no tool axis moves it";
@@ -132,7 +145,9 @@ std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisi
   std::vector<size_t> ball;  // collisions of the ball itself on a feed move
   for (size_t k = 0; k < collisions.size(); ++k) {
     out.push_back(unfixable_reason(collisions[k]));
-    if (collisions[k].component == ToolComponent::Ball && !collisions[k].rapid) ball.push_back(k);
+    // An approach's collision is no reason to leave the rows' other collisions alone.
+    if (collisions[k].component == ToolComponent::Ball && !collisions[k].rapid && !along_tool_axis(collisions[k]))
+      ball.push_back(k);
   }
   for (size_t k = 0; k < collisions.size(); ++k) {
     if (!out[k].empty()) continue;
@@ -194,7 +209,10 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
     std::vector<double> weights;
     for (size_t i = w.first; i <= w.last; ++i) {
       const double s = arc[i] - s0;
-      weights.push_back(ramp > 0 ? smoothstep(std::min(s, length - s) / ramp) : 1.0);
+      // No blend toward a path end: there is no axis beyond it to keep (row 0 had kept its old axis, below
+      // its clearance, where a window reached the path's start; black-box testing).
+      const double from_start = w.first == 0 ? kInfinity : s, to_end = w.last + 1 == n ? kInfinity : length - s;
+      weights.push_back(ramp > 0 ? smoothstep(std::min({from_start, to_end, ramp}) / ramp) : 1.0);
       cl.push_back(path.rows[i].p);
       old_axes.push_back(original.rows[i].axis);
       new_axes.push_back(planned.path.rows[i - w.first].axis);

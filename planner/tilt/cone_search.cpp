@@ -91,8 +91,15 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
                              (row + 1 < ctx.arc.size() ? ctx.arc[row + 1] - ctx.arc[row] : 0.0));
     return d * d * std::max(ds, 1e-6) / (L * L);
   };
+  // Which moves the post links is taken from the axes as they are, not from the candidates: a candidate
+  // whose tip moved past the link gap would otherwise turn for free, and make a link in mid-cut.
+  std::vector<char> linked(m + 1, 0);
+  for (size_t k = 0; k <= m; ++k) {
+    const size_t row = w0 + k;  // the move row - 1 -> row
+    if (row > 0 && row < axes.size()) linked[k] = ctx.linked(row - 1, axes[row - 1], axes[row]) ? 1 : 0;
+  }
   auto turn = [&](size_t row, const Vector3d& a, const Vector3d& b) {  // row -> row + 1
-    if (ctx.linked(row, a, b)) return 0.0;
+    if (linked[row + 1 - w0]) return 0.0;
     const double t = angle(a, b);
     return t * t / std::max(ctx.arc[row + 1] - ctx.arc[row], 1e-6);
   };
@@ -120,7 +127,8 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
     });
   }
   int s = static_cast<int>(std::min_element(cost[m - 1].begin(), cost[m - 1].end()) - cost[m - 1].begin());
-  for (size_t k = m; k-- > 0;) {
+  if (!std::isfinite(cost[m - 1][static_cast<size_t>(s)])) return;  // NaN in a frame: leave the window
+  for (size_t k = m; k-- > 0 && s >= 0;) {
     axes[w0 + k] = cand[k][static_cast<size_t>(s)];
     s = from[k][static_cast<size_t>(s)];
   }
@@ -128,8 +136,9 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
   // axis still clears.
   for (int round = 0; round < 8; ++round)
     for (size_t row = std::max<size_t>(w0, 1); row <= w1 && row + 1 < axes.size(); ++row) {
-      const Vector3d a = clamp_to_cone((axes[row - 1] + 2 * axes[row] + axes[row + 1]).normalized(), ctx.frames[row].n,
-                                       ctx.cos_max_tilt);
+      const Vector3d sum = axes[row - 1] + 2 * axes[row] + axes[row + 1];
+      if (sum.norm() < 1e-9) continue;
+      const Vector3d a = clamp_to_cone(sum.normalized(), ctx.frames[row].n, ctx.cos_max_tilt);
       if (ctx.reachable(row, a) && ctx.clears(row, a, ctx.options.correction_margin_mm)) axes[row] = a;
     }
 }
@@ -138,10 +147,15 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
 
 size_t search_cone(const PlanContext& ctx, const std::vector<char>& bad, std::vector<Vector3d>& axes,
                    std::vector<BodyClearance>& clear) {
+  // Rows inside a solid: no axis clears them, and a long buried run would take the whole budget.
+  std::vector<char> wanted = bad;
+  for (size_t i = 0; i < wanted.size() && i < ctx.inside_solid.size(); ++i)
+    if (ctx.inside_solid[i] >= 0) wanted[i] = 0;
   size_t rows = 0;
-  for (const auto& [w0, w1] : windows_around(ctx, bad)) {
+  for (const auto& [w0, w1] : windows_around(ctx, wanted)) {
+    // A last resort, not a planner: a window past the budget stays as the stages left it.
+    if (rows + (w1 - w0 + 1) > kMaxRows) continue;
     rows += w1 - w0 + 1;
-    if (rows > kMaxRows) break;  // a last resort, not a planner: the rest stays as the stages left it
     search_window(ctx, w0, w1, axes);
     clearances(ctx, axes, w0, w1 + 1, clear);
   }

@@ -99,10 +99,6 @@ std::vector<double> blend_weights(const PlanContext& ctx, const std::vector<char
   return w;
 }
 
-}  // namespace
-
-namespace {
-
 // Runs a last resort (`resort(bad, axes, clear)`, which changes copies and returns their motions' checks)
 // on the rows still failing or whipping; keeps what it made only when that is better by Quality: fewer
 // rows failing, or as many and fewer whipping, none deeper below its clearance than before.
@@ -176,7 +172,7 @@ FallbackResult fall_back_to_cone_search(const PlanContext& ctx, std::vector<Vect
                                         std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
   return keep_if_better(ctx, axes, clear, segments, [&](std::vector<char>& bad, std::vector<Vector3d>& candidate,
                                                          std::vector<BodyClearance>& candidate_clear) {
-    search_cone(ctx, bad, candidate, candidate_clear);
+    if (search_cone(ctx, bad, candidate, candidate_clear) == 0) return segments;  // nothing searched: no change
     std::vector<SegmentCheck> candidate_segments = check_segments(ctx, candidate, candidate_clear);
     bridge_failing_motions(ctx, candidate, candidate_clear, candidate_segments);
     return candidate_segments;

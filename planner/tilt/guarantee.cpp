@@ -27,9 +27,15 @@ BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, Clearance
   BodyClearance out;
   out.distance = out.margin = std::numeric_limits<double>::infinity();
   const Pose p = pose(row, axis);
+  const int solid = row < inside_solid.size() ? inside_solid[row] : -1;
+  double solid_distance = 0.0;
   for (size_t s = 0; s < obstacles.size(); ++s) {
     const ObstacleSet& set = obstacles[s];
     if (set.bvh.empty()) continue;
+    if (static_cast<int>(s) == solid) {  // the containing set's own distance, not the bounded search's
+      solid_distance = body_clearance(set.bvh, pieces, set.required, p).distance;
+      if (!std::isfinite(solid_distance)) solid_distance = 0.0;
+    }
     // Searched only below what the sets before found: a far fixture costs a node or two.
     const BodyClearance c = body_clearance(set.bvh, pieces, set.required, p, set_hints(hints, s, pieces.size()), &out);
     if (c.distance < out.distance) out.nearest_set = static_cast<int>(s);
@@ -38,13 +44,13 @@ BodyClearance PlanContext::clearance(size_t row, const Vector3d& axis, Clearance
     out.margin = c.margin;
     out.piece = c.piece;
   }
-  if (row < inside_solid.size() && inside_solid[row] >= 0) {
-    // Inside a solid by at least the body's distance to its surface.
-    const auto s = static_cast<size_t>(inside_solid[row]);
-    const double d = std::isfinite(out.distance) ? out.distance : 0.0;
-    out.distance = -d;
-    out.margin = -d - *std::max_element(obstacles[s].required.begin(), obstacles[s].required.end()) - 1e-9;
-    out.nearest_set = out.margin_set = static_cast<int>(s);
+  if (solid >= 0) {
+    // Inside a solid by at least the body's distance to its surface (0 - d: a body touching a face writes
+    // 0, not -0).
+    const auto s = static_cast<size_t>(solid);
+    out.distance = 0.0 - solid_distance;
+    out.margin = out.distance - *std::max_element(obstacles[s].required.begin(), obstacles[s].required.end()) - 1e-9;
+    out.nearest_set = out.margin_set = solid;
     out.piece = 0;
   }
   return out;

@@ -2,8 +2,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
 
 #include "tiltfield/core/triangle_bvh.hpp"
 
@@ -12,19 +16,21 @@ namespace {
 
 using Eigen::Vector3d;
 
-// Does the ray o + t d (t > 0) cross triangle tr? (Moller-Trumbore; a ray in the triangle's plane does not.)
-bool crosses(const Vector3d& o, const Vector3d& d, const Triangle& tr) {
+// The ray o + t d (t > 0) crossing triangle tr: +1 leaving through its front (the side its normal faces),
+// -1 entering, 0 missing it (Moller-Trumbore; a ray in the triangle's plane misses).
+int crossing(const Vector3d& o, const Vector3d& d, const Triangle& tr) {
   const Vector3d e1 = tr.b - tr.a, e2 = tr.c - tr.a;
   const Vector3d p = d.cross(e2);
   const double det = e1.dot(p);
-  if (std::abs(det) < 1e-300) return false;
+  if (std::abs(det) < 1e-300) return 0;
   const Vector3d s = o - tr.a;
   const double u = s.dot(p) / det;
-  if (u < 0.0 || u > 1.0) return false;
+  if (u < 0.0 || u > 1.0) return 0;
   const Vector3d q = s.cross(e1);
   const double v = d.dot(q) / det;
-  if (v < 0.0 || u + v > 1.0) return false;
-  return e2.dot(q) / det > 0.0;
+  if (v < 0.0 || u + v > 1.0) return 0;
+  if (!(e2.dot(q) / det > 0.0)) return 0;
+  return det < 0.0 ? 1 : -1;  // det = -d . (e1 x e2): negative when d runs along the normal
 }
 
 // Does the ray o + t d (t >= 0) meet the box [lo, hi]? (Slabs; inv = 1 / d componentwise.)
@@ -40,19 +46,21 @@ bool meets_box(const Vector3d& o, const Vector3d& inv, const Vector3d& lo, const
   return true;
 }
 
-// Odd number of crossings of the ray from o along d.
-bool odd_crossings(const TriangleBvh& bvh, const Vector3d& o, const Vector3d& d) {
+// The winding number of the surface about o, counted along the ray from o along d: how many times more
+// it leaves solids than it enters them. Not parity: two closed bodies overlapping in one mesh (an
+// assembled fixture) wind twice where they overlap.
+int winding(const TriangleBvh& bvh, const Vector3d& o, const Vector3d& d) {
   const Vector3d inv = d.cwiseInverse();
-  bool odd = false;
+  int w = 0;
   // The hierarchy's best-first walk as a plain traversal: boxes the ray meets bound 0 (visited), others 2,
   // and no leaf ever improves on 1.
   bvh.minimum([&](const Vector3d& lo, const Vector3d& hi) { return meets_box(o, inv, lo, hi) ? 0.0 : 2.0; },
               [&](int i, double) {
-                odd ^= crosses(o, d, bvh.triangle(i));
+                w += crossing(o, d, bvh.triangle(i));
                 return 1.0;
               },
               1.0);
-  return odd;
+  return w;
 }
 
 bool inside(const TriangleBvh& bvh, const Vector3d& p) {
@@ -62,7 +70,7 @@ bool inside(const TriangleBvh& bvh, const Vector3d& p) {
                                                Vector3d(-0.6311, 0.3877, -0.6718).normalized(),
                                                Vector3d(0.2617, -0.8934, 0.3652).normalized()};
   int votes = 0;
-  for (const Vector3d& d : dirs) votes += odd_crossings(bvh, p, d) ? 1 : 0;
+  for (const Vector3d& d : dirs) votes += winding(bvh, p, d) > 0 ? 1 : 0;
   return votes >= 2;
 }
 
@@ -70,6 +78,7 @@ bool inside(const TriangleBvh& bvh, const Vector3d& p) {
 
 std::vector<int8_t> points_inside_solids(const std::vector<std::vector<const Mesh*>>& sets,
                                          const std::vector<Eigen::Vector3d>& points) {
+  if (sets.size() > 127) throw std::invalid_argument("points_inside_solids: more than 127 obstacle sets");
   std::vector<int8_t> out(points.size(), -1);
   for (size_t s = sets.size(); s-- > 0;) {  // backwards: the first set containing a point is the one kept
     for (const Mesh* m : sets[s]) {

@@ -130,7 +130,7 @@ void note_rows_inside_solids(const PlanContext& ctx, std::vector<std::string>& n
       if (ctx.inside_solid[i] == static_cast<int8_t>(s)) ++count, first = i;
     if (count > 0)
       notes.push_back(std::to_string(count) + " row(s) have the cutter location inside a closed mesh of " +
-                      ctx.obstacles[s].name + " (first: row " + std::to_string(first + 1) +
+                      ctx.obstacles[s].name + " (first: row " + std::to_string(first) +
                       "): the whole tool is in that solid, no tool axis clears them");
   }
 }

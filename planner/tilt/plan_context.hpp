@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <limits>
+#include <cstdint>
 #include <optional>
 #include <vector>
 

@@ -129,6 +129,33 @@ TEST(OutputNames, AnOutputThatIsAnInputOrAnotherOutputExitsTwo) {
   EXPECT_FALSE(fs::exists(dir / "p.csv"));
 }
 
+// Nor may an output replace a file the scene reads: `run -o` into the scene's folder replaced a path
+// file named oriented.csv (and a stock mesh named stock.ply: the next run cut nothing), `plan` and
+// `replan -o` the path file (black-box testing). Refused before the work, the files as they were.
+TEST(OutputNames, AnOutputThatIsAFileTheSceneReadsExitsTwo) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const std::string path_text = tf::test::read_text(dir / "path.csv");
+  tf::test::write_text(dir / "oriented.csv", path_text);
+  std::string scene_text = tf::test::read_text(scene_file);
+  scene_text.replace(scene_text.find("path.csv"), 8, "oriented.csv");
+  tf::test::write_text(dir / "scene2.json", scene_text);
+  const std::string exe = std::string(TILTFIELD_EXE) + " --quiet ";
+  const std::string scene = scene_file.string(), path = (dir / "path.csv").string();
+  for (const std::string& command :
+       {"run " + (dir / "scene2.json").string() + " -o " + dir.path().string(), "plan " + scene + " -o " + path,
+        "replan " + scene + " " + (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " + path,
+        "post " + scene + " " + (dir / "p.csv").string() + " -o " + (dir / "machine.json").string()}) {
+    const auto r = tf::test::run_command(exe + command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.out;
+    EXPECT_NE(r.out.find("is the input file"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  }
+  EXPECT_EQ(tf::test::read_text(dir / "oriented.csv"), path_text);
+  EXPECT_EQ(tf::test::read_text(dir / "path.csv"), path_text);
+  EXPECT_FALSE(fs::exists(dir / "program.ngc"));
+}
+
 // `check` with nothing to check says so (it exited 0 with no word).
 TEST(CheckCli, NothingToCheckExitsTwo) {
   const auto r = tf::test::run_command(std::string(TILTFIELD_EXE) + " check");

@@ -57,16 +57,29 @@ TEST(Replan, RowsOutsideTheWindowsAreUnchangedAndEndsAreSmooth) {
   }
 }
 
+// The hidden-post scene planned without knowing of a fixture box [lo, hi], which is then added to it (with
+// a fixture clearance of 2 mm).
+struct FixtureCase {
+  tf::Scene scene;
+  tf::PlanOptions options;
+  tf::PlanResult planned;
+  FixtureCase(const tf::test::TempDir& dir, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi)
+      : scene(tf::load_scene(write_hidden_post_scene(dir))),
+        options(tf::parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed)),
+        planned(tf::plan(scene, options)) {
+    scene.fixtures.push_back(tf::test::box(lo, hi));
+    scene.planner.fixture_clearance = 2.0;
+  }
+};
+
 // The post as a fixture the plan did not know: the holder collision is re-planned against the fixture,
 // with the fixture clearance, and a collision of the ball itself is left alone with its reason.
 TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   tf::test::TempDir dir;
-  tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
-  const tf::PlanOptions po =
-      tf::parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
-  const tf::PlanResult planned = tf::plan(scene, po);
-  scene.fixtures.push_back(tf::test::box({15, 8, 1}, {25, 20, 80}));
-  scene.planner.fixture_clearance = 2.0;
+  const FixtureCase fc(dir, {15, 8, 1}, {25, 20, 80});
+  const tf::Scene& scene = fc.scene;
+  const tf::PlanOptions& po = fc.options;
+  const tf::PlanResult& planned = fc.planned;
   const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}};
   std::vector<size_t> rows;
   for (size_t i = 100; i <= 140; ++i) rows.push_back(i);
@@ -84,8 +97,9 @@ TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   ball.component = tf::ToolComponent::Ball;
   EXPECT_TRUE(tf::unfixable_reason(site).empty());
   EXPECT_NE(tf::unfixable_reason(ball).find("ball itself"), std::string::npos);
-  tf::Collision approach = ball;  // down the tool's axis onto the row: the post's approach
-  approach.start.tip = Eigen::Vector3d(20, 0, 30);
+  tf::Collision approach = ball;  // down a tilted axis onto the row, as written to 4 decimals: an approach
+  approach.start.axis = approach.end.axis = Eigen::Vector3d(0.5, 0, std::sqrt(0.75));
+  approach.start.tip = Eigen::Vector3d(35.0001, 0, 25.9807);
   EXPECT_NE(tf::unfixable_reason(approach).find("along the tool axis (the post's approach or retract)"), std::string::npos)
       << tf::unfixable_reason(approach);
   EXPECT_TRUE(tf::replan(scene, planned.path, {ball}, {}, po).windows.empty());
@@ -97,6 +111,28 @@ TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   for (size_t i = r.windows[0].first; i <= r.windows[0].last; ++i) rows.push_back(i);
   for (const auto& c : tf::row_clearances(r.path, rows, scene.tool, scene.planner, only_fixture))
     EXPECT_GE(c.margin_mm, -0.01);  // at least fixture_clearance from the post
+}
+
+// A window that reaches the path's first row re-plans that row too: there is no axis before it to blend
+// back to (row 0 had kept its old axis, below its clearance; black-box testing).
+TEST(Replan, WindowAtThePathsStartReplansItsFirstRow) {
+  tf::test::TempDir dir;
+  const FixtureCase fc(dir, {-45, 8, 1}, {-35, 20, 80});
+  const tf::Scene& scene = fc.scene;
+  const tf::PlanOptions& po = fc.options;
+  const tf::PlanResult& planned = fc.planned;
+  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}};
+  EXPECT_LT(tf::row_clearances(planned.path, {0}, scene.tool, scene.planner, only_fixture)[0].margin_mm, 0.0);
+  tf::Collision site;
+  site.component = tf::ToolComponent::Holder;
+  site.with = tf::HitWith::Fixture;
+  site.start = {Eigen::Vector3d(-40, 0, 0), Eigen::Vector3d::UnitZ()};
+  site.end = {Eigen::Vector3d(-39.5, 0, 0), Eigen::Vector3d::UnitZ()};
+  const tf::ReplanResult r = tf::replan(scene, planned.path, {site}, {}, po);
+  ASSERT_EQ(r.windows.size(), 1u);
+  EXPECT_EQ(r.windows[0].first, 0u);
+  EXPECT_EQ(r.rows_below_safety, 0u);
+  EXPECT_GE(tf::row_clearances(r.path, {0}, scene.tool, scene.planner, only_fixture)[0].margin_mm, -0.01);
 }
 
 TEST(Replan, StockObstacleKeepsOnlyWhatTheCuttingPartCannotReach) {

@@ -12,6 +12,7 @@
 
 #include "tiltfield/engagement/feed_schedule.hpp"
 #include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/scene.hpp"
 
 namespace tf::cli {
 
@@ -36,6 +37,9 @@ void check_output_file(const std::string& option, const std::string& path);
 // input would be lost. `outputs`: (option, path); empty paths are not asked.
 void check_outputs_apart(const std::vector<std::pair<std::string, std::string>>& outputs,
                          const std::vector<std::string>& inputs);
+// The files `scene` was read from (scene file, meshes, path, machine) after `others`: inputs that
+// check_outputs_apart protects (`run -o` into the scene's folder had replaced its stock mesh).
+std::vector<std::string> scene_inputs(const Scene& scene, std::vector<std::string> others = {});
 // The same test as a validator of an output option, so that a command's parse refuses the name (exit 2)
 // before its work.
 CLI::Validator output_file();

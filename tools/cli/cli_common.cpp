@@ -59,6 +59,11 @@ void check_outputs_apart(const std::vector<std::pair<std::string, std::string>>&
   }
 }
 
+std::vector<std::string> scene_inputs(const Scene& scene, std::vector<std::string> others) {
+  for (const fs::path& f : scene.files) others.push_back(f.string());
+  return others;
+}
+
 CLI::Validator output_file() {
   return CLI::Validator(
       [](std::string& path) -> std::string {

@@ -39,8 +39,17 @@ void add_check_command(CLI::App& app) {
         std::cout << "  work offset " << code << ": X" << fixed(w[0], 3) << " Y" << fixed(w[1], 3) << " Z"
                   << fixed(w[2], 3) << " A" << fixed(w[3], 3) << " B" << fixed(w[4], 3) << " C" << fixed(w[5], 3) << "\n";
     }
-    if (!oriented.empty())
-      std::cout << "oriented path " << oriented << ": " << read_oriented_csv(oriented).rows.size() << " rows\n";
+    if (!oriented.empty()) {
+      const OrientedPath o = read_oriented_csv(oriented);
+      // Checked against the scene's path as `post` and `replan` read them: row for row.
+      if (!scene.empty()) {
+        const Scene s = load_scene(scene);
+        if (!s.path.rows.empty() && o.rows.size() != s.path.rows.size())
+          throw InputError(oriented, 0, "", "has " + std::to_string(o.rows.size()) + " rows, the scene's path " +
+                                                std::to_string(s.path.rows.size()));
+      }
+      std::cout << "oriented path " << oriented << ": " << o.rows.size() << " rows\n";
+    }
     if (!machine.empty())
       std::cout << "machine " << machine << ": " << to_string(read_machine_json(machine).kinematics) << "\n";
     if (!mesh.empty()) std::cout << "mesh " << mesh << ": " << load_mesh(mesh).n_faces() << " triangles\n";

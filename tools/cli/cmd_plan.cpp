@@ -57,6 +57,7 @@ void add_plan_command(CLI::App& app) {
   cmd->callback([] {
     check_outputs_apart({{"-o", a.out}, {"--json", a.json}}, {a.scene});
     const Scene scene = load_scene(a.scene);
+    check_outputs_apart({{"-o", a.out}, {"--json", a.json}}, scene_inputs(scene));
     require_for_planning(scene);
     PlanOptions options = parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
     if (a.method == "pointwise") options.method = PlanMethod::Pointwise;

@@ -74,6 +74,7 @@ void run_post(PostArgs& a) {
   o.pole_mode = a.pole_mode == "hold" ? PoleMode::Hold : PoleMode::Interpolate;
 
   const Scene scene = load_scene(a.scene);
+  check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented}));
   if (!scene.machine) throw InputError(a.scene, 0, "machine", "the scene names no machine; posting needs one");
   const OrientedPath path = read_oriented_csv(a.oriented);
   PostJob job;

@@ -1,5 +1,6 @@
 // tiltfield replan SCENE ORIENTED.csv VERIFY.json -o ORIENTED2.csv [--stock-mesh STOCK.ply]
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -28,6 +29,7 @@ struct ReplanArgs {
 void run_replan(const ReplanArgs& a) {
   check_outputs_apart({{"-o", a.out}}, {a.scene, a.oriented, a.verify, a.stock_mesh});
   const Scene scene = load_scene(a.scene);
+  check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented, a.verify, a.stock_mesh}));
   require_for_planning(scene);
   const OrientedPath original = read_oriented_csv(a.oriented);
   if (original.rows.size() != scene.path.rows.size())
@@ -57,9 +59,14 @@ void run_replan(const ReplanArgs& a) {
   }
   const ReplanResult r = replan(scene, original, collisions, extra, plan_options, a.options);
   write_oriented_csv(r.path, a.out);
-  if (!global_options().quiet)
+  if (!global_options().quiet) {
+    // No window (every collision one no axis fixes): no clearance to give (it had thrown on infinity).
+    const std::string clearance = r.windows.empty() || !std::isfinite(r.min_clearance_mm)
+                                      ? "no window re-planned"
+                                      : "min clearance in the windows " + fixed(r.min_clearance_mm, 3) + " mm";
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
-              << " rows changed, min clearance in the windows " << fixed(r.min_clearance_mm, 3) << " mm\n";
+              << " rows changed, " << clearance << "\n";
+  }
   if (!r.unreachable.empty()) fail_on_rows(r.unreachable, "have no joint solution on the machine");
   if (!r.uncleared.empty()) fail_on_rows(r.uncleared, "still below their clearance");
 }

@@ -1,11 +1,31 @@
 // tiltfield run [SCENE] [-o DIR]: the main job (see job.hpp).
+#include <filesystem>
 #include <iostream>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
 
 #include "cli.hpp"
 #include "job.hpp"
 #include "tiltfield/core/error.hpp"
 
 namespace tf::cli {
+
+namespace {
+// Before the work: no output may replace a file the scene was read from (`run -o` into the scene's folder
+// replaced its stock mesh, and the next run cut nothing), nor be renamed onto a folder.
+void check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
+  std::vector<std::pair<std::string, std::string>> outputs;
+  for (const char* name : kRunOutputs) {
+    const std::string path = (dir / name).string();
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "-o", "is a folder, not a file name");
+    outputs.emplace_back("-o", path);
+  }
+  check_outputs_apart(outputs, scene_inputs(scene));
+}
+}  // namespace
 
 void add_run_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "the main job: plan, post, verify, re-plan what collides, verify again, report");
@@ -25,6 +45,7 @@ void add_run_command(CLI::App& app) {
   cmd->callback([] {
     const Scene scene = load_scene(a.scene.empty() ? bundled_scene("impeller") : std::filesystem::path(a.scene));
     require_for_planning(scene);
+    check_run_outputs(scene, a.dir);
     a.options.out_dir = a.dir;
     a.options.progress = terminal_progress();
     const JobSummary s = run_job(scene, a.options);

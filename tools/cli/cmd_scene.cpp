@@ -25,6 +25,8 @@ void add_common(CLI::App* cmd, Common& c) {
 }
 
 void finish(const sc::SceneBundle& scene, const Common& c, const std::string& summary) {
+  // Before the scene is written: a preview that cannot be written had left a whole scene behind.
+  check_output_file("--preview", c.preview);
   const auto file = sc::write_scene_folder(scene, c.dir);
   if (!c.preview.empty()) sc::write_scene_preview(scene, c.preview);
   if (!global_options().quiet) std::cout << file.string() << ": " << summary << "\n";

@@ -64,6 +64,9 @@ void run_verify(const VerifyArgs& a) {
   // and leaves no other output behind.
   if (!a.stock_mesh.empty()) check_mesh_format(a.stock_mesh);
   const Scene scene = load_scene(a.scene);
+  check_outputs_apart({{"-o", a.out}, {"--blocks", a.blocks}, {"--stock-mesh", a.stock_mesh}, {"--engagement", a.pairs},
+                       {"--report", a.report}, {"--html", a.html}},
+                      scene_inputs(scene, {a.program}));
   const MachineSpec machine = scene.machine.value_or(MachineSpec{});
   GcodeOptions gcode = gcode_options(scene);
   gcode.block_delete = a.block_delete;

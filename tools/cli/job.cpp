@@ -245,6 +245,20 @@ void write_outputs(const Scene& scene, const OrientedPath& first_plan, const Rou
 
 namespace {
 
+// A job that stops after the plan writes oriented.csv alone: the other outputs an earlier run left in the
+// folder are not of this plan, and are removed (they had stood beside the new plan unmarked). Returns a
+// note naming them, or nothing.
+std::string remove_stale_outputs(const fs::path& dir) {
+  std::string removed;
+  for (const char* name : kRunOutputs) {
+    if (std::string(name) == "oriented.csv") continue;
+    std::error_code ec;
+    if (fs::is_regular_file(dir / name, ec) && fs::remove(dir / name, ec))
+      removed += (removed.empty() ? "" : ", ") + std::string(name);
+  }
+  return removed.empty() ? removed : "; " + removed + " of an earlier run removed from " + dir.string();
+}
+
 // Rows the machine cannot reach cannot be posted: the plan is written (oriented.csv, with the rows'
 // clearances) and the job stops naming them, rather than failing in the post with no output.
 void stop_at_unreachable_rows(const PlanResult& planned, const JobOptions& options) {
@@ -259,7 +273,8 @@ void stop_at_unreachable_rows(const PlanResult& planned, const JobOptions& optio
   std::ostringstream msg;
   msg << rows.size() << " planned row(s) have no joint solution on the machine (rows:";
   for (size_t k = 0; k < rows.size() && k < 10; ++k) msg << " " << rows[k];
-  msg << (rows.size() > 10 ? " ..." : "") << "); the plan is in " << out.string() << ", nothing was posted";
+  msg << (rows.size() > 10 ? " ..." : "") << "); the plan is in " << out.string() << ", nothing was posted"
+      << remove_stale_outputs(options.out_dir);
   throw JobError(msg.str());
 }
 
@@ -270,7 +285,8 @@ void stop_at_unreachable_rows(const PlanResult& planned, const JobOptions& optio
   fs::create_directories(options.out_dir, ec);
   const fs::path out = options.out_dir / "oriented.csv";
   write_oriented_csv(planned.path, out);
-  throw JobError("the plan could not be posted (" + why + "); the plan is in " + out.string() + ", nothing was posted");
+  throw JobError("the plan could not be posted (" + why + "); the plan is in " + out.string() + ", nothing was posted" +
+                 remove_stale_outputs(options.out_dir));
 }
 
 }  // namespace
@@ -305,8 +321,11 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
   std::ostringstream o;
   o << "tiltfield run: " << scene.file.string() << "\n"
     << "  path         " << s.rows << " rows; nominal axis too close on " << s.nominal_colliding_rows << " rows\n"
-    << "  plan         min clearance " << (std::isfinite(s.min_clearance_mm) ? fixed(s.min_clearance_mm, 3) : "inf")
-    << " mm (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n"
+    // The plan's 1000000 stands for "no obstacle" (PLAN.json, oriented.csv): not a distance to show.
+    << "  plan         min clearance "
+    << (std::isfinite(s.min_clearance_mm) && s.min_clearance_mm < 1e6 ? fixed(s.min_clearance_mm, 3) + " mm"
+                                                                       : std::string("none (no check surface or fixture)"))
+    << " (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n"
     << "  program      " << s.blocks << " blocks\n"
     << "  collisions   " << s.collisions_first << " found, " << (s.collisions_first - std::min(s.collisions_first, s.collisions_final))
     << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n";

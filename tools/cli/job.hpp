@@ -10,6 +10,10 @@
 
 namespace tf {
 
+// The files `run` writes into its output folder, by name.
+inline constexpr const char* kRunOutputs[] = {"oriented.csv", "program.ngc", "verify.json",
+                                              "blocks.csv",   "stock.ply",   "report.html"};
+
 struct JobOptions {
   std::filesystem::path out_dir = "out";
   double resolution_mm = 0.1;  // tri-dexel spacing of the verification, mm

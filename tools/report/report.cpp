@@ -116,9 +116,12 @@ std::vector<Card> cards(const ReportInputs& in) {
     if (!std::isfinite(clearance)) clearance = -1.0;
   }
   const double safety = scene.planner.safety_distance;
-  out.push_back({"Min clearance", known(clearance, 3), clearance >= 0.0 ? "mm" : "",
-                 "safety distance " + fixed(safety, 3) + " mm",
-                 clearance < 0.0 ? "" : clearance + 1e-9 >= safety ? "good" : "warn"});
+  if (clearance >= 1e6)  // the plan's "no obstacle" (1000000), not a distance
+    out.push_back({"Min clearance", "none", "", "no check surface or fixture", ""});
+  else
+    out.push_back({"Min clearance", known(clearance, 3), clearance >= 0.0 ? "mm" : "",
+                   "safety distance " + fixed(safety, 3) + " mm",
+                   clearance < 0.0 ? "" : clearance + 1e-9 >= safety ? "good" : "warn"});
   out.push_back({"Removed volume", known(s.removed_volume_mm3, 0), s.removed_volume_mm3 >= 0.0 ? "mm\u00b3" : "",
                  s.resolution_mm > 0.0 ? "dexel spacing " + fixed(s.resolution_mm, 3) + " mm" : "", ""});
   double total = 0.0;

@@ -18,7 +18,7 @@ void validate_block_options(const BlockOptions& o) {
   check_block(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
   check_block(positive(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
         "must be positive and at most the tool diameter");
-  check_block(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
+  require_step(o.step, o.tool_radius, "block");
   check_block(positive(o.feed), "--feed", "must be positive (mm/min)");
 }
 

@@ -46,7 +46,7 @@ void validate_impeller_options(const ImpellerOptions& o) {
         "must be positive and less than --inlet-radius");
   check_impeller(std::isfinite(o.tool_radius) && o.tool_radius > 0 && o.tool_radius <= 25, "--tool-radius",
         "must be positive (at most 25 mm)");
-  check_impeller(finite_in(o.step, 0.01, 20), "--step", "must be within [0.01, 20] mm");
+  require_step(o.step, o.tool_radius, "impeller");
   check_impeller(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
   check_impeller(finite_in(o.m_start, 0.0, 1.0), "--m-start", "must be within [0, 1]");
   check_impeller(finite_in(o.m_end, 0.0, 1.0) && o.m_end > o.m_start, "--m-end", "must be within [0, 1] and above --m-start");

@@ -30,7 +30,7 @@ void validate_pocket_options(const PocketOptions& o) {
         "must be positive and less than the floor thickness");
   check_pocket(positive(o.allowance), "--allowance", "must be positive");
   check_pocket(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
-  check_pocket(std::isfinite(o.step) && o.step >= 0.01 && o.step <= 20, "--step", "must be within [0.01, 20] mm");
+  require_step(o.step, o.tool_radius, "pocket");
   check_pocket(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
   check_pocket(std::isfinite(o.ball_clearance) && o.ball_clearance >= 0 && o.ball_clearance <= 10, "--ball-clearance",
         "must be within [0, 10] mm");

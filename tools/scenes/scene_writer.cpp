@@ -1,6 +1,7 @@
 #include "scene_writer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -8,6 +9,7 @@
 #include "tiltfield/core/internal/quiet_openmesh.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/tool.hpp"
 
 namespace tf::scenes {
 namespace fs = std::filesystem;
@@ -59,6 +61,16 @@ json machine_json(const std::string& builtin_name, const fs::path& user_file) {
 
 void require_option(bool ok, const std::string& scene, const std::string& option, const std::string& what) {
   if (!ok) throw InputError("scene " + scene, 0, option, what);
+}
+
+void require_step(double step, double tool_radius, const std::string& scene) {
+  require_option(std::isfinite(step) && step >= 0.01 && step <= 20, scene, "--step", "must be within [0.01, 20] mm");
+  Tool tool;
+  tool.cutter = BallCutter{tool_radius};
+  const double gap = default_link_gap(tool);
+  require_option(step < gap, scene, "--step",
+                 "must be below the post's link gap, " + fixed(gap, 3) +
+                     " mm for this tool (4 radii, at least 1 mm): rows farther apart are linked by rapids, not cut");
 }
 
 fs::path write_scene_folder(const SceneBundle& s, const fs::path& dir) {

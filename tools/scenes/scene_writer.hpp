@@ -65,4 +65,9 @@ std::filesystem::path write_scene_folder(const SceneBundle& scene, const std::fi
 // Throws InputError("scene NAME", 0, option, what) when `ok` is false: one line naming the option.
 void require_option(bool ok, const std::string& scene, const std::string& option, const std::string& what);
 
+// --step: within [0.01, 20] mm and below the post's link gap for a tool of `tool_radius` (4 radii, at
+// least 1 mm): rows farther apart are linked by retracts and rapids, not cut (a 64-blade impeller with a
+// 0.2 mm ball at --step 1 was posted as 235 rapids, 20 of them through blades).
+void require_step(double step, double tool_radius, const std::string& scene);
+
 }  // namespace tf::scenes

@@ -87,6 +87,9 @@ struct Scene {
   nlohmann::json planner_json = nlohmann::json::object();  // the whole "planner" object as written
   std::optional<MachineSpec> machine;                      // absent: the scene names no machine
   std::filesystem::path machine_file;                      // empty when inline or absent
+  // Every file the scene was read from: the scene file, its meshes, path and machine (the outputs of a
+  // command must not replace them).
+  std::vector<std::filesystem::path> files;
 };
 
 // Everything the part occupies: design, check surfaces, fixtures and stock, part frame, mm (for safe
