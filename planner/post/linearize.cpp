@@ -85,10 +85,7 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
     // head-head machine the points bisected beside it swung C 28 deg either way with A within 0.15 deg.
     // C interpolated, with the tilt that fits best, is kept where it is within half the axis tolerance.
     const std::optional<Joints> held = kin.inverse_with_c(pm, mid.c, mid);
-    if (held) {
-      const Eigen::Vector3d a = kin.forward(*held).axis;
-      if (std::atan2(a.cross(pm.axis).norm(), a.dot(pm.axis)) <= 0.5 * o.axis_tolerance_deg * kDeg) jm = held;
-    }
+    if (held && angle_deg(kin.forward(*held).axis, pm.axis) <= 0.5 * o.axis_tolerance_deg) jm = held;
   }
   if (!jm) {
     InverseOptions exact;

@@ -12,29 +12,6 @@ namespace {
 
 constexpr double kTransitInf = std::numeric_limits<double>::infinity();
 
-// Three fixed ray directions with no zero component (so the slab test needs no special case) and no
-// simple relation to the axes or to each other: a ray grazing an edge or vertex of one is unlikely to
-// graze one with another, and the majority of the three parities decides.
-const Eigen::Vector3d kParityRays[3] = {Eigen::Vector3d(0.2345, 0.4567, 0.8581).normalized(),
-                                        Eigen::Vector3d(-0.6789, 0.1234, 0.7239).normalized(),
-                                        Eigen::Vector3d(0.3141, -0.8272, -0.4657).normalized()};
-
-// Moeller-Trumbore: does the ray p + t dir, t > 0, pass through triangle tri?
-bool ray_meets_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& dir, const Triangle& tri) {
-  const Eigen::Vector3d e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-  const Eigen::Vector3d h = dir.cross(e2);
-  const double det = e1.dot(h);
-  if (std::abs(det) < 1e-14 * (e1.squaredNorm() + e2.squaredNorm())) return false;  // parallel or degenerate
-  const double f = 1.0 / det;
-  const Eigen::Vector3d s = p - tri.a;
-  const double u = f * s.dot(h);
-  if (u < 0.0 || u > 1.0) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = f * dir.dot(q);
-  if (v < 0.0 || u + v > 1.0) return false;
-  return f * e2.dot(q) > 0.0;
-}
-
 }  // namespace
 
 std::vector<BodyCapsule> body_capsules(const Tool& tool) {
@@ -53,7 +30,6 @@ std::vector<BodyCapsule> body_capsules(const Tool& tool) {
 TransitChecker::TransitChecker(const PostJob& job) : capsules_(body_capsules(job.tool)) {
   if (job.stock.n_faces() > 0) {
     stock_ = TriangleBvh(std::vector<const Mesh*>{&job.stock});
-    stock_box_ = stock_.bounds();
   }
   std::vector<const Mesh*> surfaces = job.fixtures;
   surfaces.insert(surfaces.end(), job.check_surfaces.begin(), job.check_surfaces.end());
@@ -72,31 +48,7 @@ double TransitChecker::segment_distance(const TriangleBvh& bvh, const Eigen::Vec
       [&](int i, double) { return segment_triangle_distance(a, b, bvh.triangle(i)); }, start);
 }
 
-int TransitChecker::ray_crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const {
-  const Eigen::Vector3d inv = dir.cwiseInverse();
-  int crossings = 0;
-  // The best-first search visits every node whose bound is below the start (1): the nodes the ray meets
-  // get 0, the others +inf; the leaf never lowers the minimum and only counts.
-  stock_.minimum(
-      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-        const Eigen::Vector3d t0 = (lo - p).cwiseProduct(inv), t1 = (hi - p).cwiseProduct(inv);
-        const double enter = std::max(t0.cwiseMin(t1).maxCoeff(), 0.0), leave = t0.cwiseMax(t1).minCoeff();
-        return leave >= enter ? 0.0 : kTransitInf;
-      },
-      [&](int i, double) {
-        crossings += ray_meets_triangle(p, dir, stock_.triangle(i)) ? 1 : 0;
-        return kTransitInf;
-      },
-      1.0);
-  return crossings;
-}
-
-bool TransitChecker::inside_stock(const Eigen::Vector3d& p) const {
-  if (stock_.empty() || !stock_box_.contains(p)) return false;
-  int odd = 0;
-  for (const Eigen::Vector3d& dir : kParityRays) odd += ray_crossings(p, dir) % 2;
-  return odd >= 2;
-}
+bool TransitChecker::inside_stock(const Eigen::Vector3d& p) const { return inside_solid(stock_, p); }
 
 double TransitChecker::capsule_clearance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
                                          double enough) const {

@@ -64,14 +64,12 @@ class TransitChecker {
 
  private:
   bool inside_stock(const Eigen::Vector3d& p) const;
-  int ray_crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const;
   double segment_distance(const TriangleBvh& bvh, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                           double start) const;
 
   std::vector<BodyCapsule> capsules_;
   TriangleBvh stock_;
   TriangleBvh surfaces_;
-  Eigen::AlignedBox3d stock_box_;
 };
 
 }  // namespace tf::post_detail

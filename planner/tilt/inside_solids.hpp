@@ -15,9 +15,7 @@ namespace tf {
 
 // In: obstacle sets (each a list of meshes) and points (mm). A mesh is a solid when it is closed and
 // outward oriented (signed volume > 0), as the verifier counts one. Out: per point, the index of the first
-// set with a solid that contains it, or -1. Containment by the winding number along a ray (crossings
-// counted with their sign), the majority of three rays in unrelated directions (a ray through an edge or
-// a vertex counts a crossing twice or not at all).
+// set with a solid that contains it, or -1 (core's inside_solid: the winding number along three rays).
 std::vector<int8_t> points_inside_solids(const std::vector<std::vector<const Mesh*>>& sets,
                                          const std::vector<Eigen::Vector3d>& points);
 

@@ -66,4 +66,10 @@ class TriangleBvh {
   std::vector<Node> nodes_;
 };
 
+// In: a hierarchy over a closed, outward-oriented mesh and a point, mm. Out: whether the point lies in
+// the solid the mesh bounds: the winding number along three rays in unrelated directions (crossings
+// counted with their sign), the majority of them (a ray through an edge or a vertex counts a crossing
+// twice or not at all). Shared by the post's transit checks and the planner's rows.
+bool inside_solid(const TriangleBvh& bvh, const Eigen::Vector3d& p);
+
 }  // namespace tf
