@@ -133,6 +133,26 @@ std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool,
   return {std::min(i0, i1), std::max(i0, i1)};
 }
 
+namespace {
+double distance_to_polyline(const ToolPath& path, const Eigen::Vector3d& q) {
+  const auto& rows = path.rows;
+  double best = rows.empty() ? kInfinity : (rows.front().p - q).norm();
+  for (size_t i = 0; i + 1 < rows.size(); ++i) {
+    const Eigen::Vector3d a = rows[i].p, d = rows[i + 1].p - a;
+    const double len2 = d.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((q - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * d - q).norm());
+  }
+  return best;
+}
+}  // namespace
+
+double collision_distance_to_path(const ToolPath& path, const Tool& tool, const Collision& c) {
+  const double cl = tool.cl_height();
+  return std::min(distance_to_polyline(path, c.start.tip + cl * c.start.axis.normalized()),
+                  distance_to_polyline(path, c.end.tip + cl * c.end.axis.normalized()));
+}
+
 std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions) {
   std::vector<RowSpan> spans;
   spans.reserve(collisions.size());

@@ -2,6 +2,8 @@
 // the path by re-planning, without touching rows far from it.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "cli/job.hpp"
 #include "replan/hidden_post_scene.hpp"
 #include "test_support.hpp"
@@ -62,6 +64,51 @@ TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 
+
+// A verification report of another program (its blocks millimetres from this path) is bad input: it had
+// been re-planned at whatever rows lay nearest (black-box testing). The same report moved onto the path
+// is re-planned.
+TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const tf::Scene scene = tf::load_scene(scene_file);
+  tf::OrientedPath oriented;
+  for (const auto& r : scene.path.rows) {
+    tf::OrientedRow o;
+    o.p = r.p;
+    o.axis = Eigen::Vector3d::UnitZ();
+    oriented.rows.push_back(o);
+  }
+  tf::write_oriented_csv(oriented, dir / "p.csv");
+  const double cl = scene.tool.cl_height();
+  const auto report = [&](const Eigen::Vector3d& shift) {
+    const Eigen::Vector3d a = scene.path.rows[100].p - cl * Eigen::Vector3d::UnitZ() + shift;
+    const Eigen::Vector3d b = scene.path.rows[101].p - cl * Eigen::Vector3d::UnitZ() + shift;
+    const auto v = [](const Eigen::Vector3d& x) {
+      std::ostringstream o;
+      o << '[' << x.x() << ',' << x.y() << ',' << x.z() << ']';
+      return o.str();
+    };
+    return R"({"collisions": [{"block": 7, "line": 19, "component": "holder", "with": "stock", "rapid": false,
+      "depth_mm": 0.4, "start_tip": )" + v(a) + R"(, "start_axis": [0,0,1], "end_tip": )" + v(b) +
+           R"(, "end_axis": [0,0,1]}]})";
+  };
+  const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
+                              (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
+                              (dir / "out.csv").string();
+  tf::test::write_text(dir / "v.json", report(Eigen::Vector3d(0, 40, 0)));
+  const auto far = tf::test::run_command(command);
+  EXPECT_EQ(far.exit_code, 2) << far.out;
+  EXPECT_NE(far.out.find("collisions[0]"), std::string::npos) << far.out;
+  EXPECT_NE(far.out.find("block 7 (line 19) lies 40 mm"), std::string::npos) << far.out;
+  EXPECT_EQ(std::count(far.out.begin(), far.out.end(), '\n'), 1) << far.out;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+
+  tf::test::write_text(dir / "v.json", report(Eigen::Vector3d(0, 0, 0.005)));
+  const auto near = tf::test::run_command(command);
+  EXPECT_NE(near.exit_code, 2) << near.out;
+  EXPECT_TRUE(fs::exists(dir / "out.csv")) << near.out;
+}
 }  // namespace
 
 namespace {

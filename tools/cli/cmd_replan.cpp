@@ -43,6 +43,16 @@ void run_replan(const ReplanArgs& a) {
                            fixed(scene.path.rows[i].p.x(), 4) + ", " + fixed(scene.path.rows[i].p.y(), 4) + ", " +
                            fixed(scene.path.rows[i].p.z(), 4) + "): an oriented path of another path");
   const std::vector<Collision> collisions = read_replan_collisions(a.verify);
+  // A report of another program or scene had been re-planned at whatever rows lay nearest (black-box
+  // testing). A feed block of this path's program has a cutter location on it; rapids are left alone.
+  for (size_t k = 0; k < collisions.size(); ++k) {
+    const Collision& c = collisions[k];
+    const double d = c.rapid ? 0.0 : collision_distance_to_path(scene.path, scene.tool, c);
+    if (d > scene.tool.radius())
+      throw InputError(a.verify, 0, "collisions[" + std::to_string(k) + "]",
+                       "block " + std::to_string(c.block) + " (line " + std::to_string(c.line) + ") lies " + fixed(d, 3) +
+                           " mm from the path of " + a.oriented + ": a report of another program or scene");
+  }
   const PlanOptions plan_options =
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
   // The stock as an obstacle for shank and holder: the in-process stock the verifier exported, or the raw

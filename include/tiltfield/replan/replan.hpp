@@ -55,6 +55,13 @@ std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool,
 using RowSpan = std::pair<size_t, size_t>;
 std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions);
 
+// In: a path, its tool and a collision with its block's poses. Out: the distance (mm) from the nearer of
+// the block's two cutter locations (tip + cl_height x axis) to the polyline through the path's rows.
+// A block of a program posted from the path has one end on it or within the post's tolerance of it (a
+// cutting move both, an approach or retract the end at its row); a report of another program or scene
+// gives millimetres.
+double collision_distance_to_path(const ToolPath& path, const Tool& tool, const Collision& c);
+
 // unfixable_reason for each collision, and more: a collision of another part on rows where the ball
 // itself meets the same obstacle is the cutter passing through it, which no axis fixes either. `spans`:
 // collision_spans of the same collisions.
