@@ -94,6 +94,9 @@ int CsvTable::column(std::string_view name) const {
   return -1;
 }
 
+bool starts_with_utf8_bom(std::string_view text) { return text.substr(0, 3) == "\xEF\xBB\xBF"; }
+std::string_view without_utf8_bom(std::string_view text) { return starts_with_utf8_bom(text) ? text.substr(3) : text; }
+
 CsvTable read_csv(const fs::path& file) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) throw InputError(file.string(), 0, "", "is a directory, not a CSV file");
@@ -112,7 +115,7 @@ CsvTable read_csv(const fs::path& file) {
   };
   while (std::getline(in, line)) {
     ++n;
-    const std::string tl = trim(line);
+    const std::string tl = trim(n == 1 ? without_utf8_bom(line) : std::string_view(line));
     if (tl.empty() || tl[0] == '#') continue;
     if (tl.find('\0') != std::string::npos) throw InputError(file.string(), n, "", "binary data in a CSV file");
     auto cells = split(tl);

@@ -142,7 +142,7 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
     ++line;
     if (raw.find('\0') != std::string::npos) throw InputError(name, line, "", "binary data in a CLDATA file");
     if (finished) break;
-    std::string t = raw;
+    std::string t(line == 1 ? without_utf8_bom(raw) : std::string_view(raw));
     // "$$" starts a comment that runs to the end of the line, whether the line holds a record or not.
     if (const size_t c = t.find("$$"); c != std::string::npos) t.erase(c);
     while (!t.empty() && (t.back() == '\r' || t.back() == ' ' || t.back() == '\t')) t.pop_back();

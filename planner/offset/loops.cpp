@@ -316,8 +316,11 @@ void split_at_bridges(std::vector<Segment> chain, double tol, std::vector<std::v
 }
 
 // Stitches the valid slices end node to start node into closed contours.
+// A loop narrower than eps (its area below eps times half its length) is a sliver, not a contour: the
+// reversed piece of an arc whose radius the gap exceeds by less than eps closed two zero-area loops
+// beside the real contour (black-box testing).
 std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices, const std::vector<char>& valid,
-                                                double tol) {
+                                                double tol, double eps) {
   std::vector<std::vector<Segment>> contours;
   std::multimap<int, int> by_start;
   for (size_t k = 0; k < slices.size(); ++k)
@@ -333,7 +336,7 @@ std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices
     for (auto& loop : loops) {
       if (loop.size() < 2) continue;
       for (size_t s = 0; s < loop.size(); ++s) loop[(s + 1) % loop.size()].a = loop[s].b;
-      if (std::abs(signed_area(loop)) <= tol * tol) continue;
+      if (std::abs(signed_area(loop)) <= std::max(tol * tol, 0.5 * eps * chain_length(loop))) continue;
       contours.push_back(std::move(loop));
     }
   }
@@ -351,7 +354,7 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
   const std::vector<Slice> slices = cut_into_slices(raw, std::move(events), nodes, tol);
   std::vector<char> valid(slices.size());
   for (size_t k = 0; k < slices.size(); ++k) valid[k] = slice_valid(slices[k], field, eps);
-  std::vector<std::vector<Segment>> contours = stitch_slices(slices, valid, tol);
+  std::vector<std::vector<Segment>> contours = stitch_slices(slices, valid, tol, eps);
   drop_nested_same_orientation(contours);
   return contours;
 }
@@ -372,10 +375,10 @@ OffsetResult offset_profile(const Profile& profile, const GapLaw& law, const Off
   const double scale = std::max(1.0, box.diagonal().norm() + 2 * gmax);
   const double tol = 1e-10 * scale;
   const double sigma = (signed_area(profile.elements) > 0 ? 1.0 : -1.0) * (options.side == Side::Inside ? 1.0 : -1.0);
+  const double eps = 1e-8 * scale + (is_constant(law) ? 0.0 : 5 * options.arc_tolerance);
   const auto raw = raw_offset(profile, law, options, sigma, tol);
   result.raw_segments = static_cast<int>(raw.size());
   const auto field = make_clearance_field(profile, law);
-  const double eps = 1e-8 * scale + (is_constant(law) ? 0.0 : 5 * options.arc_tolerance);
   result.contours = remove_loops(raw, *field, tol, eps, &result.crossings);
   if (options.corner == Corner::Sharp) apply_sharp_corners(result.contours, *field, options.miter_limit, eps);
   if (!is_constant(law)) mark_transitions(result.contours, *field, std::max(2.5 * options.arc_tolerance, 1e-9 * scale));

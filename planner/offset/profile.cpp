@@ -49,7 +49,7 @@ Segment element_segment(const Vector2d& a, const Vector2d& b, double R, bool lon
   s.a = a;
   s.b = b;
   s.c = 0.5 * (a + b) + side * h * left;
-  s.r = r;
+  s.r = std::max(r, 0.5 * L);  // a half circle whose decimal chord is a hair longer than 2|R|
   const double half = std::asin(std::min(1.0, 0.5 * L / r));
   const double sw = long_arc ? 2 * std::numbers::pi - 2 * half : 2 * half;
   s.sweep = R > 0 ? sw : -sw;
@@ -72,7 +72,7 @@ Profile parse_profile(std::string_view text, const std::string& file) {
     msg << what << " " << v << " is beyond +-1000000 mm";
     throw InputError(file, line, field, msg.str());
   };
-  std::istringstream in{std::string(text)};
+  std::istringstream in{std::string(without_utf8_bom(text))};
   std::string line;
   int n = 0;
   bool have_start = false;
@@ -110,7 +110,9 @@ Profile parse_profile(std::string_view text, const std::string& file) {
     }
     const double L = e.chord.norm();
     if (L == 0) throw InputError(file, n, "DX", "element of zero length (DX = DY = 0)");
-    if (e.R != 0 && L > 2 * std::abs(e.R) * (1 + 1e-12) + 1e-12)
+    // A half circle written in decimals (R 1.41421356 over the chord (2, 2)) has its chord up to about
+    // 1e-8 longer than 2|R|; it was refused (black-box testing).
+    if (e.R != 0 && L > 2 * std::abs(e.R) * (1 + 1e-9) + 2e-8)
       throw InputError(file, n, "R", "chord " + fixed(L, 9) + " is longer than the arc's diameter 2|R| = " +
                                          fixed(2 * std::abs(e.R), 9));
     raw.push_back(e);
@@ -134,7 +136,7 @@ Profile parse_profile(std::string_view text, const std::string& file) {
     const Vector2d b = i + 1 == raw.size() ? start : Vector2d(a + raw[i].chord);
     if (i + 1 == raw.size()) {
       const double L = (b - a).norm();
-      if (L == 0 || (raw[i].R != 0 && L > 2 * std::abs(raw[i].R) * (1 + 1e-9)))
+      if (L == 0 || (raw[i].R != 0 && L > 2 * std::abs(raw[i].R) * (1 + 1e-9) + 2e-8))
         throw InputError(file, raw[i].line, "", "the closing element degenerates when snapped onto START");
     }
     Segment s = element_segment(a, b, raw[i].R, raw[i].long_arc);

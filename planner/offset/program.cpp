@@ -214,6 +214,23 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
         f = feed;
       }
     };
+    // A flush every retract_every_mm of path: a move longer than what is left to the next one is cut
+    // there (the retracts had come only at the ends of moves: 98 mm between flushes on a 100 mm square,
+    // black-box testing). A rest shorter than kMinPieceMm stays with its piece.
+    auto emit_path = [&](const Segment& s) {
+      const double L = length(s);
+      double t = 0;
+      while (o.retract_every_mm > 0 && L > 0) {
+        const double left = o.retract_every_mm - since_retract;
+        if ((1 - t) * L <= left + kMinPieceMm) break;
+        const double t1 = t + left / L;
+        emit(sub_segment(s, t, t1), true);
+        t = t1;
+      }
+      Segment rest = t == 0 ? s : sub_segment(s, t, 1.0);
+      rest.b = s.b;
+      emit(rest, true);
+    };
     if (rc.has_leads) {
       out << "(lead-in)\n";
       emit(rc.lead_in, false);
@@ -221,10 +238,10 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     out << "(path)\n";
     for (const auto& s : rc.path) {
       if (!o.voltage_follows_gap) {
-        emit(s, true);
+        emit_path(s);
         continue;
       }
-      for (const auto& piece : gap_pieces(s)) emit(piece, true);
+      for (const auto& piece : gap_pieces(s)) emit_path(piece);
     }
     if (rc.has_leads) {
       out << "(lead-out)\n";

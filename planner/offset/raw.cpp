@@ -88,7 +88,10 @@ std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigm
     } else if (r2 < -tol) {
       s = make_line(a2, b2);  // the arc vanished (R - D < 0): this piece is always inside, cut away later
     } else {
-      return out;  // R - D == 0: the offset degenerates to the centre point
+      // R - D == 0: the offset is the centre point. It is kept as a point so that each neighbour joins it
+      // about its own vertex; dropped, the neighbours were joined by one arc about the wrong vertex (an arc
+      // rs274 refuses and a gouge) or not at all ("empty"), black-box testing.
+      s = make_line(e.c, e.c);
     }
     s.kind = SegmentKind::Element;
     s.g0 = s.g1 = p.g0, s.line = e.line;
@@ -138,7 +141,8 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
     }
     // The offsets overlap: cut both at their crossing nearest the vertex (no local loop). Without one
     // (a neighbour too short), an arc about the vertex closes the chain; the loop it makes is removed later.
-    const auto xs = intersect(in, out, tol);
+    const bool points = length(in) <= tol || length(out) <= tol;  // a point has no crossing to cut at
+    const auto xs = points ? std::vector<Crossing>{} : intersect(in, out, tol);
     const Crossing* best = nullptr;
     for (const auto& c : xs)
       if (c.t1 > 1e-12 && c.t2 < 1 - 1e-12 && (!best || c.t1 > best->t1)) best = &c;

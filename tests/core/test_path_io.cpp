@@ -26,6 +26,18 @@ TEST(PathIO, CsvColumnsInAnyOrderWithFeed) {
   EXPECT_NEAR(p.arc_length()[1], 1.0, 1e-12);
 }
 
+// A spreadsheet's UTF-8 byte-order mark before the header is skipped: the first column had been read as
+// "\xEF\xBB\xBFx" and reported missing (black-box testing). Likewise before an APT file's first record.
+TEST(PathIO, ByteOrderMarkBeforeTheHeaderIsSkipped) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "p.csv", "\xEF\xBB\xBFx,y,z,nx,ny,nz\n1,2,3,0,0,1\n");
+  const auto p = tf::read_toolpath_csv(dir / "p.csv");
+  ASSERT_EQ(p.rows.size(), 1u);
+  EXPECT_EQ(p.rows[0].p.x(), 1.0);
+  tf::test::write_text(dir / "p.apt", "\xEF\xBB\xBFGOTO/0,0,50,0,0,1\nFINI\n");
+  EXPECT_EQ(tf::read_toolpath(dir / "p.apt", ball3()).rows.size(), 1u);
+}
+
 TEST(PathIO, CsvRoundTrip) {
   tf::test::TempDir dir;
   tf::ToolPath p;

@@ -208,6 +208,15 @@ TEST(Gcode, BadInputNamesFileLineWord) {
   expect_error("G0 X1 (open comment\n", 1, "(");
   expect_error("X1 Y2\n", 1, "G");                       // no motion mode yet
   expect_error("G0 X1 $\n", 1, "X1$");
+  // A UTF-8 byte-order mark first: rs274 refuses it ("Bad character"); the message had named a field of
+  // mojibake (black-box testing).
+  try {
+    parse("\xEF\xBB\xBFG0 X1\n", xyz());
+    ADD_FAILURE() << "no error for a byte-order mark";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_NE(std::string(e.what()).find("byte-order mark"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Gcode, FuzzedProgramsOnlyReturnOrThrowInputError) {

@@ -112,11 +112,11 @@ struct ClipperOutcome {
   int contours = 0;
 };
 
-// Clipper's offset of the polygonised profile (0.001 mm), round joins at 0.001 mm arc tolerance.
-inline ClipperOutcome clipper_offset(const Profile& p, double gap, Side side, bool sharp = false) {
+// Clipper's offset of the polygonised profile (`poly_tol` mm), round joins at the same arc tolerance.
+inline ClipperOutcome clipper_offset(const Profile& p, double gap, Side side, bool sharp = false, double poly_tol = 0.001) {
   const double scale = 1e6;
-  ClipperLib::Path path = polygonise(p, 0.001, scale);
-  ClipperLib::ClipperOffset co(1e6, 0.001 * scale);
+  ClipperLib::Path path = polygonise(p, poly_tol, scale);
+  ClipperLib::ClipperOffset co(1e6, poly_tol * scale);
   co.AddPath(path, sharp ? ClipperLib::jtMiter : ClipperLib::jtRound, ClipperLib::etClosedPolygon);
   ClipperLib::Paths out;
   co.Execute(out, (side == Side::Inside ? -gap : gap) * scale);

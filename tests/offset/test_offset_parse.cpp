@@ -36,6 +36,18 @@ TEST(OffsetParse, ReadsLinesArcsAndLongArcs) {
   EXPECT_LE((q.elements[1].c - Eigen::Vector2d(10 - std::sqrt(75.0), 5)).norm(), 1e-12);
 }
 
+// A half circle written in decimals has its chord a hair longer than 2|R| (R 1.41421356 over (2, 2): by
+// 7.5e-9); it was refused. A byte-order mark before START is skipped (both black-box testing).
+TEST(OffsetParse, DecimalHalfCircleAndByteOrderMark) {
+  const Profile p = parse_profile("\xEF\xBB\xBFSTART 0 0\n0 2 2\n1.41421356 -2 -2\n", "p");
+  ASSERT_EQ(p.elements.size(), 2u);
+  const Segment& arc = p.elements[1];
+  EXPECT_NEAR(std::abs(arc.sweep), M_PI, 1e-7);
+  EXPECT_NEAR((arc.a - arc.c).norm(), arc.r, 1e-12);
+  EXPECT_NEAR((arc.b - arc.c).norm(), arc.r, 1e-12);
+  EXPECT_EQ(line_of("START 0 0\n0 2 2\n1.4142 -2 -2\n"), 3);  // 2.8e-4 longer: a wrong radius
+}
+
 TEST(OffsetParse, RoundTripsThroughFormat) {
   const Profile p = scene_profile("blade_section.txt");
   const Profile q = parse_profile(format_profile(p), "again");

@@ -240,7 +240,13 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   for (const char* opt : {"-d 1e300 --side outside", "-d 2 --lead 1e9", "-d 2 --gap-blend 2e6", "-d 2 --z-safe 1e70",
                           "-d 2 --feed 1e300", "-d 2 --spindle 2e6", "-d 2 --target ecm --ecm-voltage 1e300",
                           "-d 2 --target ecm --ecm-flush 1e300", "-d 2 --target ecm --ecm-electrolyte-on M2",
-                          "-d 2 --target ecm --ecm-electrolyte-off M30", "-d 2 --gap-blend 1"}) {
+                          "-d 2 --target ecm --ecm-electrolyte-off M30", "-d 2 --gap-blend 1",
+                          // rs274 wants words with these, M64/M65 drive the generator, M99 restarts the
+                          // program, M50-M53 and M200 are no switch (black-box testing)
+                          "-d 2 --target ecm --ecm-electrolyte-on M64", "-d 2 --target ecm --ecm-electrolyte-on M62",
+                          "-d 2 --target ecm --ecm-electrolyte-on M68", "-d 2 --target ecm --ecm-electrolyte-on M99",
+                          "-d 2 --target ecm --ecm-electrolyte-off M98", "-d 2 --target ecm --ecm-electrolyte-off M50",
+                          "-d 2 --target ecm --ecm-electrolyte-off M200", "-d 2 --target ecm --ecm-electrolyte-on M12"}) {
     SCOPED_TRACE(opt);
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));
@@ -249,6 +255,55 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d inf -o " + ngc.string()), 2);
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d '' -o " + ngc.string()), 2);  // read as 0 before
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 --z-cut '' -o " + ngc.string()), 2);
+}
+
+// Electrolyte switches LinuxCNC runs on their own are taken, in either case: M7-M9 and user codes M100-M199.
+TEST(OffsetProgram, ElectrolyteCodesTheControllerRuns) {
+  const fs::path dir = fs::path(write_temp("x.txt", "")).parent_path();
+  const fs::path ngc = dir / "e.ngc";
+  ASSERT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 --target ecm --ecm-electrolyte-on m7 --ecm-electrolyte-off M107 -o " +
+                    ngc.string()),
+            0);
+  const std::string text = read_text(ngc);
+  EXPECT_THAT(text, ::testing::HasSubstr("\nM7 (electrolyte on)"));
+  EXPECT_THAT(text, ::testing::HasSubstr("\nM107 (electrolyte off)"));
+}
+
+// --ecm-retract-every flushes every so many mm of path, inside a long move too: the retracts had come only
+// at the ends of moves, 98 mm apart on a 100 mm square asked for every 7 (black-box testing).
+TEST(OffsetProgram, EcmRetractsEverySoManyMillimetres) {
+  const std::string profile = write_temp("sq100.txt", "START 0 0\n0 100 0\n0 0 100\n0 -100 0\n0 0 -100\n");
+  const fs::path ngc = fs::path(profile).parent_path() / "sq100.ngc";
+  ASSERT_EQ(run_cli(profile + " -d 1 --target ecm --ecm-retract-every 7 -o " + ngc.string()), 0);
+  std::istringstream in(read_text(ngc));
+  std::string line;
+  Eigen::Vector2d at(0, 0);
+  bool cutting = false;  // between the generator going on and off (chords of the leads' arcs: short)
+  double since = 0, longest = 0, path = 0;
+  int retracts = 0;
+  const auto word = [](const std::string& l, char w, double* v) {
+    const size_t k = l.find(w);
+    if (k == std::string::npos) return false;
+    *v = std::stod(l.substr(k + 1));
+    return true;
+  };
+  while (std::getline(in, line)) {
+    if (line.rfind("M64", 0) == 0) cutting = true, since = 0;
+    if (line.rfind("M65", 0) == 0) {
+      cutting = false, longest = std::max(longest, since);
+      if (line.find("retract") != std::string::npos) ++retracts;
+    }
+    double x = at.x(), y = at.y();
+    const bool motion = line.rfind("G0", 0) == 0 || line.rfind("G1", 0) == 0 || line.rfind("G2", 0) == 0 ||
+                        line.rfind("G3", 0) == 0 || line.rfind("X", 0) == 0 || line.rfind("Y", 0) == 0;
+    if (!motion || !(word(line, 'X', &x) | word(line, 'Y', &y))) continue;
+    const double d = (Eigen::Vector2d(x, y) - at).norm();
+    if (cutting) since += d, path += d;
+    at = {x, y};
+  }
+  EXPECT_GT(path, 390.0);  // the lines of the 98 x 98 inside offset, leads included
+  EXPECT_LE(longest, 7.0 + 1e-6);
+  EXPECT_GE(retracts, int(path / 7.0) - 1);
 }
 
 TEST(OffsetProgram, ArcsTooSmallForTheControllerGoOutAsLines) {

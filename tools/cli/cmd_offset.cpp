@@ -73,28 +73,34 @@ void check_program_options(const offset::MillingOptions& m, const offset::EcmOpt
   for (const auto& [v, field] : {std::pair{e.flush_dwell_s, "ecm-flush"}, std::pair{e.start_dwell_s, "ecm-dwell"}, std::pair{e.end_dwell_s, "ecm-end-dwell"}})
     check_length(v, field, "s");
 }
-// An M code for the electrolyte: M and one to three digits, and not one whose meaning would break the
-// program (a stop or program end, the spindle, a tool change), which LinuxCNC would obey mid-program.
-void check_mcode(const std::string& code, const char* field) {
+// An M code for the electrolyte, as LinuxCNC reads it standalone: M7, M8, M9 (coolant) or a user M code
+// M100-M199 (a program file of that name on the controller). The others stop or end the program, drive
+// the spindle, change the tool, need P, Q or E words (M61-M68: M64 and M65 also drive the generator's own
+// output), call or return (M98, M99) or are unknown (rs274 refuses them); they were accepted (black-box
+// testing). Lower case is read as upper case.
+std::string checked_mcode(const std::string& typed, const char* field) {
+  std::string code;
+  for (unsigned char c : typed) code += static_cast<char>(std::toupper(c));
   const bool digits = code.size() >= 2 && code.size() <= 4 &&
                       std::all_of(code.begin() + 1, code.end(), [](unsigned char c) { return std::isdigit(c); });
   if (code.empty() || code[0] != 'M' || !digits) {
     std::string shown_code;  // one line, whatever was typed
-    for (unsigned char c : code) shown_code += std::isprint(c) ? std::string(1, char(c)) : "?";
+    for (unsigned char c : typed) shown_code += std::isprint(c) ? std::string(1, char(c)) : "?";
     throw InputError("", 0, field, "expected an M-code like M8, got '" + shown_code + "'");
   }
   const int m = std::stoi(code.substr(1));
-  for (int reserved : {0, 1, 2, 3, 4, 5, 6, 30, 60})
-    if (m == reserved)
-      throw InputError("", 0, field, code + " stops, ends the program, drives the spindle or changes the tool; use the machine's electrolyte M code");
+  if (m == 7 || m == 8 || m == 9 || (m >= 100 && m <= 199)) return "M" + std::to_string(m);
+  throw InputError("", 0, field,
+                   code + " is not an electrolyte switch LinuxCNC runs on its own (it stops or ends the program, drives the spindle or "
+                          "an output, needs other words, or is unknown); use M7, M8, M9 or a user M code M100-M199");
 }
 
-void run_offset(const OffsetCliOptions& o) {
+void run_offset(OffsetCliOptions o) {
   check_outputs_apart({{"-o", o.out}, {"--svg", o.svg}, {"--profile-out", o.profile_out}}, {o.profile, o.gap_law, o.mesh});
   check_positive(o.gap, "gap");
   check_program_options(o.milling, o.ecm);
-  check_mcode(o.ecm.electrolyte_on, "ecm-electrolyte-on");
-  check_mcode(o.ecm.electrolyte_off, "ecm-electrolyte-off");
+  o.ecm.electrolyte_on = checked_mcode(o.ecm.electrolyte_on, "ecm-electrolyte-on");
+  o.ecm.electrolyte_off = checked_mcode(o.ecm.electrolyte_off, "ecm-electrolyte-off");
   check_not_negative(o.lead, "lead");
   check_not_negative(o.gap_blend, "gap-blend");
   check_length(o.gap, "gap");

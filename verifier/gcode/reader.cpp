@@ -485,6 +485,9 @@ GcodeOptions gcode_options(const Scene& scene) {
 }
 
 Program parse_gcode(std::string_view text, const std::string& file, const MachineSpec& machine, const GcodeOptions& options) {
+  // rs274 stops at it ("Bad character '\357' used"); the message had named a field of mojibake.
+  if (starts_with_utf8_bom(text))
+    throw InputError(file, 1, "", "starts with a UTF-8 byte-order mark, which LinuxCNC refuses; save the program without it");
   gcode::Reader reader(file, machine, options);
   reader.run(gcode::split_lines(text));
   return reader.finish();

@@ -130,7 +130,7 @@ double& axis_ref(Axes& a, char w) {
 
 std::vector<Operation> parse_grind_program(const std::string& text, const std::string& file, const Axes& start) {
   std::vector<Operation> ops;
-  std::istringstream in(text);
+  std::istringstream in{std::string(without_utf8_bom(text))};
   std::string raw;
   int n = 0;
   Axes pos = start;

@@ -21,6 +21,12 @@ void write_path_atomic(const std::filesystem::path& file,
 // The whole file as bytes. Throws InputError(file, 0, "", "cannot read the <what>") when it cannot be read.
 std::string read_text_file(const std::filesystem::path& file, const std::string& what = "file");
 
+// `text` without the UTF-8 byte-order mark (EF BB BF) that some Windows editors and spreadsheets write
+// first; the CSV, profile, CLDATA and grinding-program readers skip it (a CSV's first column was read as
+// "\xEF\xBB\xBFx", "missing column x"). G-code keeps it: rs274 refuses it, and so does the reader.
+std::string_view without_utf8_bom(std::string_view text);
+bool starts_with_utf8_bom(std::string_view text);
+
 // Formats a number in fixed notation with at most `decimals` decimals, trailing zeros and a trailing
 // point removed, "-0" written as "0". Never scientific notation.
 std::string fixed(double v, int decimals);
