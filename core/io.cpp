@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -32,11 +34,50 @@ std::string trim(std::string_view s) {
 }
 }  // namespace
 
+namespace {
+// The file a write to `file` replaces: the one a link names (the link stays; renaming over the link had
+// replaced it with a regular file, its target unchanged), else `file` itself.
+fs::path replaced_by_write(const fs::path& file) {
+  std::error_code ec;
+  fs::path at = file;
+  for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(at, ec)); ++hops) {
+    const fs::path to = fs::read_symlink(at, ec);  // a link to a file not yet made is followed too
+    if (ec) return file;
+    at = to.is_absolute() ? to : at.parent_path() / to;
+  }
+  return at;
+}
+
+// An existing file that is neither regular nor a folder: a device (/dev/null) or a fifo. It is written in
+// place: renaming over it had replaced the device with a regular file (black-box testing, as root).
+bool is_special_file(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status s = fs::status(file, ec);
+  return !ec && fs::exists(s) && !fs::is_regular_file(s) && !fs::is_directory(s);
+}
+
+// Fills `out` and makes sure every byte reached the file: a full disk or a file-size limit had left a
+// cut-off file under the output's name with exit 0.
+void fill_checked(const fs::path& shown, const fs::path& path, bool temporary,
+                  const std::function<void(std::ostream&)>& fill) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw std::runtime_error(shown.string() + ": cannot write (folder missing or not writable)");
+  fill(out);
+  errno = 0;
+  out.flush();
+  out.close();
+  if (out.fail())
+    throw std::runtime_error(shown.string() + ": write failed" + (errno ? std::string(" (") + std::strerror(errno) + ")" : "") +
+                             (temporary ? "; an earlier file of that name is left as it was" : ""));
+}
+}  // namespace
+
 void write_path_atomic(const fs::path& file, const std::function<void(const fs::path&)>& write) {
-  const fs::path tmp = temporary_for(file);
+  const fs::path target = replaced_by_write(file);
+  const fs::path tmp = temporary_for(target);
   try {
     write(tmp);
-    fs::rename(tmp, file);
+    fs::rename(tmp, target);
   } catch (...) {
     std::error_code ec;
     fs::remove(tmp, ec);
@@ -45,13 +86,9 @@ void write_path_atomic(const fs::path& file, const std::function<void(const fs::
 }
 
 void write_file_atomic(const fs::path& file, const std::function<void(std::ostream&)>& fill) {
-  write_path_atomic(file, [&](const fs::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw std::runtime_error(file.string() + ": cannot write (folder missing or not writable)");
-    fill(out);
-    out.flush();
-    if (!out) throw std::runtime_error(file.string() + ": write failed");
-  });
+  const fs::path target = replaced_by_write(file);
+  if (is_special_file(target)) return fill_checked(file, target, false, fill);
+  write_path_atomic(target, [&](const fs::path& tmp) { fill_checked(file, tmp, true, fill); });
 }
 
 std::string fixed(double v, int decimals) {

@@ -96,21 +96,16 @@ void write_mesh(const Mesh& mesh, const fs::path& file) {
   check_mesh_format(file);
   const std::string ext = lower_extension(file);
   const OpenMesh::IO::Options opt = writer_options(mesh, ext);
-  write_path_atomic(file, [&](const fs::path& tmp) {
-    // OpenMesh picks the writer by extension; keep it on the temporary name.
-    fs::path named = tmp;
-    named += ext;
+  // Through our stream, whose every byte is checked: OpenMesh's own file writer reported success on a
+  // file cut off by a full disk, which then replaced the earlier mesh (black-box testing).
+  write_file_atomic(file, [&](std::ostream& out) {
+    if (ext == ".obj") out << std::fixed;  // as OpenMesh's file writer sets it: 5.000000, not 5
     bool ok = false;
     {
       const internal::QuietOpenMesh quiet;
-      ok = OpenMesh::IO::write_mesh(mesh, named.string(), opt);
+      ok = OpenMesh::IO::write_mesh(mesh, out, ext, opt);
     }
-    if (!ok) {
-      std::error_code ec;
-      fs::remove(named, ec);
-      throw std::runtime_error(file.string() + ": cannot write mesh");
-    }
-    fs::rename(named, tmp);
+    if (!ok) throw std::runtime_error(file.string() + ": cannot write mesh");
   });
 }
 

@@ -64,6 +64,18 @@ TEST(GcodeCycles, StickyWordsAndThePlaneOfTheHole) {
   EXPECT_NEAR(p.blocks[6].target.x, 8, 1e-12);
 }
 
+// rs274 takes L100000; the reader's bound on one block's moves refuses it, and says so (it had said "a
+// whole number >= 1", black-box testing).
+TEST(GcodeCycles, TooManyRepeatsNameTheBound) {
+  try {
+    parse_program("G0 X0 Y0 Z5\nG81 X0 Y0 Z-1 R1 L100000 F100\n", {}, MachineSpec{});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "L100000");
+    EXPECT_NE(std::string(e.what()).find("10 000"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GcodeCycles, ProgramsLinuxcncRefuses) {
   expect_gcode_error("G0 X0 Y0 Z5\nG81 X1 Y1 Z-1 F100\n", 2, "G81");               // no R
   expect_gcode_error("G0 X0 Y0 Z5\nG81 X1 Y1 R1 F100\n", 2, "G81");                // no Z

@@ -251,9 +251,40 @@ G1 Z#<_value>
 M2
 )";
 
+// CONTINUE in a DO loop: rs274 goes on at the next line of the loop's label and runs it, so a BREAK on the
+// way (in an IF not taken) leaves the loop; the reader had followed the text (black-box testing). In the
+// main program: inside a subroutine rs274's later IFs and loops then misbehave, which is not modelled.
+const char* const kDoContinue = R"(G21 G90 G94
+T1 M6
+G43 H1
+G0 X0 Y0 Z5 A0 C0
+#<i> = 3
+o7 do
+  #<i> = [#<i> + 1]
+  o8 if [#<i> EQ 5]
+    o7 continue
+  o8 endif
+  G1 X[#<i>] F100
+  o9 if [#<i> GT 100]
+    o7 break
+  o9 endif
+o7 while [#<i> LT 8]
+o11 do
+  #<i> = [#<i> + 1]
+  o12 if [#<i> EQ 7]
+    o11 continue
+  o12 endif
+  G1 Y[#<i>]
+o11 while [#<i> LT 9]
+M2
+)";
+
 TEST(Rs274Judge, SubroutinesAndControlFlow) {
   TF_REQUIRE_RS274();
   expect_same_motion(judge(kControlFlow, library(), trt_joint()), "control flow");
+  const Judged j = judge(kDoContinue, library(), trt_joint());
+  expect_same_motion(j, "DO with CONTINUE");
+  EXPECT_EQ(j.program.blocks.size(), 5u);  // the rapid, X4 (then out at i = 5), Y6, Y8, Y9
 }
 
 // Fanuc-style subprograms as a Fanuc post writes them: the program number first, M98 P with and without

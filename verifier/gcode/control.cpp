@@ -230,9 +230,15 @@ void Reader::break_or_continue(const OLine& o, size_t at, size_t& next) {
     loops_.pop_back();  // CONTINUE: the WHILE opens it again if its condition holds
     return;
   }
-  const size_t end = find_o_word(at, o.word, {"WHILE"});  // DO's WHILE tests its condition
-  if (leave) loops_.pop_back();
-  next = leave ? end + 1 : end;
+  if (leave) {
+    loops_.pop_back();
+    next = find_o_word(at, o.word, {"WHILE"}) + 1;
+    return;
+  }
+  // CONTINUE in a DO loop goes on at the next line of its label, which rs274 then runs: DO's WHILE tests
+  // its condition, but a BREAK of the loop on the way (inside an IF not taken) leaves it. LinuxCNC's
+  // machines run that way; the reader had followed the text (black-box testing against rs274).
+  next = find_o_word(at, o.word, {"WHILE", "BREAK", "CONTINUE"});
 }
 
 bool Reader::condition(const OLine& o, int number) {
