@@ -41,20 +41,25 @@ TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   EXPECT_LT(mid.axis.y(), -0.02) << mid.axis.transpose();
 }
 
+// The scene's path rows with a vertical axis, each moved by `shift`.
+tf::OrientedPath vertical_rows(const tf::Scene& scene, const Eigen::Vector3d& shift) {
+  tf::OrientedPath out;
+  for (const auto& r : scene.path.rows) {
+    tf::OrientedRow o;
+    o.p = r.p + shift;
+    o.axis = Eigen::Vector3d::UnitZ();
+    out.rows.push_back(o);
+  }
+  return out;
+}
+
 // An oriented path of another path (the same row count, other points) is bad input, not re-planned at
 // the scene's points with clearances measured at its own (found in review).
 TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
   tf::test::TempDir dir;
   const fs::path scene_file = write_hidden_post_scene(dir);
   const tf::Scene scene = tf::load_scene(scene_file);
-  tf::OrientedPath shifted;
-  for (const auto& r : scene.path.rows) {
-    tf::OrientedRow o;
-    o.p = r.p + Eigen::Vector3d(500, 0, 0);
-    o.axis = Eigen::Vector3d::UnitZ();
-    shifted.rows.push_back(o);
-  }
-  tf::write_oriented_csv(shifted, dir / "shifted.csv");
+  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d(500, 0, 0)), dir / "shifted.csv");
   const auto r = tf::test::run_command(std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
                                        (dir / "shifted.csv").string() + " " + (dir / "verify.json").string() +
                                        " -o " + (dir / "out.csv").string());
@@ -64,7 +69,6 @@ TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 
-
 // A verification report of another program (its blocks millimetres from this path) is bad input: it had
 // been re-planned at whatever rows lay nearest (black-box testing). The same report moved onto the path
 // is re-planned.
@@ -72,14 +76,7 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   tf::test::TempDir dir;
   const fs::path scene_file = write_hidden_post_scene(dir);
   const tf::Scene scene = tf::load_scene(scene_file);
-  tf::OrientedPath oriented;
-  for (const auto& r : scene.path.rows) {
-    tf::OrientedRow o;
-    o.p = r.p;
-    o.axis = Eigen::Vector3d::UnitZ();
-    oriented.rows.push_back(o);
-  }
-  tf::write_oriented_csv(oriented, dir / "p.csv");
+  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
   const double cl = scene.tool.cl_height();
   const auto report = [&](const Eigen::Vector3d& shift) {
     const Eigen::Vector3d a = scene.path.rows[100].p - cl * Eigen::Vector3d::UnitZ() + shift;
