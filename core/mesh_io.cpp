@@ -152,6 +152,25 @@ bool is_closed(const Mesh& mesh) {
   return true;
 }
 
+size_t connected_pieces(const Mesh& mesh) {
+  std::vector<char> seen(mesh.n_faces(), 0);
+  std::vector<Mesh::FaceHandle> stack;
+  size_t pieces = 0;
+  for (auto f : mesh.faces()) {
+    if (seen[f.idx()]) continue;
+    ++pieces;
+    seen[f.idx()] = 1;
+    stack.push_back(f);
+    while (!stack.empty()) {
+      const Mesh::FaceHandle g = stack.back();
+      stack.pop_back();
+      for (auto h : mesh.ff_range(g))
+        if (!seen[h.idx()]) seen[h.idx()] = 1, stack.push_back(h);
+    }
+  }
+  return pieces;
+}
+
 double signed_volume(const Mesh& mesh) {
   double v6 = 0.0;
   for (auto f : mesh.faces()) {

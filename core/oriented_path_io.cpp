@@ -9,7 +9,16 @@
 namespace tf {
 
 Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool) {
-  return row.p - tool.cl_height() * row.axis.normalized();
+  const Eigen::Vector3d a = row.axis.normalized();
+  return row.p + tool.contact_offset(row.n, a) - tool.cl_height() * a;
+}
+
+bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
+  if (oriented.rows.size() != path.rows.size()) return false;
+  for (size_t i = 0; i < path.rows.size(); ++i)
+    if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3) return false;
+  for (size_t i = 0; i < path.rows.size(); ++i) oriented.rows[i].n = path.rows[i].n;
+  return true;
 }
 
 namespace fs = std::filesystem;

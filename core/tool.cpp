@@ -29,6 +29,15 @@ double Tool::cl_height() const {
 double Tool::end_height() const {
   return std::visit([](const auto& c) { return c.end_height(); }, cutter);
 }
+Eigen::Vector3d Tool::contact_offset(const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const {
+  if (std::holds_alternative<BallCutter>(cutter) || n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
+  const double R = radius(), r = cl_height();  // r: the corner radius (0 for a flat end)
+  const Eigen::Vector3d a = axis.normalized(), normal_part = n.normalized() - n.normalized().dot(a) * a;
+  // The end dips R sin(t) (1 - f) below the surface with f the fraction of the move made: at most 0.001 mm.
+  const double blend = 1e-3 / R;
+  return (R - r) / std::max(normal_part.norm(), blend) * normal_part;
+}
+
 std::string_view Tool::type_name() const {
   if (std::holds_alternative<BallCutter>(cutter)) return "ball";
   if (std::holds_alternative<FlatCutter>(cutter)) return "flat";

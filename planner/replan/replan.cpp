@@ -68,12 +68,15 @@ std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<do
 std::optional<std::vector<Eigen::Vector3d>> blend_in_rotaries(const std::vector<Eigen::Vector3d>& cl,
                                                               const std::vector<Eigen::Vector3d>& old_axes,
                                                               const std::vector<Eigen::Vector3d>& new_axes,
-                                                              const std::vector<double>& weights, double cl_height,
+                                                              const std::vector<double>& weights, const Tool& tool,
+                                                              const std::vector<Eigen::Vector3d>& normals,
                                                               const Kinematics& kin) {
   std::vector<Eigen::Vector3d> out;
   Joints prev;
   for (size_t i = 0; i < cl.size(); ++i) {
-    const auto pose = [&](const Eigen::Vector3d& a) { return ToolPose{cl[i] - cl_height * a, a}; };
+    const auto pose = [&](const Eigen::Vector3d& a) {
+      return ToolPose{cl[i] + tool.contact_offset(normals[i], a) - tool.cl_height() * a, a};
+    };
     const std::optional<Joints> j0 = kin.inverse_nearest(pose(old_axes[i].normalized()), prev);
     if (!j0) return std::nullopt;
     const std::optional<Joints> j1 = kin.inverse_nearest(pose(new_axes[i].normalized()), *j0);
@@ -91,15 +94,18 @@ std::optional<std::vector<Eigen::Vector3d>> blend_in_rotaries(const std::vector<
 
 std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, const std::vector<Eigen::Vector3d>& old_axes,
                                         const std::vector<Eigen::Vector3d>& new_axes, const std::vector<double>& weights,
-                                        double cl_height, const Kinematics* kin) {
+                                        const Tool& tool, const std::vector<Eigen::Vector3d>& normals,
+                                        const Kinematics* kin) {
   std::vector<Eigen::Vector3d> out;
   bool reached = true;
   for (size_t i = 0; i < cl.size(); ++i) {
-    out.push_back(slerp_axis(old_axes[i], new_axes[i], weights[i]).normalized());
-    if (kin && reached) reached = !kin->inverse(ToolPose{cl[i] - cl_height * out.back(), out.back()}, Joints{}).empty();
+    const Eigen::Vector3d a = slerp_axis(old_axes[i], new_axes[i], weights[i]).normalized();
+    out.push_back(a);
+    const Eigen::Vector3d tip = cl[i] + tool.contact_offset(normals[i], a) - tool.cl_height() * a;
+    if (kin && reached) reached = !kin->inverse(ToolPose{tip, a}, Joints{}).empty();
   }
   if (reached) return out;
-  return blend_in_rotaries(cl, old_axes, new_axes, weights, cl_height, *kin).value_or(out);
+  return blend_in_rotaries(cl, old_axes, new_axes, weights, tool, normals, *kin).value_or(out);
 }
 
 namespace {
@@ -225,7 +231,7 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
                                          scene.machine ? &*scene.machine : nullptr);
     const double s0 = arc[w.first], length = arc[w.last] - s0;
     const double ramp = std::min(blend, 0.5 * length);
-    std::vector<Eigen::Vector3d> cl, old_axes, new_axes;
+    std::vector<Eigen::Vector3d> cl, old_axes, new_axes, normals;
     std::vector<double> weights;
     for (size_t i = w.first; i <= w.last; ++i) {
       const double s = arc[i] - s0;
@@ -234,10 +240,11 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
       const double from_start = w.first == 0 ? kInfinity : s, to_end = w.last + 1 == n ? kInfinity : length - s;
       weights.push_back(ramp > 0 ? smoothstep(std::min({from_start, to_end, ramp}) / ramp) : 1.0);
       cl.push_back(path.rows[i].p);
+      normals.push_back(original.rows[i].n);
       old_axes.push_back(original.rows[i].axis);
       new_axes.push_back(planned.path.rows[i - w.first].axis);
     }
-    const std::vector<Eigen::Vector3d> blended = blend_axes(cl, old_axes, new_axes, weights, scene.tool.cl_height(), kin ? &*kin : nullptr);
+    const std::vector<Eigen::Vector3d> blended = blend_axes(cl, old_axes, new_axes, weights, scene.tool, normals, kin ? &*kin : nullptr);
     for (size_t i = w.first; i <= w.last; ++i) {
       const Eigen::Vector3d& old_axis = original.rows[i].axis;
       OrientedRow& row = result.path.rows[i];
@@ -268,8 +275,7 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   if (kin) {
     for (size_t i : rows) {
       const OrientedRow& r = result.path.rows[i];
-      const Eigen::Vector3d axis = r.axis.normalized();
-      if (kin->inverse(ToolPose{r.p - scene.tool.cl_height() * axis, axis}, Joints{}).empty())
+      if (kin->inverse(ToolPose{row_tip(r, scene.tool), r.axis.normalized()}, Joints{}).empty())
         result.unreachable.push_back(i);
     }
   }

@@ -171,7 +171,7 @@ void prefetch_nominal_bricks(const PlanContext& ctx, const ClearanceBvh& bvh, co
   for (size_t i = 0; i < n; ++i) {
     if (ctx.arc[i] < next && i + 1 != n) continue;
     next = ctx.arc[i] + 0.5 * brick;
-    for (const auto& ch : samples.chunks) centres.push_back(ctx.path->rows[i].p + ch.hc * ctx.nominal[i]);
+    for (const auto& ch : samples.chunks) centres.push_back(ctx.cutter_location(i, ctx.nominal[i]) + ch.hc * ctx.nominal[i]);
   }
   std::vector<char> near(centres.size(), 0);
   tbb::parallel_for(size_t{0}, centres.size(), [&](size_t k) {
@@ -246,9 +246,17 @@ void integrate_and_clear(const PlanContext& ctx, const std::vector<PotentialSour
   ClearingBehind shared;
   tbb::task_group background;
   background.run([&] { clear_behind(ctx, axes, clear, metrics, shared); });
+  // The body turns about its cutter location; a flat or bull end's moves with the axis to keep its
+  // contact, taken here at the nominal axis (the dynamics' torques ignore that motion: the clearances and
+  // corrections after them are exact at each axis's own cutter location).
+  ToolPath pivots;
+  if (!std::holds_alternative<BallCutter>(ctx.tool->cutter)) {
+    pivots = *ctx.path;
+    for (size_t i = 0; i < n; ++i) pivots.rows[i].p = ctx.cutter_location(i, ctx.nominal[i]);
+  }
   {
     StopAndJoin join{shared.stop, background};
-    integrate_axes(*ctx.path, ctx.frames, ctx.nominal, ctx.feed, sources,
+    integrate_axes(pivots.rows.empty() ? *ctx.path : pivots, ctx.frames, ctx.nominal, ctx.feed, sources,
                    dynamics_params(ctx.options, *ctx.tool, ctx.basics), progress, axes, &shared.published);
     report(progress, "plan", 0.7);
     stage("axes");
@@ -340,6 +348,7 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
   for (size_t i = 0; i < n; ++i) {
     OrientedRow& o = result.path.rows[i];
     o.p = path.rows[i].p;
+    o.n = path.rows[i].n;
     o.axis = axes[i].normalized();
     const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], o.axis);
     o.lead_deg = lt.x();

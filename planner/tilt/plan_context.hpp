@@ -46,16 +46,22 @@ struct PlanContext {
 
   bool reachable(size_t row, const Eigen::Vector3d& axis) const {
     if (!kinematics) return true;
-    const ToolPose pose{path->rows[row].p - tool->cl_height() * axis, axis};
-    return !kinematics->inverse(pose, Joints{}).empty();
+    return !kinematics->inverse(ToolPose{tip(row, axis), axis}, Joints{}).empty();
   }
 
-  Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {path->rows[row].p, axis}; }
+  // The cutter location of `row` at `axis`: the row's point, moved for a flat or bull end so that the
+  // end keeps its contact (Tool::contact_offset; a ball turns about the point itself).
+  Eigen::Vector3d cutter_location(size_t row, const Eigen::Vector3d& axis) const {
+    return path->rows[row].p + tool->contact_offset(path->rows[row].n, axis);
+  }
+  Eigen::Vector3d tip(size_t row, const Eigen::Vector3d& axis) const {
+    return cutter_location(row, axis) - tool->cl_height() * axis;
+  }
+  Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {cutter_location(row, axis), axis}; }
   // True when rows `row` and `row` + 1 at axes a0, a1 have tips farther apart than the link gap: the post
   // links them (retract, rapid, approach), so the motion between them is no cutting motion.
   bool linked(size_t row, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1) const {
-    const double h = tool->cl_height();
-    return ((path->rows[row + 1].p - h * a1) - (path->rows[row].p - h * a0)).norm() > options.link_gap_mm;
+    return (tip(row + 1, a1) - tip(row, a0)).norm() > options.link_gap_mm;
   }
   // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;

@@ -342,8 +342,9 @@ std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::ve
   out.reserve(rows.size());
   for (size_t i : rows) {
     const OrientedRow& row = path.rows.at(i);
-    const BodyClearance c = body_clearance(checks, pieces, required, {row.p, row.axis});
-    const BodyClearance f = body_clearance(fixtures, pieces, fixture_required, {row.p, row.axis});
+    const Pose pose{row.p + tool.contact_offset(row.n, row.axis), row.axis};
+    const BodyClearance c = body_clearance(checks, pieces, required, pose);
+    const BodyClearance f = body_clearance(fixtures, pieces, fixture_required, pose);
     out.push_back({std::min(c.distance, f.distance), std::min(c.margin, f.margin)});
   }
   return out;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "tiltfield/core/error.hpp"
@@ -78,6 +79,43 @@ TEST(Tool, SamplesCoverEveryComponentOnTheSurface) {
     EXPECT_GT(holder_seg[0], 0);
     EXPECT_GT(holder_seg[1], 0);
   }
+}
+
+// A flat or bull end's cutter location moves with the axis so that the end touches the plane through the
+// contact point (the row point less the corner radius times n) and goes no deeper, whatever the tilt; a
+// ball's does not move. Turned about the row point, a flat R3 tilted 20 deg dug 1.03 mm in (black-box
+// testing). Checked on the end form's surface samples, 0.02 mm apart.
+TEST(Tool, FlatAndBullEndsKeepTheirContactWhenTilted) {
+  tf::Tool ball;  // short bodies: only the end form matters here
+  ball.cutter = tf::BallCutter{3.0};
+  ball.flute_length = 3.5, ball.length = 4, ball.holder.clear();
+  tf::Tool flat = ball, bull = ball;
+  flat.cutter = tf::FlatCutter{3.0};
+  bull.cutter = tf::BullCutter{3.0, 1.0};
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.3, 1.0).normalized();
+  const Eigen::Vector3d side = n.unitOrthogonal(), side2 = n.cross(side);
+  const Eigen::Vector3d row(10, -4, 7);
+  for (const tf::Tool& tool : {ball, flat, bull}) {
+    const double r = tool.cl_height();  // the corner radius; the ball's radius
+    const Eigen::Vector3d contact = row - r * n;
+    const std::vector<tf::ToolSample> end = tool.sample_surface(0.02);
+    for (double tilt_deg : {0.0, 0.5, 5.0, 20.0, 45.0})
+      for (double azimuth_deg : {0.0, 100.0, 230.0}) {
+        const double t = tilt_deg * M_PI / 180, z = azimuth_deg * M_PI / 180;
+        const Eigen::Vector3d a = std::cos(t) * n + std::sin(t) * (std::cos(z) * side + std::sin(z) * side2);
+        const Eigen::Vector3d tip = row + tool.contact_offset(n, a) - tool.cl_height() * a;
+        const Eigen::Matrix3d frame = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), a).toRotationMatrix();
+        double lowest = 1e9;
+        for (const tf::ToolSample& sample : end)
+          if (sample.component == tf::ToolComponent::Ball || sample.p.z() < 1e-9)
+            lowest = std::min(lowest, n.dot(tip + frame * sample.p - contact));
+        SCOPED_TRACE(std::string(tool.type_name()) + " tilt " + std::to_string(tilt_deg));
+        EXPECT_GT(lowest, -1e-3);  // never into the surface (the blend at the axis along n: 0.001 mm)
+        EXPECT_LT(lowest, 2e-3);   // and touching it (the samples' spacing)
+      }
+    EXPECT_EQ(tool.contact_offset(Eigen::Vector3d::Zero(), n), Eigen::Vector3d::Zero());  // normal unknown
+  }
+  EXPECT_EQ(ball_tool().contact_offset(n, side), Eigen::Vector3d::Zero());
 }
 
 TEST(Tool, ValidationNamesTheField) {

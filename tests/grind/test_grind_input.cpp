@@ -195,6 +195,42 @@ TEST(GrindInput, AMoveNeedingTooManyIncrementsIsRefused) {
   EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply"));
 }
 
+// A grind the machine has not the memory for is refused before the work, naming --spacing: a million
+// sections of a large blank had been accepted and ended in std::bad_alloc (black-box testing). The
+// estimate is a lower bound of 400 bytes a point of the blank's circle a section (1.4 TB here).
+TEST(GrindInput, SectionsBeyondTheMachinesMemoryAreRefused) {
+  test::TempDir dir;
+  test::write_text(dir / "grind.json", R"({"blank": {"radius": 5000, "length": 1000}, "wheel": {"radius": 40,
+    "thickness": 4}, "start": {"y": 6000}, "program": ["OP fluting f", "G0 Y5030", "G1 A360"]})");
+  const auto r = test::run_tiltfield("grind grind.json -o tool.ply --spacing 0.001", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(test::count_lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("'--spacing': the sections need at least"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "tool.ply"));
+  SectionOptions o;
+  o.spacing = 0.001;
+  EXPECT_GT(minimum_section_bytes(load_grind_scene(dir / "grind.json"), o), 1e12);
+}
+
+// A wheel that never reaches the blank, and a pass that grinds the blank in two, are said (both had passed
+// without a word, black-box testing); the end mill gets neither warning.
+TEST(GrindInput, NoMaterialTakenAndSeveralPiecesAreWarned) {
+  test::TempDir dir;
+  const std::string head = R"({"blank": {"radius": 5, "length": 30}, "wheel": {"radius": 40, "thickness": 4},
+    "start": {"y": 80}, "program": )";
+  test::write_text(dir / "air.json", head + R"(["OP fluting f", "G0 Y60", "G1 A360", "G1 Z50"]})");
+  test::write_text(dir / "two.json", head + R"(["OP notching cut", "G0 W90 X15 Y40 Z0", "G1 Y-40", "G0 Y80"]})");
+  const std::string grind = "cd '" + dir.path().string() + "' && '" + TILTFIELD_EXE + "' grind ";  // not quiet
+  auto r = test::run_command(grind + "air.json -o air.ply --spacing 0.5");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: the wheel takes no material from any section"), std::string::npos) << r.out;
+  r = test::run_command(grind + "two.json -o two.ply --spacing 0.5");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: the tool comes out in 2 separate pieces"), std::string::npos) << r.out;
+  EXPECT_EQ(connected_pieces(load_mesh(dir / "two.ply")), 2u);
+  EXPECT_EQ(r.out.find("no material"), std::string::npos) << r.out;
+}
+
 TEST(GrindInput, ProgramModesAndComments) {
   const auto ops = parse_grind_program(
       "OP gashing g (comment) \nN10 G91 G1 X1 Y2 ; rest\nX1\nG90 G0 A30 W-5\nOP notching\nU2\n", "p", Axes{});

@@ -194,14 +194,17 @@ TEST(Replan, BlendLeavingTheMachinesReachIsMadeInItsRotaries) {
   auto reached = [&](const Eigen::Vector3d& a) { return !kin.inverse(tf::ToolPose{Eigen::Vector3d(10, 5, 20) - 3.0 * a, a}, tf::Joints{}).empty(); };
   ASSERT_TRUE(reached(old_axes[0]) && reached(new_axes[0]));
   ASSERT_FALSE(reached(tf::slerp_axis(old_axes[0], new_axes[0], 0.5)));  // the great circle leaves the reach
-  const std::vector<Eigen::Vector3d> b = tf::blend_axes(cl, old_axes, new_axes, weights, 3.0, &kin);
+  tf::Tool ball;
+  ball.cutter = tf::BallCutter{3.0};
+  const std::vector<Eigen::Vector3d> unknown(weights.size(), Eigen::Vector3d::Zero());
+  const std::vector<Eigen::Vector3d> b = tf::blend_axes(cl, old_axes, new_axes, weights, ball, unknown, &kin);
   ASSERT_EQ(b.size(), weights.size());
   for (const Eigen::Vector3d& a : b) EXPECT_TRUE(reached(a)) << a.transpose();
   EXPECT_LT((b.front() - old_axes[0]).norm(), 1e-9);
   EXPECT_LT((b.back() - new_axes[0]).norm(), 1e-9);
   EXPECT_NEAR(std::acos(b[2].z()) * 180.0 / M_PI, 99.0, 1e-6);  // A held, C half-way round
   // Without a machine, and where the great circle stays within reach, it is the great circle.
-  const std::vector<Eigen::Vector3d> plain = tf::blend_axes(cl, old_axes, new_axes, weights, 3.0, nullptr);
+  const std::vector<Eigen::Vector3d> plain = tf::blend_axes(cl, old_axes, new_axes, weights, ball, unknown, nullptr);
   EXPECT_LT((plain[2] - tf::slerp_axis(old_axes[0], new_axes[0], 0.5).normalized()).norm(), 1e-12);
 }
 

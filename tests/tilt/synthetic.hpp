@@ -117,10 +117,13 @@ inline FclCheck fcl_check(const OrientedPath& path, const Tool& tool, const std:
     if (c == ToolComponent::Holder) return basics.holder_clearance.value_or(basics.safety_distance);
     return basics.safety_distance;
   };
-  parts.push_back({std::make_shared<fcl::Sphered>(tool.radius()), 0.0, basics.safety_distance});
   auto cyl = [&](double h0, double h1, double r, ToolComponent c) {
     if (h1 - h0 > 1e-9) parts.push_back({std::make_shared<fcl::Cylinderd>(r, h1 - h0), 0.5 * (h0 + h1) - cl, req(c)});
   };
+  if (std::holds_alternative<BallCutter>(tool.cutter))
+    parts.push_back({std::make_shared<fcl::Sphered>(tool.radius()), 0.0, basics.safety_distance});
+  else
+    cyl(0.0, tool.end_height(), tool.radius(), ToolComponent::Ball);  // a bull's torus in its cylinder
   cyl(tool.end_height(), tool.flute_length, tool.radius(), ToolComponent::Flute);
   cyl(tool.flute_length, tool.length, tool.shank_radius, ToolComponent::Shank);
   double h = tool.length;
@@ -135,7 +138,7 @@ inline FclCheck fcl_check(const OrientedPath& path, const Tool& tool, const std:
     for (const auto& part : parts) {
       fcl::Transform3d tfm = fcl::Transform3d::Identity();
       tfm.linear() = R;
-      tfm.translation() = row.p + part.mid * row.axis;
+      tfm.translation() = row_tip(row, tool) + (cl + part.mid) * row.axis;  // a flat or bull end's moved CL
       fcl::CollisionObjectd obj(part.geom, tfm);
       fcl::DistanceRequestd rq;
       fcl::DistanceResultd rs;

@@ -53,6 +53,9 @@ CLI::Validator finite_number();
 // executable (build/scenes/NAME/scene.json). Throws InputError when it is missing.
 std::filesystem::path bundled_scene(const std::string& name);
 
+// The memory this machine has available now (Linux: MemAvailable of /proc/meminfo), bytes; 0 when unknown.
+double available_memory_bytes();
+
 void add_run_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_post_command(CLI::App& app);

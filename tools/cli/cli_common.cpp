@@ -3,7 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 #include "cli.hpp"
@@ -126,6 +128,17 @@ fs::path bundled_scene(const std::string& name) {
   if (!fs::exists(scene))
     throw InputError(scene.string(), 0, "", "bundled scene not found (build the 'bundled_scenes' target)");
   return scene;
+}
+
+double available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kb = 0;
+  while (in >> key >> kb) {
+    if (key == "MemAvailable:") return kb * 1024.0;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return 0.0;
 }
 
 }  // namespace tf::cli

@@ -30,6 +30,10 @@ void add_grind_command(CLI::App& app) {
     check_outputs_apart({{"-o", args.out}, {"--sections", args.svg}}, {args.scene, scene.program});
     if (scene.blank.length / args.sections.spacing > 1e6)
       throw InputError("", 0, "--spacing", "more than a million sections: use a larger spacing");
+    const double need = grind::minimum_section_bytes(scene, args.sections), have = available_memory_bytes();
+    if (have > 0 && need > have)
+      throw InputError("", 0, "--spacing", "the sections need at least " + fixed(need / 1e9, 1) + " GB, this machine has " +
+                                               fixed(have / 1e9, 1) + " GB available: use a larger spacing");
     const Progress progress = terminal_progress();
     const grind::SectionStack stack = grind::simulate_sections(scene, args.sections, progress);
     grind::TilingStats stats;
@@ -38,10 +42,16 @@ void add_grind_command(CLI::App& app) {
     if (!is_closed(mesh)) throw JobError("the rebuilt tool surface is not closed (please report this scene)");
     if (!args.svg.empty()) grind::write_sections_svg(stack, args.svg);
     write_mesh(mesh, args.out);
-    if (!global_options().quiet)
+    if (!global_options().quiet) {
       std::cerr << "grind: " << stack.sections.size() << " sections, " << mesh.n_faces() << " triangles, volume "
                 << fixed(signed_volume(mesh), 3) << " mm3, " << stats.branching_groups << " branching groups, "
                 << stats.fallback_slabs << " stair-stepped slabs\n";
+      // Both had passed without a word: the mesh the plain blank, or two tools (black-box testing).
+      if (stack.sections_ground == 0)
+        std::cerr << "warning: the wheel takes no material from any section: the tool is the blank\n";
+      if (const size_t pieces = connected_pieces(mesh); pieces > 1)
+        std::cerr << "warning: the tool comes out in " << pieces << " separate pieces (the program grinds through the blank)\n";
+    }
   });
 }
 

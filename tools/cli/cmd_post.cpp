@@ -76,9 +76,15 @@ void run_post(PostArgs& a) {
   const Scene scene = load_scene(a.scene);
   check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented}));
   if (!scene.machine) throw InputError(a.scene, 0, "machine", "the scene names no machine; posting needs one");
-  const OrientedPath path = read_oriented_csv(a.oriented);
+  OrientedPath path = read_oriented_csv(a.oriented);
   PostJob job;
   set_post_job(job, scene, o.tool_number);
+  // A flat or bull end's cutter location follows its axis to keep the contact the path row says: it needs
+  // the row's design normal, which the scene's path holds (Tool::contact_offset).
+  if (!attach_path_normals(path, scene.path) && !std::holds_alternative<BallCutter>(job.tool.cutter) &&
+      !global_options().quiet)
+    std::cerr << "warning: the oriented rows are not the scene's path: their points are taken as the " << job.tool.type_name()
+              << " end's cutter locations, whatever the axis\n";
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);

@@ -31,7 +31,7 @@ void run_replan(const ReplanArgs& a) {
   const Scene scene = load_scene(a.scene);
   check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented, a.verify, a.stock_mesh}));
   require_for_planning(scene);
-  const OrientedPath original = read_oriented_csv(a.oriented);
+  OrientedPath original = read_oriented_csv(a.oriented);
   if (original.rows.size() != scene.path.rows.size())
     throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +
                                             std::to_string(scene.path.rows.size()));
@@ -42,13 +42,14 @@ void run_replan(const ReplanArgs& a) {
                        "row " + std::to_string(i + 1) + " is not the scene's path row (" +
                            fixed(scene.path.rows[i].p.x(), 4) + ", " + fixed(scene.path.rows[i].p.y(), 4) + ", " +
                            fixed(scene.path.rows[i].p.z(), 4) + "): an oriented path of another path");
+  attach_path_normals(original, scene.path);  // the rows are the path's (checked above)
   const std::vector<Collision> collisions = read_replan_collisions(a.verify);
   // A report of another program or scene had been re-planned at whatever rows lay nearest (black-box
   // testing). A feed block of this path's program has a cutter location on it; rapids are left alone.
   for (size_t k = 0; k < collisions.size(); ++k) {
     const Collision& c = collisions[k];
     const double d = c.rapid ? 0.0 : collision_distance_to_path(scene.path, scene.tool, c);
-    if (d > scene.tool.radius())
+    if (d > 2 * scene.tool.radius())  // a flat end's cutter location lies up to a radius off its row
       throw InputError(a.verify, 0, "collisions[" + std::to_string(k) + "]",
                        "block " + std::to_string(c.block) + " (line " + std::to_string(c.line) + ") lies " + fixed(d, 3) +
                            " mm from the path of " + a.oriented + ": a report of another program or scene");

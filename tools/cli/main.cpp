@@ -1,5 +1,6 @@
 // tiltfield: 5-axis tool-axis planning, posting and verification. See README.md.
 #include <iostream>
+#include <new>
 
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const tf::JobError& e) {
     std::cerr << "tiltfield: " << e.what() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "tiltfield: out of memory: the job needs more than this machine has (a coarser resolution or spacing?)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "tiltfield: " << e.what() << "\n";

@@ -41,6 +41,7 @@ std::unique_ptr<RunFolder> load_run_folder(const Scene& scene, const std::filesy
   in.scene = &scene;
   if (fs::exists(dir / "oriented.csv")) {
     run->oriented = read_oriented_csv(dir / "oriented.csv");
+    attach_path_normals(run->oriented, scene.path);  // the tips of a flat or bull end (Tool::contact_offset)
     in.oriented = &run->oriented;
   }
   if (fs::exists(dir / "program.ngc"))

@@ -53,6 +53,9 @@ Eigen::AlignedBox3d bounding_box(const Mesh& mesh);
 // True when every edge has exactly two faces (no boundary), i.e. the mesh can bound a solid.
 bool is_closed(const Mesh& mesh);
 
+// The number of edge-connected pieces of faces (vertices shared through a face's edges).
+size_t connected_pieces(const Mesh& mesh);
+
 // Signed volume (mm^3) by the divergence theorem; positive when the faces are oriented outward.
 double signed_volume(const Mesh& mesh);
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tiltfield/core/tool.hpp"
+#include "tiltfield/core/toolpath.hpp"
 
 namespace tf {
 
@@ -19,14 +20,24 @@ struct OrientedRow {
   double tilt_deg = 0.0;
   double clearance_mm = 0.0;  // smallest distance of the tool body to the check surfaces
   double feed = std::numeric_limits<double>::quiet_NaN();  // mm/min, NaN: the scene's feed
+  // The design normal of the path row (not in the CSV; attach_path_normals or the planner set it): a flat
+  // or bull end's cutter location moves with the axis to keep its contact (Tool::contact_offset). Zero:
+  // unknown, `p` is the cutter location itself.
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
 };
 
 struct OrientedPath {
   std::vector<OrientedRow> rows;
 };
 
-// The tool tip of a row: the cutter location moved back along the axis by the cutter-location height.
+// The tool tip of a row: its cutter location (the row point moved by Tool::contact_offset) moved back
+// along the axis by the cutter-location height.
 Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool);
+
+// Gives each row the normal of the path row it was planned from, when `oriented` has the path's rows
+// (as many, each within 0.001 mm of its path row) and returns true; otherwise leaves the rows as they are
+// (their points then are the cutter locations themselves) and returns false.
+bool attach_path_normals(OrientedPath& oriented, const ToolPath& path);
 
 // Header x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm[,feed]. Throws InputError with line and column
 // for a bad number, a missing column, a zero or non-unit axis (off by more than 1e-3), or no rows.

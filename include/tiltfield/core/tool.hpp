@@ -54,6 +54,16 @@ struct Tool {
   // Largest radius over [h0, h1].
   double max_radius_between(double h0, double h1) const;
 
+  // In: the design surface's unit normal n at a path row and a unit tool axis. Out: how far the cutter
+  // location moves off the row's point for that axis, mm (part frame). A ball turns about its centre: 0.
+  // A flat or bull end's row point is the contact point plus the corner radius r times n (the contact
+  // point itself for a flat end, the ball centre for r = R): turned about it, a tilted end dug R sin(tilt)
+  // into the surface (black-box testing). The end keeps touching there when the cutter location moves by
+  // (R - r) along n's part normal to the axis. Near an axis along n (the end face flat on the surface)
+  // the move blends linearly to 0, so the end lies at most 0.001 mm below the surface there. n zero
+  // (unknown): 0, the row point is the cutter location itself.
+  Eigen::Vector3d contact_offset(const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const;
+
   // Points spread over the whole body surface (end form, flutes, shank, every holder segment and the
   // annular faces between them) about `spacing` mm apart, with outward normals. Deterministic.
   std::vector<ToolSample> sample_surface(double spacing) const;

@@ -91,15 +91,16 @@ struct ReplanResult {
 Mesh stock_obstacle(const Mesh& stock, const ToolPath& path, const Tool& tool, const PlannerBasics& basics,
                     double edge_mm, double margin_mm);
 
-// In: a window's cutter locations (mm), the old and the new tool axes of its rows (unit, part frame), each
-// row's blend weight in [0, 1] (0 the old axis, 1 the new), the tool's cl_height (mm) and the machine
-// (nullptr: none). Out: the blended axes, along the great circle from old to new. Where that leaves the
+// In: a window's path points (mm), the old and the new tool axes of its rows (unit, part frame), each
+// row's blend weight in [0, 1] (0 the old axis, 1 the new), the tool, the rows' design normals (zero:
+// unknown; see Tool::contact_offset) and the machine (nullptr: none). Out: the blended axes, along the great circle from old to new. Where that leaves the
 // machine's reach on a row while every row's old and new axes are reachable, the whole window is blended
 // in the machine's rotaries instead (their limits are a box: every blend of two reachable settings lies
 // in it); the re-planner had blended rows to tilts no joint solution reaches.
 std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, const std::vector<Eigen::Vector3d>& old_axes,
                                         const std::vector<Eigen::Vector3d>& new_axes, const std::vector<double>& weights,
-                                        double cl_height, const Kinematics* kin);
+                                        const Tool& tool, const std::vector<Eigen::Vector3d>& normals,
+                                        const Kinematics* kin);
 
 // Re-plans the windows around `collisions` (those with an unfixable_reason are left alone), against the
 // check surfaces, the fixtures and the machine's limits. `original` must have one row per scene path row.
