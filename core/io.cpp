@@ -62,8 +62,8 @@ void fill_checked(const fs::path& shown, const fs::path& path, bool temporary,
                   const std::function<void(std::ostream&)>& fill) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw std::runtime_error(shown.string() + ": cannot write (folder missing or not writable)");
+  errno = 0;  // the reason of a write that fails while filling, or at the flush
   fill(out);
-  errno = 0;
   out.flush();
   out.close();
   if (out.fail())
@@ -86,8 +86,9 @@ void write_path_atomic(const fs::path& file, const std::function<void(const fs::
 }
 
 void write_file_atomic(const fs::path& file, const std::function<void(std::ostream&)>& fill) {
+  // Asked first, following links as the kernel does: /dev/stdout's link names "pipe:[N]", no path (review).
+  if (is_special_file(file)) return fill_checked(file, file, false, fill);
   const fs::path target = replaced_by_write(file);
-  if (is_special_file(target)) return fill_checked(file, target, false, fill);
   write_path_atomic(target, [&](const fs::path& tmp) { fill_checked(file, tmp, true, fill); });
 }
 

@@ -17,7 +17,7 @@ bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
   if (oriented.rows.size() != path.rows.size()) return false;
   for (size_t i = 0; i < path.rows.size(); ++i)
     if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3) return false;
-  for (size_t i = 0; i < path.rows.size(); ++i) oriented.rows[i].n = path.rows[i].n;
+  for (size_t i = 0; i < path.rows.size(); ++i) oriented.rows[i].n = path.rows[i].contact_normal();
   return true;
 }
 

@@ -33,9 +33,14 @@ Eigen::Vector3d Tool::contact_offset(const Eigen::Vector3d& n, const Eigen::Vect
   if (std::holds_alternative<BallCutter>(cutter) || n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
   const double R = radius(), r = cl_height();  // r: the corner radius (0 for a flat end)
   const Eigen::Vector3d a = axis.normalized(), normal_part = n.normalized() - n.normalized().dot(a) * a;
-  // The end dips R sin(t) (1 - f) below the surface with f the fraction of the move made: at most 0.001 mm.
-  const double blend = 1e-3 / R;
-  return (R - r) / std::max(normal_part.norm(), blend) * normal_part;
+  // Moved by m along the unit normal part, the end dips (R - r) sin(t) - m below the contact (t the tilt,
+  // sin(t) = |normal_part|): the least move that keeps the dip within 0.001 mm. So an axis within about
+  // 0.02 deg of n (the end face on the surface, the default lead and tilt of 0) does not move the end,
+  // and the move grows continuously to R - r beyond.
+  constexpr double kDip = 1e-3;
+  const double s = normal_part.norm();
+  if ((R - r) * s <= kDip) return Eigen::Vector3d::Zero();
+  return ((R - r) - kDip / s) / s * normal_part;
 }
 
 std::string_view Tool::type_name() const {

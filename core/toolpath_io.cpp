@@ -133,6 +133,7 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       CLPoint pt;
       pt.p = unit * Eigen::Vector3d(v[0], v[1], v[2]) + tool.cl_height() * axis;
       pt.n = axis;
+      pt.normal_known = false;  // the axis stands in: a flat or bull end keeps this cutter location
       pt.feed = feed;
       path.rows.push_back(pt);
     }

@@ -191,7 +191,9 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     power_on();
     std::string f = feed;
     double since_retract = 0;
-    auto emit = [&](const Segment& s, bool path) {
+    // path: a move of the contour (its gap law sets the voltage); lead_out: the last move, after which the
+    // generator goes off anyway, so no flush follows it.
+    auto emit = [&](const Segment& s, bool path, bool lead_out = false) {
       // The set-point in force is kept while U/g at both ends of the move stays within 0.5 % of nominal.
       auto off_field = [&](double g) { return std::abs(u * o.gap / (o.voltage * g) - 1) > 0.005; };
       if (path && o.voltage_follows_gap && o.gap > 0 && o.voltage > 0 && (off_field(s.g0) || off_field(s.g1))) {
@@ -203,7 +205,7 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
       }
       if (w.segment(s, f)) f.clear();
       since_retract += length(s);
-      if (path && o.retract_every_mm > 0 && since_retract >= o.retract_every_mm) {
+      if (!lead_out && o.retract_every_mm > 0 && since_retract >= o.retract_every_mm) {
         since_retract = 0;
         out << "M65" << gen << " (generator off: retract and flush)\n";
         out << "G0 Z" << num(o.z_work + o.retract_height) << "\n";
@@ -214,26 +216,29 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
         f = feed;
       }
     };
-    // A flush every retract_every_mm of path: a move longer than what is left to the next one is cut
-    // there (the retracts had come only at the ends of moves: 98 mm between flushes on a 100 mm square,
-    // black-box testing). A rest shorter than kMinPieceMm stays with its piece.
-    auto emit_path = [&](const Segment& s) {
+    // A flush every retract_every_mm with the generator on: a move longer than what is left to the next
+    // one is cut there (the retracts had come only at the ends of moves: 98 mm between flushes on a 100 mm
+    // square, black-box testing). A rest shorter than kMinPieceMm stays with its piece.
+    // The leads too: the generator is on along them (a lead-in longer than the interval had left the
+    // path's first cut a negative length, running backwards along the contour; review).
+    auto emit_split = [&](const Segment& s, bool path, bool lead_out = false) {
       const double L = length(s);
       double t = 0;
       while (o.retract_every_mm > 0 && L > 0) {
         const double left = o.retract_every_mm - since_retract;
         if ((1 - t) * L <= left + kMinPieceMm) break;
         const double t1 = t + left / L;
-        emit(sub_segment(s, t, t1), true);
+        emit(sub_segment(s, t, t1), path);
         t = t1;
       }
       Segment rest = t == 0 ? s : sub_segment(s, t, 1.0);
       rest.b = s.b;
-      emit(rest, true);
+      emit(rest, path, lead_out);
     };
+    auto emit_path = [&](const Segment& s) { emit_split(s, true); };
     if (rc.has_leads) {
       out << "(lead-in)\n";
-      emit(rc.lead_in, false);
+      emit_split(rc.lead_in, false);
     }
     out << "(path)\n";
     for (const auto& s : rc.path) {
@@ -245,7 +250,7 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     }
     if (rc.has_leads) {
       out << "(lead-out)\n";
-      emit(rc.lead_out, false);
+      emit_split(rc.lead_out, false, true);
     }
     out << "M65" << gen << " (generator off)\n";
     out << "G4 P" << num(o.end_dwell_s) << "\n";

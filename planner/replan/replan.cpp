@@ -207,6 +207,8 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
                                     " rows but the scene's path has " + std::to_string(n));
   ReplanResult result;
   result.path = original;
+  // The scene's normals, whatever the caller attached: the windows' plans place flat and bull ends by them.
+  for (size_t i = 0; i < n; ++i) result.path.rows[i].n = path.rows[i].contact_normal();
   if (collisions.empty() || n == 0) return result;
 
   const double radius = scene.tool.radius();
@@ -240,7 +242,7 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
       const double from_start = w.first == 0 ? kInfinity : s, to_end = w.last + 1 == n ? kInfinity : length - s;
       weights.push_back(ramp > 0 ? smoothstep(std::min({from_start, to_end, ramp}) / ramp) : 1.0);
       cl.push_back(path.rows[i].p);
-      normals.push_back(original.rows[i].n);
+      normals.push_back(path.rows[i].contact_normal());
       old_axes.push_back(original.rows[i].axis);
       new_axes.push_back(planned.path.rows[i - w.first].axis);
     }

@@ -348,7 +348,7 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
   for (size_t i = 0; i < n; ++i) {
     OrientedRow& o = result.path.rows[i];
     o.p = path.rows[i].p;
-    o.n = path.rows[i].n;
+    o.n = path.rows[i].contact_normal();
     o.axis = axes[i].normalized();
     const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], o.axis);
     o.lead_deg = lt.x();

@@ -52,7 +52,7 @@ struct PlanContext {
   // The cutter location of `row` at `axis`: the row's point, moved for a flat or bull end so that the
   // end keeps its contact (Tool::contact_offset; a ball turns about the point itself).
   Eigen::Vector3d cutter_location(size_t row, const Eigen::Vector3d& axis) const {
-    return path->rows[row].p + tool->contact_offset(path->rows[row].n, axis);
+    return path->rows[row].p + tool->contact_offset(path->rows[row].contact_normal(), axis);
   }
   Eigen::Vector3d tip(size_t row, const Eigen::Vector3d& axis) const {
     return cutter_location(row, axis) - tool->cl_height() * axis;

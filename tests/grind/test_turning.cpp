@@ -103,6 +103,26 @@ TEST(GrindTurning, SwivelledWheelFollowsItsGeneratorsToo) {
 
 TEST(GrindTurning, CylindricalGrindingKeepsTheRadiusAtTheDefaultStep) { expect_cylindrical_grinding(4.0, 0.25); }
 
+// Forty turns: 5 000 increments a section, merged as they come, the removed ring (an outer boundary and a
+// hole) merged again with the hulls after it. A batch holding the hole without its boundary would fill it
+// and grind the core away (review: the merged regions keep them together; loose paths happened to stay
+// together in this case too). The core keeps the ground radius.
+TEST(GrindTurning, ManyTurnsKeepTheCore) {
+  const std::string program = "OP od_sharpening turn\nG0 X0 Y100 Z2\nG0 Y44\nG1 A14400 F100\nG0 Y100\n";
+  const GrindScene scene = testing::make_scene(kR, 4.0, kWheelR, 4.0, 0.0, program);
+  SectionOptions o;
+  o.spacing = 2.0;
+  const SectionStack stack = simulate_sections(scene, o);
+  ASSERT_EQ(stack.sections.size(), 3u);
+  for (const Section& s : stack.sections) {
+    const double want = kYc - std::sqrt(kWheelR * kWheelR - (s.z - 2) * (s.z - 2));  // 4 to 4.05
+    const auto [lo, hi] = radius_range(s);
+    EXPECT_NEAR(lo, want, 0.005) << "z " << s.z;
+    EXPECT_NEAR(hi, want, 0.005) << "z " << s.z;
+    EXPECT_NEAR(section_area(s), M_PI * want * want, 0.05) << "z " << s.z;
+  }
+}
+
 TEST(GrindTurning, AWideWheelAndACoarseStepToo) { expect_cylindrical_grinding(10.0, 1.0); }
 
 }  // namespace turning_test

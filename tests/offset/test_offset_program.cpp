@@ -304,6 +304,25 @@ TEST(OffsetProgram, EcmRetractsEverySoManyMillimetres) {
   EXPECT_GT(path, 390.0);  // the lines of the 98 x 98 inside offset, leads included
   EXPECT_LE(longest, 7.0 + 1e-6);
   EXPECT_GE(retracts, int(path / 7.0) - 1);
+
+  // Every mm counted is path: a lead-in (a quarter circle of radius 2) longer than the interval had made
+  // the first cut start behind the contour, running backwards along it (review). The moves of the path
+  // add up to its 392 mm exactly.
+  ASSERT_EQ(run_cli(profile + " -d 1 --target ecm --ecm-retract-every 2 -o " + ngc.string()), 0);
+  std::istringstream again(read_text(ngc));
+  bool on_path = false;
+  double along = 0;
+  at = {0, 0};
+  while (std::getline(again, line)) {
+    if (line == "(path)") on_path = true;
+    if (line == "(lead-out)") on_path = false;
+    double x = at.x(), y = at.y();
+    if (!(line.rfind("G", 0) == 0 || line.rfind("X", 0) == 0 || line.rfind("Y", 0) == 0)) continue;
+    if (!(word(line, 'X', &x) | word(line, 'Y', &y))) continue;
+    if (on_path) along += (Eigen::Vector2d(x, y) - at).norm();
+    at = {x, y};
+  }
+  EXPECT_NEAR(along, 392.0, 1e-6);
 }
 
 TEST(OffsetProgram, ArcsTooSmallForTheControllerGoOutAsLines) {

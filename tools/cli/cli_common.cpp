@@ -130,15 +130,33 @@ fs::path bundled_scene(const std::string& name) {
   return scene;
 }
 
+namespace {
+// A number in a file of its own (a cgroup's memory.max, memory.current); 0 when absent or "max".
+double number_in(const char* file) {
+  std::ifstream in(file);
+  double v = 0;
+  return in >> v ? v : 0.0;
+}
+}  // namespace
+
 double available_memory_bytes() {
+  double available = 0;
   std::ifstream in("/proc/meminfo");
   std::string key;
   double kb = 0;
   while (in >> key >> kb) {
-    if (key == "MemAvailable:") return kb * 1024.0;
+    if (key == "MemAvailable:") {
+      available = kb * 1024.0;
+      break;
+    }
     in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
   }
-  return 0.0;
+  // A container's own limit (cgroup v2), below the host's memory.
+  if (const double limit = number_in("/sys/fs/cgroup/memory.max"); limit > 0) {
+    const double left = std::max(0.0, limit - number_in("/sys/fs/cgroup/memory.current"));
+    available = available > 0 ? std::min(available, left) : left;
+  }
+  return available;
 }
 
 }  // namespace tf::cli

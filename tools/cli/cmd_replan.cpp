@@ -52,7 +52,7 @@ void run_replan(const ReplanArgs& a) {
     if (d > 2 * scene.tool.radius())  // a flat end's cutter location lies up to a radius off its row
       throw InputError(a.verify, 0, "collisions[" + std::to_string(k) + "]",
                        "block " + std::to_string(c.block) + " (line " + std::to_string(c.line) + ") lies " + fixed(d, 3) +
-                           " mm from the path of " + a.oriented + ": a report of another program or scene");
+                           " mm from the scene's path: a report of another program or scene");
   }
   const PlanOptions plan_options =
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);

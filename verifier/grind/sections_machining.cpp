@@ -172,25 +172,41 @@ std::vector<Eigen::Vector2d> clip_to_box(std::vector<Eigen::Vector2d> poly, doub
   return poly;
 }
 
-// Union of many overlapping polygons, by a tree of small unions: consecutive hulls overlap heavily, and
-// Clipper's cost grows with the number of edges active at once, so small batches are much faster.
-Paths union_tree(Paths polys, double clean) {
-  constexpr size_t kBatch = 8;
-  while (polys.size() > 1) {
-    Paths next;
-    for (size_t i = 0; i < polys.size(); i += kBatch) {
-      ClipperLib::Clipper c;
-      for (size_t k = i; k < std::min(polys.size(), i + kBatch); ++k) c.AddPath(polys[k], ClipperLib::ptSubject, true);
-      Paths r;
-      c.Execute(ClipperLib::ctUnion, r, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-      ClipperLib::CleanPolygons(r, clean);
-      for (auto& p : r)
-        if (p.size() >= 3) next.push_back(std::move(p));
+// Regions as outer boundaries each with its holes. A hole is kept with its boundary: alone in a batch
+// (its winding -1 is filled under NonZero) it would grind away the material it holds (review).
+using Regions = std::vector<Paths>;
+
+void add_regions(const ClipperLib::PolyNode& node, double clean, Regions& out) {
+  for (const ClipperLib::PolyNode* outer : node.Childs) {
+    Paths region{outer->Contour};
+    for (const ClipperLib::PolyNode* hole : outer->Childs) {
+      region.push_back(hole->Contour);
+      add_regions(*hole, clean, out);  // islands inside the hole
     }
-    if (next.size() >= polys.size()) return next;  // disjoint pieces: nothing left to merge
-    polys = std::move(next);
+    ClipperLib::CleanPolygons(region, clean);
+    if (region.front().size() < 3) continue;
+    region.erase(std::remove_if(region.begin() + 1, region.end(), [](const Path& p) { return p.size() < 3; }), region.end());
+    out.push_back(std::move(region));
   }
-  return polys;
+}
+
+// Union of many overlapping regions, by a tree of small unions: consecutive hulls overlap heavily, and
+// Clipper's cost grows with the number of edges active at once, so small batches are much faster.
+Regions union_tree(Regions regions, double clean) {
+  constexpr size_t kBatch = 8;
+  while (regions.size() > 1) {
+    Regions next;
+    for (size_t i = 0; i < regions.size(); i += kBatch) {
+      ClipperLib::Clipper c;
+      for (size_t k = i; k < std::min(regions.size(), i + kBatch); ++k) c.AddPaths(regions[k], ClipperLib::ptSubject, true);
+      ClipperLib::PolyTree tree;
+      c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+      add_regions(tree, clean, next);
+    }
+    if (next.size() >= regions.size()) return next;  // disjoint pieces: nothing left to merge
+    regions = std::move(next);
+  }
+  return regions;
 }
 
 // Cuts one operation into one section: returns whether anything was removed.
@@ -209,7 +225,7 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
     for (const IntPoint& q : p) reach = std::max(reach, std::hypot(double(q.X), double(q.Y)) / kScale);
   const Eigen::Vector3d axis_point(0.0, 0.0, z0);
   const double margin = 0.01 * (bx1 - bx0 + by1 - by0) + 0.01;
-  Paths clips;
+  Regions clips;
   std::vector<Eigen::Vector2d> cur, prev, pts;
   std::vector<int> cur_ids, prev_ids;
   std::vector<std::vector<Eigen::Vector2d>> swept;
@@ -239,7 +255,7 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
     const double area = ClipperLib::Area(path);
     if (std::abs(area) <= opt.clean_tolerance * kScale * opt.clean_tolerance * kScale) return;
     if (area < 0) std::reverse(path.begin(), path.end());
-    clips.push_back(std::move(path));
+    clips.push_back({std::move(path)});
     // Merged as they come: a long move's hundreds of thousands of hulls had been held until the end, about
     // 7 KB each (1.7 GB for one move of A99999 W99999, black-box testing). The union is the same.
     if (clips.size() >= merge_at) {
@@ -278,10 +294,12 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
   }
   if (clips.empty()) return false;
   clips = union_tree(std::move(clips), opt.clean_tolerance * kScale);
+  Paths removed;
+  for (Paths& region : clips) removed.insert(removed.end(), region.begin(), region.end());
   ClipperLib::Clipper c;
   c.StrictlySimple(true);
   c.AddPaths(slice.paths, ClipperLib::ptSubject, true);
-  c.AddPaths(clips, ClipperLib::ptClip, true);
+  c.AddPaths(removed, ClipperLib::ptClip, true);
   Paths result;
   c.Execute(ClipperLib::ctDifference, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   ClipperLib::CleanPolygons(result, opt.clean_tolerance * kScale);

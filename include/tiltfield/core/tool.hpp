@@ -59,9 +59,10 @@ struct Tool {
   // A flat or bull end's row point is the contact point plus the corner radius r times n (the contact
   // point itself for a flat end, the ball centre for r = R): turned about it, a tilted end dug R sin(tilt)
   // into the surface (black-box testing). The end keeps touching there when the cutter location moves by
-  // (R - r) along n's part normal to the axis. Near an axis along n (the end face flat on the surface)
-  // the move blends linearly to 0, so the end lies at most 0.001 mm below the surface there. n zero
-  // (unknown): 0, the row point is the cutter location itself.
+  // (R - r) along n's part normal to the axis; the move is the least that keeps the end within 0.001 mm
+  // below the contact, 0 for an axis within about 0.02 deg of n (the end face flat on the surface), so
+  // tiny axis changes there do not move the end. n zero (unknown): 0, the row point is the cutter
+  // location itself.
   Eigen::Vector3d contact_offset(const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const;
 
   // Points spread over the whole body surface (end form, flutes, shank, every holder segment and the

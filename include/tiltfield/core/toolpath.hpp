@@ -12,9 +12,17 @@
 namespace tf {
 
 struct CLPoint {
-  Eigen::Vector3d p;  // cutter location (ball centre for a ball end mill), part frame, mm
+  // The ball centre of a ball end mill; for a flat or bull end the contact point plus the corner radius
+  // times n (the contact point itself for a flat end), from which its cutter location follows the axis
+  // (Tool::contact_offset). Part frame, mm.
+  Eigen::Vector3d p;
   Eigen::Vector3d n;  // unit normal of the design surface at the contact point
   double feed = std::numeric_limits<double>::quiet_NaN();  // mm/min; NaN: use the scene's feed
+  // False where n only stands in for a missing normal (APT CLDATA: the tool axis): `p` is then the cutter
+  // location itself, which no axis moves.
+  bool normal_known = true;
+  // The normal a flat or bull end keeps its contact by: n, or zero where it is not known.
+  Eigen::Vector3d contact_normal() const { return normal_known ? n : Eigen::Vector3d::Zero(); }
 };
 
 struct ToolPath {
