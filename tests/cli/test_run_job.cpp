@@ -133,6 +133,18 @@ TEST(OutputNames, FoldersAndMissingFoldersExitTwoBeforeTheWork) {
   EXPECT_FALSE(fs::exists(dir / "p.csv"));
 }
 
+// -o /dev/stdout into a pipe writes the program there: the link names "pipe:[N]", no path, and the write
+// had failed (review); /dev/stdout stays a link.
+TEST(OutputNames, StdoutThroughAPipe) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "profile.txt", "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n");
+  const auto r = tf::test::run_command("(" + std::string(TILTFIELD_EXE) + " --quiet offset " + (dir / "profile.txt").string() +
+                                       " -d 1 -o /dev/stdout | head -c 40)");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(r.out.rfind("(tiltfield offset", 0), 0u) << r.out;
+  EXPECT_TRUE(fs::is_symlink("/dev/stdout"));
+}
+
 // --quiet belongs to every sub-command: after it as well as before it; an unknown option stays refused.
 TEST(OutputNames, QuietAfterTheSubCommandToo) {
   tf::test::TempDir dir;
