@@ -138,8 +138,9 @@ TEST(OutputNames, FoldersAndMissingFoldersExitTwoBeforeTheWork) {
 TEST(OutputNames, StdoutThroughAPipe) {
   tf::test::TempDir dir;
   tf::test::write_text(dir / "profile.txt", "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n");
-  const auto r = tf::test::run_command("(" + std::string(TILTFIELD_EXE) + " --quiet offset " + (dir / "profile.txt").string() +
-                                       " -d 1 -o /dev/stdout | head -c 40)");
+  std::string command = "(";  // grouped: the runner's "< /dev/null" must not become head's input
+  command += std::string(TILTFIELD_EXE) + " --quiet offset " + (dir / "profile.txt").string() + " -d 1 -o /dev/stdout | head -c 40)";
+  const auto r = tf::test::run_command(command);
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(r.out.rfind("(tiltfield offset", 0), 0u) << r.out;
   EXPECT_TRUE(fs::is_symlink("/dev/stdout"));
