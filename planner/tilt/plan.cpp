@@ -375,6 +375,21 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
 }
 }  // namespace
 
+namespace {
+// A 3-axis machine has one tool axis: every row takes it, and a row it does not clear is reported. The
+// stages search other axes, none of them reachable, and met the vertical only where a ring sample fell on
+// it: a slope crossed diagonally left every row "unreachable" (black-box testing).
+std::vector<SegmentCheck> fixed_axis_stages(const PlanContext& ctx, std::vector<Vector3d>& axes,
+                                            std::vector<BodyClearance>& clear) {
+  const size_t n = ctx.path->rows.size();
+  const Vector3d axis = ctx.kinematics ? ctx.kinematics->forward(Joints{}).axis.normalized() : Vector3d::UnitZ();
+  axes.assign(n, axis);
+  clear.resize(n);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) { clear[i] = ctx.clearance(i, axis); });
+  return check_segments(ctx, axes, clear);
+}
+}  // namespace
+
 PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles& obstacles,
                      const PlannerBasics& basics, double feed, const PlanOptions& options, const MachineSpec* machine,
                      const Progress& progress) {
@@ -391,14 +406,19 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
 
   std::vector<Vector3d> axes;
   std::vector<BodyClearance> clear;
-  if (options.method == PlanMethod::Pointwise)
-    pointwise_stages(ctx, progress, stage, result.metrics, axes, clear);
-  else
-    dynamic_stages(ctx, progress, stage, result.metrics, axes, clear);
-  report(progress, "plan", 0.8);
-  std::vector<SegmentCheck> segments = guarantee_stages(ctx, progress, axes, clear, result);
+  std::vector<SegmentCheck> segments;
+  if (machine && machine->kinematics == KinematicsType::XYZ) {
+    segments = fixed_axis_stages(ctx, axes, clear);
+  } else {
+    if (options.method == PlanMethod::Pointwise)
+      pointwise_stages(ctx, progress, stage, result.metrics, axes, clear);
+    else
+      dynamic_stages(ctx, progress, stage, result.metrics, axes, clear);
+    report(progress, "plan", 0.8);
+    segments = guarantee_stages(ctx, progress, axes, clear, result);
+  }
   stage("corrections");
-  if (options.smooth) {
+  if (options.smooth && !(machine && machine->kinematics == KinematicsType::XYZ)) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed)
       result.notes.emplace_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");

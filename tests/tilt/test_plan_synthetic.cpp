@@ -93,19 +93,29 @@ TEST(PlanSynthetic, NominalCollidesPlannedClearsByFcl) {
   EXPECT_GT(test::fcl_check(nominal, s.tool, s.meshes(), s.basics).rows_below, 50u);
 }
 
-// A 3-axis machine cannot tilt: the rows the wall makes the planner tilt have no joint solution, and are
-// flagged (found in review: it was taken as a machine without limits, and the post refused the program).
-TEST(PlanSynthetic, ThreeAxisMachineFlagsTiltedRows) {
+// A 3-axis machine has one axis: every row takes the vertical, and the rows where the holder then meets
+// the wall are left below their clearance, reported, not tilted and flagged as without a joint solution
+// (found in review before); and the normals' tilt does not matter: a slope crossed diagonally had left
+// every row "unreachable", where the stages' ring samples missed the vertical (black-box testing).
+TEST(PlanSynthetic, ThreeAxisMachineKeepsTheVertical) {
   const WallScene s = wall_scene(4.0);
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   MachineSpec xyz;
   xyz.kinematics = KinematicsType::XYZ;
   const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o, &xyz);
-  size_t unreachable = 0, tilted = 0;
+  size_t unreachable = 0, vertical = 0;
   for (const auto& u : r.uncleared) unreachable += u.unreachable;
-  for (const auto& row : r.path.rows) tilted += row.axis.normalized().z() < std::cos(0.02 * std::numbers::pi / 180);
-  EXPECT_GT(tilted, 50u);
-  EXPECT_EQ(unreachable, tilted);
+  for (const auto& row : r.path.rows) vertical += row.axis.normalized().z() > 1 - 1e-12;
+  EXPECT_EQ(vertical, r.path.rows.size());
+  EXPECT_EQ(unreachable, 0u);
+  EXPECT_GT(r.uncleared.size(), 50u);  // the holder in the wall, as the nominal axis above
+  EXPECT_EQ(r.uncleared.size(), r.metrics.rows_below_safety);
+
+  WallScene slope = wall_scene(4.0);
+  slope.path = test::polyline_path({{0, 0, 3}, {40, 30, 3}}, 0.5, {0.3, -0.4, 0.866});
+  const PlanResult d = plan_path(slope.path, slope.tool, {}, slope.basics, slope.feed, o, &xyz);
+  EXPECT_TRUE(d.uncleared.empty());
+  for (const auto& row : d.path.rows) EXPECT_GT(row.axis.normalized().z(), 1 - 1e-12);
 }
 
 TEST(PlanSynthetic, DynamicIsSmootherThanPointwise) {
