@@ -10,7 +10,7 @@ namespace tf {
 
 Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool) {
   const Eigen::Vector3d a = row.axis.normalized();
-  return row.p + tool.contact_offset(row.n, a) - tool.cl_height() * a;
+  return tool.tip_at(row.p, row.n, a);
 }
 
 bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {

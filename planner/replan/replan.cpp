@@ -75,7 +75,7 @@ std::optional<std::vector<Eigen::Vector3d>> blend_in_rotaries(const std::vector<
   Joints prev;
   for (size_t i = 0; i < cl.size(); ++i) {
     const auto pose = [&](const Eigen::Vector3d& a) {
-      return ToolPose{cl[i] + tool.contact_offset(normals[i], a) - tool.cl_height() * a, a};
+      return ToolPose{tool.tip_at(cl[i], normals[i], a), a};
     };
     const std::optional<Joints> j0 = kin.inverse_nearest(pose(old_axes[i].normalized()), prev);
     if (!j0) return std::nullopt;
@@ -101,7 +101,7 @@ std::vector<Eigen::Vector3d> blend_axes(const std::vector<Eigen::Vector3d>& cl, 
   for (size_t i = 0; i < cl.size(); ++i) {
     const Eigen::Vector3d a = slerp_axis(old_axes[i], new_axes[i], weights[i]).normalized();
     out.push_back(a);
-    const Eigen::Vector3d tip = cl[i] + tool.contact_offset(normals[i], a) - tool.cl_height() * a;
+    const Eigen::Vector3d tip = tool.tip_at(cl[i], normals[i], a);
     if (kin && reached) reached = !kin->inverse(ToolPose{tip, a}, Joints{}).empty();
   }
   if (reached) return out;

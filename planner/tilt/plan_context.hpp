@@ -55,7 +55,7 @@ struct PlanContext {
     return path->rows[row].p + tool->contact_offset(path->rows[row].contact_normal(), axis);
   }
   Eigen::Vector3d tip(size_t row, const Eigen::Vector3d& axis) const {
-    return cutter_location(row, axis) - tool->cl_height() * axis;
+    return tool->tip_at(path->rows[row].p, path->rows[row].contact_normal(), axis);
   }
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {cutter_location(row, axis), axis}; }
   // True when rows `row` and `row` + 1 at axes a0, a1 have tips farther apart than the link gap: the post

@@ -64,6 +64,11 @@ struct Tool {
   // tiny axis changes there do not move the end. n zero (unknown): 0, the row point is the cutter
   // location itself.
   Eigen::Vector3d contact_offset(const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const;
+  // In: a path row's point p (mm), its surface normal n (zero: unknown) and a unit tool axis. Out: the
+  // tool's tip there, mm: the cutter location p + contact_offset(n, axis), cl_height() down the axis.
+  Eigen::Vector3d tip_at(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const {
+    return p + contact_offset(n, axis) - cl_height() * axis;
+  }
 
   // Points spread over the whole body surface (end form, flutes, shank, every holder segment and the
   // annular faces between them) about `spacing` mm apart, with outward normals. Deterministic.
