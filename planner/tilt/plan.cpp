@@ -376,6 +376,24 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
 }  // namespace
 
 namespace {
+// The end form's dips on the axes the stages leave: rows turned out of the design where the machine can
+// tilt (the motions checked again), the rest counted and noted.
+void settle_end_form(const PlanContext& ctx, bool may_turn, std::vector<Vector3d>& axes,
+                     std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments, PlanResult& result) {
+  const EndDips dips = settle_end_dips(ctx, axes, clear, may_turn);
+  if (dips.turned > 0) segments = check_segments(ctx, axes, clear);
+  PlanMetrics& m = result.metrics;
+  m.rows_end_turned = dips.turned;
+  m.rows_end_dipping = dips.dipping;
+  m.max_end_dip_mm = dips.max_dip_mm;
+  if (dips.turned > 0)
+    result.notes.push_back(std::to_string(dips.turned) +
+                           " row(s) dipped the end below the design surface after the stages: their lead was changed");
+  if (dips.dipping > 0)
+    result.notes.push_back(std::to_string(dips.dipping) + " row(s) dip the end below the design surface by up to " +
+                           std::to_string(dips.max_dip_mm) + " mm (first: row " + std::to_string(dips.first) + ")");
+}
+
 // A 3-axis machine has one tool axis: every row takes it, and a row it does not clear is reported. The
 // stages search other axes, none of them reachable, and met the vertical only where a ring sample fell on
 // it: a slope crossed diagonally left every row "unreachable" (black-box testing).
@@ -401,13 +419,16 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   report(progress, "plan", 0.0);
   set_up_obstacles(ctx, obstacles, result.metrics);
   note_rows_inside_solids(ctx, result.notes);
+  set_up_end_form(ctx, obstacles.design);
+  const bool fixed_axis = machine && machine->kinematics == KinematicsType::XYZ;
+  if (!fixed_axis) result.metrics.rows_lead_raised = lead_nominal_out_of_design(ctx, result.notes);
   stage("bvh");
   report(progress, "plan", 0.05);
 
   std::vector<Vector3d> axes;
   std::vector<BodyClearance> clear;
   std::vector<SegmentCheck> segments;
-  if (machine && machine->kinematics == KinematicsType::XYZ) {
+  if (fixed_axis) {
     segments = fixed_axis_stages(ctx, axes, clear);
   } else {
     if (options.method == PlanMethod::Pointwise)
@@ -418,13 +439,15 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
     segments = guarantee_stages(ctx, progress, axes, clear, result);
   }
   stage("corrections");
-  if (options.smooth && !(machine && machine->kinematics == KinematicsType::XYZ)) {
+  if (options.smooth && !fixed_axis) {
     result.metrics.smoothed = smooth_axes(ctx, axes, clear);
     if (!result.metrics.smoothed)
       result.notes.emplace_back("smoothing: Ceres did not converge, the unsmoothed axes are kept");
     stage("smoothing");
     segments = check_segments(ctx, axes, clear);  // the smoothing moved the axes
   }
+  settle_end_form(ctx, !fixed_axis, axes, clear, segments, result);
+  stage("end_form");
   note_axis_limits(ctx, machine, result.notes);
   stage("between_rows");
   write_result(ctx, axes, clear, segments, result);
@@ -435,6 +458,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
 
 PlanObstacles scene_obstacles(const Scene& scene) {
   PlanObstacles o;
+  if (scene.design.n_faces() > 0) o.design.push_back(&scene.design);
   for (const auto& m : scene.check_surfaces) o.check_surfaces.push_back(&m);
   for (const auto& m : scene.fixtures) o.fixtures.push_back(&m);
   return o;
@@ -458,6 +482,10 @@ nlohmann::json plan_report_json(const PlanResult& r) {
   j["rows_nominal_colliding"] = m.rows_nominal_colliding;
   j["corrected_rows"] = m.corrected_rows;
   j["segments_below_safety"] = m.segments_below_safety;
+  j["end_form"] = {{"rows_lead_raised", m.rows_lead_raised},
+                   {"rows_turned", m.rows_end_turned},
+                   {"rows_dipping", m.rows_end_dipping},
+                   {"max_dip_mm", m.max_end_dip_mm}};
   j["max_step_deg"] = m.max_step_deg;
   j["max_deg_per_mm"] = m.max_deg_per_mm;
   j["rms_second_difference"] = m.rms_second_difference;

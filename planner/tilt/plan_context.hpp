@@ -4,6 +4,7 @@
 #include <limits>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "tiltfield/core/kinematics.hpp"
@@ -11,6 +12,7 @@
 #include "tiltfield/tilt/plan.hpp"
 #include "tool_body.hpp"
 #include "clearance_bvh.hpp"
+#include "end_form.hpp"
 
 namespace tf {
 
@@ -40,6 +42,11 @@ struct PlanContext {
   // Per row: the obstacle set one of whose solids holds its cutter location (the whole tool is inside it
   // wherever the distances say it is clear: no axis helps), or -1 (inside_solids.hpp).
   std::vector<int8_t> inside_solid;
+  // A flat or bull end against the design surface, and per row design_side() at its contact (0: not
+  // checked: a ball end, no design, no normal, or the row off the design).
+  EndForm end_form;
+  std::vector<int8_t> design_side;
+  std::vector<float> contact_dip;  // per row: the contact's own depth below the design mesh, mm
   double cos_max_tilt = 0.5;
   // Set when the scene's machine has rotary axes with limits: axes must then have a joint solution.
   std::optional<Kinematics> kinematics;
@@ -136,6 +143,22 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Eigen::Vec
 
 // Baseline: per row, independently, the smallest tilt away from the nominal axis that clears.
 std::vector<Eigen::Vector3d> pointwise_axes(const PlanContext& ctx, const Progress& progress);
+
+// The end form against the design (end_lead.cpp): its samples, the design's hierarchy and each row's side.
+void set_up_end_form(PlanContext& ctx, const std::vector<const Mesh*>& design);
+// Rows whose nominal axis dips a flat or bull end below the design surface by more than
+// end_dip_tolerance_mm: the least change of lead that lifts it (forward first; 0.5 deg steps bisected to
+// 0.016 deg, within the max-tilt cone), spread along the path over the response length so that the axis
+// leans before the dip. Returns the rows changed; notes the change and the rows no lead lifts.
+size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& notes);
+struct EndDips {
+  size_t turned = 0, dipping = 0, first = 0;  // rows turned; rows still dipping, the first of them
+  double max_dip_mm = 0;
+};
+// The axes' dips below the design. With may_turn, a row that dips takes the least change of lead that
+// lifts it and keeps it clear and reachable (its clearance updated).
+EndDips settle_end_dips(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes, std::vector<BodyClearance>& clear,
+                        bool may_turn);
 
 // Ceres pass: smooths the axes keeping every clear row clear. Returns false when Ceres failed (axes kept).
 bool smooth_axes(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes, std::vector<BodyClearance>& clear);

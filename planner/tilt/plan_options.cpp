@@ -64,6 +64,7 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
       "method", "smooth", "response_length_mm", "damping_ratio", "inertia", "attraction", "damping", "influence_mm",
       "repulsion_gain", "min_gap_mm", "max_substep_deg", "field_cell_mm", "sample_spacing_mm",
       "correction_window_mm", "correction_margin_mm", "correction_iterations", "between_rows_tolerance_mm", "link_gap_mm",
+      "end_dip_tolerance_mm",
       "pointwise_step_deg",
       "smooth_weight", "smooth_deviation_weight", "smooth_iterations"};
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -106,6 +107,7 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   o.correction_iterations = r.count("correction_iterations", o.correction_iterations, 0, 100);
   o.between_rows_tolerance_mm = r.number("between_rows_tolerance_mm", o.between_rows_tolerance_mm, true);
   o.link_gap_mm = r.number("link_gap_mm", o.link_gap_mm, true);
+  o.end_dip_tolerance_mm = r.number("end_dip_tolerance_mm", o.end_dip_tolerance_mm, true);
   o.pointwise_step_deg = r.number("pointwise_step_deg", o.pointwise_step_deg, true);
   o.smooth_weight = r.number("smooth_weight", o.smooth_weight, true);
   o.smooth_deviation_weight = r.number("smooth_deviation_weight", o.smooth_deviation_weight, true);
@@ -115,6 +117,8 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   if (o.sample_spacing_mm < 0.05) throw InputError(file, 0, "planner.sample_spacing_mm", "must be at least 0.05 mm");
   if (o.between_rows_tolerance_mm < 0.001)
     throw InputError(file, 0, "planner.between_rows_tolerance_mm", "must be at least 0.001 mm");
+  if (o.end_dip_tolerance_mm < 1e-4)
+    throw InputError(file, 0, "planner.end_dip_tolerance_mm", "must be at least 0.0001 mm");
   if (o.pointwise_step_deg > 10) throw InputError(file, 0, "planner.pointwise_step_deg", "at most 10 degrees");
   return o;
 }

@@ -129,7 +129,7 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows, bool f
   const int repeat = std::max(1, static_cast<int>(env_or("TILTFIELD_BENCH_REPEAT", 1)));
   for (auto _ : state) {
     for (int k = 0; k < repeat; ++k) {  // on a shared machine: keep the fastest of `repeat` plans
-      tf::PlanObstacles obstacles{meshes, {}};
+      tf::PlanObstacles obstacles{meshes, {}, {}};
       if (fixture) obstacles.fixtures.push_back(&s.clamp);
       tf::PlanResult x = tf::plan_path(path, s.bundle.tool, obstacles, s.bundle.planner, s.bundle.feed, o);
       if (k == 0 || x.metrics.seconds < r.metrics.seconds) r = std::move(x);
@@ -158,7 +158,7 @@ void run_small(benchmark::State& state, const tf::scenes::SceneBundle& b) {
   const tf::PlanOptions o = tf::derive_plan_options(b.tool, b.planner, b.feed);
   tf::PlanResult r;
   for (auto _ : state) {
-    r = tf::plan_path(b.path, b.tool, {meshes, {}}, b.planner, b.feed, o);
+    r = tf::plan_path(b.path, b.tool, {meshes, {}, {}}, b.planner, b.feed, o);
     benchmark::DoNotOptimize(r);
   }
   state.counters["rows"] = static_cast<double>(b.path.rows.size());

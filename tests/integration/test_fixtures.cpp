@@ -78,7 +78,7 @@ Mesh place_clamp(const scenes::SceneBundle& b, const PlanResult& free, Clamp cla
 std::filesystem::path write_clamp_scene(const ClampCase& c, const std::filesystem::path& dir, PlanResult& free) {
   scenes::SceneBundle b =
       scenes::make_impeller_scene(clamp_impeller(c.blades, c.lean), scenes::machine_json("table-table-ac", {}));
-  free = plan_path(b.path, b.tool, {blades_of(b), {}}, b.planner, b.feed, derive_plan_options(b.tool, b.planner, b.feed));
+  free = plan_path(b.path, b.tool, {blades_of(b), {}, {}}, b.planner, b.feed, derive_plan_options(b.tool, b.planner, b.feed));
   b.fixtures.push_back({"clamp.stl", place_clamp(b, free, c.clamp)});
   return scenes::write_scene_folder(b, dir);
 }

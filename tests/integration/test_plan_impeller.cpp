@@ -44,7 +44,7 @@ PlanResult run(const Impeller& s, PlanMethod method, bool smooth = false) {
   PlanOptions o = derive_plan_options(s.bundle.tool, s.bundle.planner, s.bundle.feed);
   o.method = method;
   o.smooth = smooth;
-  return plan_path(s.bundle.path, s.bundle.tool, {s.meshes(), {}}, s.bundle.planner, s.bundle.feed, o);
+  return plan_path(s.bundle.path, s.bundle.tool, {s.meshes(), {}, {}}, s.bundle.planner, s.bundle.feed, o);
 }
 
 double max_angle_deg(const OrientedPath& a, const OrientedPath& b) {

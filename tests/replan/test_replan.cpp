@@ -80,7 +80,7 @@ TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   const tf::Scene& scene = fc.scene;
   const tf::PlanOptions& po = fc.options;
   const tf::PlanResult& planned = fc.planned;
-  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}};
+  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}, {}};
   std::vector<size_t> rows;
   for (size_t i = 100; i <= 140; ++i) rows.push_back(i);
   double before = 1e9;
@@ -121,7 +121,7 @@ TEST(Replan, WindowAtThePathsStartReplansItsFirstRow) {
   const tf::Scene& scene = fc.scene;
   const tf::PlanOptions& po = fc.options;
   const tf::PlanResult& planned = fc.planned;
-  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}};
+  const tf::PlanObstacles only_fixture{{}, {&scene.fixtures[0]}, {}};
   EXPECT_LT(tf::row_clearances(planned.path, {0}, scene.tool, scene.planner, only_fixture)[0].margin_mm, 0.0);
   tf::Collision site;
   site.component = tf::ToolComponent::Holder;

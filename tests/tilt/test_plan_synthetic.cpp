@@ -34,7 +34,7 @@ PlanResult run(const WallScene& s, PlanMethod m, bool smooth = false) {
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   o.method = m;
   o.smooth = smooth;
-  return plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  return plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o);
 }
 
 double max_angle_deg(const OrientedPath& a, const OrientedPath& b) {
@@ -69,11 +69,11 @@ TEST(PlanSynthetic, MotionAcrossALinkIsNotChecked) {
   s.path = first;
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   EXPECT_DOUBLE_EQ(o.link_gap_mm, default_link_gap(s.tool));
-  const PlanResult linked = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  const PlanResult linked = plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o);
   EXPECT_TRUE(linked.uncleared.empty());
   EXPECT_EQ(linked.metrics.segments_below_safety, 0u);
   o.link_gap_mm = 100.0;
-  const PlanResult cut = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  const PlanResult cut = plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o);
   EXPECT_GT(cut.metrics.segments_below_safety, 0u);
 }
 
@@ -102,7 +102,7 @@ TEST(PlanSynthetic, ThreeAxisMachineKeepsTheVertical) {
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   MachineSpec xyz;
   xyz.kinematics = KinematicsType::XYZ;
-  const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o, &xyz);
+  const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o, &xyz);
   size_t unreachable = 0, vertical = 0;
   for (const auto& u : r.uncleared) unreachable += u.unreachable;
   for (const auto& row : r.path.rows) vertical += row.axis.normalized().z() > 1 - 1e-12;
@@ -156,12 +156,12 @@ TEST(PlanSynthetic, MotionBetweenRowsKeepsTheClearance) {
   PlanOptions o = derive_plan_options(s.tool, s.basics, s.feed);
   o.method = PlanMethod::Pointwise;  // no memory between rows: only the guarantee sees the motion
   o.between_rows_tolerance_mm = 1000;  // every motion "proven": the rows alone are checked
-  const PlanResult rows_only = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  const PlanResult rows_only = plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o);
   EXPECT_EQ(rows_only.metrics.rows_below_safety, 0u);
   EXPECT_GT(test::fcl_check(test::densify(rows_only.path, 20), s.tool, s.meshes(), s.basics).rows_below, 0u);
 
   o.between_rows_tolerance_mm = 0.01;
-  const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}}, s.basics, s.feed, o);
+  const PlanResult r = plan_path(s.path, s.tool, {s.meshes(), {}, {}}, s.basics, s.feed, o);
   EXPECT_EQ(r.metrics.rows_below_safety, 0u);
   EXPECT_EQ(r.metrics.segments_below_safety, 0u);
   EXPECT_GT(r.metrics.corrected_rows, 0u);

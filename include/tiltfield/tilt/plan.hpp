@@ -64,6 +64,9 @@ struct PlanOptions {
   // Rows whose tips lie farther apart than this are linked by the post (retract, rapid, approach): the
   // motion between them is not checked. Default default_link_gap(tool), the post's default.
   double link_gap_mm = 12.0;  // "link_gap_mm"
+  // A flat or bull end may dip at most this far below the design surface away from its contact (a
+  // concave surface under a level end face): where the nominal axis dips more, its lead is raised.
+  double end_dip_tolerance_mm = 0.002;  // "end_dip_tolerance_mm", at least 0.0001
 
   // Pointwise baseline.
   double pointwise_step_deg = 0.5;  // "pointwise_step_deg": ring step of the search around the nominal axis
@@ -87,8 +90,10 @@ PlanOptions parse_plan_options(const nlohmann::json& planner, const std::string&
 struct PlanObstacles {
   std::vector<const Mesh*> check_surfaces;
   std::vector<const Mesh*> fixtures;
+  // The surface the path cuts: a flat or bull end must not dip below it (PlanOptions::end_dip_tolerance_mm).
+  std::vector<const Mesh*> design;
 };
-// The scene's check surfaces and fixtures.
+// The scene's check surfaces, fixtures and design.
 PlanObstacles scene_obstacles(const Scene& scene);
 
 struct PlanMetrics {
@@ -104,9 +109,13 @@ struct PlanMetrics {
   size_t corrected_rows = 0;          // rows changed by the guarantee pass
   size_t segments_below_safety = 0;   // motions between rows not proven to keep the clearance (see
                                       // PlanOptions::between_rows_tolerance_mm)
+  // A flat or bull end against the design surface: rows whose nominal lead was changed so that the end
+  // does not dip below it, rows turned after the stages for the same, rows still dipping, the deepest dip.
+  size_t rows_lead_raised = 0, rows_end_turned = 0, rows_end_dipping = 0;
+  double max_end_dip_mm = 0;
   double seconds = 0;                 // wall time of the whole plan, preprocessing included
   // Wall time per stage: "bvh", "nominal_check", "field", "axes" (dynamics or search), "clearance",
-  // "corrections", "smoothing", "between_rows".
+  // "corrections", "smoothing", "end_form", "between_rows".
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::string method;
   bool smoothed = false;

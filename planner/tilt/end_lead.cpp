@@ -1,0 +1,172 @@
+// The lead that keeps a flat or bull end out of the design surface (end_form.hpp): raised on the nominal
+// axis before the stages that follow it, and checked again on the axes they leave.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "plan_context.hpp"
+#include "tiltfield/core/angles.hpp"
+
+namespace tf {
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kLeadStepDeg = 0.5;
+constexpr int kBisections = 5;  // to 0.5 / 32 deg
+
+// The end's dip below the design beyond the contact's own: a contact on a tessellated concave surface
+// lies below the chords by their sagitta, which no axis changes.
+double dip_at(const PlanContext& ctx, size_t row, const Vector3d& axis) {
+  const double dip = end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row]);
+  return std::max(0.0, dip - ctx.contact_dip[row]);
+}
+
+// The least lead from `lead` onward in direction `sign` (+1 more lead, -1 less) at which the end does not
+// dip, within the max-tilt cone and, when `clear` is set, clear of the obstacles and reachable. NaN when
+// none.
+double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, double tilt, int sign, bool clear) {
+  const LocalFrame& f = ctx.frames[row];
+  const double tol = ctx.options.end_dip_tolerance_mm;
+  auto axis = [&](double l) { return axis_from_lead_tilt(f, l, tilt); };
+  auto acceptable = [&](const Vector3d& a) { return !clear || (ctx.clears(row, a, 0.0) && ctx.reachable(row, a)); };
+  double below = lead;  // dips
+  for (int k = 1; k * kLeadStepDeg <= 90.0; ++k) {
+    const double l = lead + sign * k * kLeadStepDeg;
+    const Vector3d a = axis(l);
+    if (a.dot(f.n) < ctx.cos_max_tilt) return NAN;
+    if (dip_at(ctx, row, a) > tol) {
+      below = l;
+      continue;
+    }
+    if (!acceptable(a)) continue;
+    double above = l;
+    for (int b = 0; b < kBisections; ++b) {
+      const double m = 0.5 * (below + above);
+      const Vector3d am = axis(m);
+      (dip_at(ctx, row, am) > tol ? below : above) = m;
+    }
+    return acceptable(axis(above)) ? above : l;
+  }
+  return NAN;
+}
+
+// Each row's raise spread along the path: the largest raise within `w` mm of arc either side, averaged
+// over w / 2 either side, so the axis leans before the dip and no row gets less than it needs.
+std::vector<double> spread_raise(const std::vector<double>& raise, const std::vector<double>& arc, double w) {
+  const size_t n = raise.size();
+  std::vector<double> wide(n, 0.0), out(n, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    if (raise[i] == 0.0) continue;
+    for (size_t j = i; j-- > 0 && arc[i] - arc[j] <= w;) wide[j] = std::max(wide[j], raise[i]);
+    for (size_t j = i; j < n && arc[j] - arc[i] <= w; ++j) wide[j] = std::max(wide[j], raise[i]);
+  }
+  std::vector<double> prefix(n + 1, 0.0);
+  for (size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + wide[i];
+  size_t lo = 0, hi = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (arc[i] - arc[lo] > 0.5 * w) ++lo;
+    while (hi < n && arc[hi] - arc[i] <= 0.5 * w) ++hi;
+    out[i] = (prefix[hi] - prefix[lo]) / static_cast<double>(hi - lo);
+  }
+  return out;
+}
+
+}  // namespace
+
+void set_up_end_form(PlanContext& ctx, const std::vector<const Mesh*>& design) {
+  ctx.end_form = make_end_form(*ctx.tool, design);
+  const size_t n = ctx.path->rows.size();
+  ctx.design_side.assign(n, 0);
+  ctx.contact_dip.assign(n, 0.0f);
+  if (!ctx.end_form.active()) return;
+  const double corner = ctx.tool->cl_height();  // the row point lies r along the normal from the contact
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+    const CLPoint& row = ctx.path->rows[i];
+    const Vector3d nrm = row.contact_normal();
+    const Vector3d contact = row.p - corner * nrm;
+    const int side = design_side(ctx.end_form, contact, nrm);
+    ctx.design_side[i] = static_cast<int8_t>(side);
+    ctx.contact_dip[i] = static_cast<float>(point_dip(ctx.end_form, contact, side));
+  });
+}
+
+size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& notes) {
+  if (!ctx.end_form.active()) return 0;
+  const size_t n = ctx.nominal.size();
+  const double tol = ctx.options.end_dip_tolerance_mm;
+  const double lead = ctx.basics.lead_deg, tilt = ctx.basics.tilt_deg;
+  // Signed raise per row (deg of lead): forward first, the other way only where forward finds none.
+  std::vector<double> up(n, 0.0), down(n, 0.0);
+  std::vector<char> stuck(n, 0);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+    if (dip_at(ctx, i, ctx.nominal[i]) <= tol) return;
+    const int sign = lead >= 0 ? 1 : -1;
+    double l = least_lifting_lead(ctx, i, lead, tilt, sign, false);
+    if (std::isfinite(l)) {
+      (sign > 0 ? up[i] : down[i]) = std::abs(l - lead);
+      return;
+    }
+    l = least_lifting_lead(ctx, i, lead, tilt, -sign, false);
+    if (std::isfinite(l))
+      (sign > 0 ? down[i] : up[i]) = std::abs(l - lead);
+    else
+      stuck[i] = 1;
+  });
+  const std::vector<double> ups = spread_raise(up, ctx.arc, ctx.options.response_length_mm);
+  const std::vector<double> downs = spread_raise(down, ctx.arc, ctx.options.response_length_mm);
+  size_t raised = 0;
+  double most = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double change = ups[i] - downs[i];
+    if (change == 0.0) continue;
+    ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], lead + change, tilt);
+    ++raised;
+    most = std::max(most, std::abs(change));
+  }
+  size_t count = 0, first = 0;
+  for (size_t i = n; i-- > 0;)
+    if (stuck[i]) ++count, first = i;
+  if (raised > 0)
+    notes.push_back(std::to_string(raised) + " row(s): the nominal lead was changed by up to " +
+                    std::to_string(most) + " deg so that the end does not dip below the design surface");
+  if (count > 0)
+    notes.push_back(std::to_string(count) + " row(s) dip the end below the design surface at every lead within "
+                    "max_tilt_deg (first: row " + std::to_string(first) + ")");
+  return raised;
+}
+
+EndDips settle_end_dips(const PlanContext& ctx, std::vector<Vector3d>& axes, std::vector<BodyClearance>& clear,
+                        bool may_turn) {
+  EndDips out;
+  if (!ctx.end_form.active()) return out;
+  const size_t n = axes.size();
+  const double tol = ctx.options.end_dip_tolerance_mm;
+  std::vector<double> dip(n, 0.0);
+  std::vector<char> turned(n, 0);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+    dip[i] = dip_at(ctx, i, axes[i]);
+    if (dip[i] <= tol || !may_turn) return;
+    const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], axes[i].normalized());
+    const int sign = lt.x() >= 0 ? 1 : -1;
+    double l = least_lifting_lead(ctx, i, lt.x(), lt.y(), sign, true);
+    if (!std::isfinite(l)) l = least_lifting_lead(ctx, i, lt.x(), lt.y(), -sign, true);
+    if (!std::isfinite(l)) return;
+    axes[i] = axis_from_lead_tilt(ctx.frames[i], l, lt.y());
+    clear[i] = ctx.clearance(i, axes[i]);
+    dip[i] = dip_at(ctx, i, axes[i]);
+    turned[i] = 1;
+  });
+  for (size_t i = 0; i < n; ++i) {
+    out.turned += turned[i] ? 1 : 0;
+    if (dip[i] > tol) {
+      if (out.dipping == 0) out.first = i;
+      ++out.dipping;
+    }
+    out.max_dip_mm = std::max(out.max_dip_mm, dip[i]);
+  }
+  return out;
+}
+
+}  // namespace tf
