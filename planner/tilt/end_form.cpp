@@ -67,14 +67,17 @@ double point_dip(const EndForm& form, const Eigen::Vector3d& x, int side, int* h
   return (x - hit.point).dot(nt) < -0.5 * hit.distance ? hit.distance : 0.0;
 }
 
-double end_dip(const EndForm& form, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, int side) {
+double end_dip(const EndForm& form, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, int side,
+               double stop_above) {
   if (side == 0 || !form.active()) return 0.0;
   const Eigen::Vector3d a = axis.normalized();
   const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
   double dip = 0.0;
   int hint = -1;
-  for (const Eigen::Vector3d& q : form.points)
+  for (const Eigen::Vector3d& q : form.points) {
     dip = std::max(dip, point_dip(form, tip + q.x() * e1 + q.y() * e2 + q.z() * a, side, &hint));
+    if (dip > stop_above) break;
+  }
   return dip;
 }
 

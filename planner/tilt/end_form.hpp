@@ -8,6 +8,7 @@
 // along the feed and across it). A ball turns about its centre and no axis moves it: it is not checked.
 #pragma once
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "tiltfield/core/mesh.hpp"
@@ -43,6 +44,8 @@ double point_dip(const EndForm& form, const Eigen::Vector3d& x, int side, int* h
 // below when its nearest point of the design lies within the end's radius and the sample is clearly on
 // the material side of that triangle (more than 30 deg off its plane): a point beside an edge of the
 // design is not.
-double end_dip(const EndForm& form, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, int side);
+// `stop_above`: return as soon as a sample is found deeper than this (a yes/no question).
+double end_dip(const EndForm& form, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, int side,
+               double stop_above = std::numeric_limits<double>::infinity());
 
 }  // namespace tf

@@ -14,6 +14,7 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kLeadStepDeg = 0.5;
+constexpr double kMaxChangeDeg = 45.0;  // a lead changed more than this is no lead any more
 constexpr int kBisections = 5;  // to 0.5 / 32 deg
 
 // The end's dip below the design beyond the contact's own: a contact on a tessellated concave surface
@@ -22,21 +23,25 @@ double dip_at(const PlanContext& ctx, size_t row, const Vector3d& axis) {
   const double dip = end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row]);
   return std::max(0.0, dip - ctx.contact_dip[row]);
 }
+// Whether the end dips more than the tolerance (stops at the first sample that does).
+bool dips(const PlanContext& ctx, size_t row, const Vector3d& axis) {
+  const double limit = ctx.options.end_dip_tolerance_mm + ctx.contact_dip[row];
+  return end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row], limit) > limit;
+}
 
 // The least lead from `lead` onward in direction `sign` (+1 more lead, -1 less) at which the end does not
 // dip, within the max-tilt cone and, when `clear` is set, clear of the obstacles and reachable. NaN when
 // none.
 double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, double tilt, int sign, bool clear) {
   const LocalFrame& f = ctx.frames[row];
-  const double tol = ctx.options.end_dip_tolerance_mm;
   auto axis = [&](double l) { return axis_from_lead_tilt(f, l, tilt); };
   auto acceptable = [&](const Vector3d& a) { return !clear || (ctx.clears(row, a, 0.0) && ctx.reachable(row, a)); };
   double below = lead;  // dips
-  for (int k = 1; k * kLeadStepDeg <= 90.0; ++k) {
+  for (int k = 1; k * kLeadStepDeg <= kMaxChangeDeg; ++k) {
     const double l = lead + sign * k * kLeadStepDeg;
     const Vector3d a = axis(l);
     if (a.dot(f.n) < ctx.cos_max_tilt) return NAN;
-    if (dip_at(ctx, row, a) > tol) {
+    if (dips(ctx, row, a)) {
       below = l;
       continue;
     }
@@ -45,7 +50,7 @@ double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, doubl
     for (int b = 0; b < kBisections; ++b) {
       const double m = 0.5 * (below + above);
       const Vector3d am = axis(m);
-      (dip_at(ctx, row, am) > tol ? below : above) = m;
+      (dips(ctx, row, am) ? below : above) = m;
     }
     return acceptable(axis(above)) ? above : l;
   }
@@ -95,13 +100,12 @@ void set_up_end_form(PlanContext& ctx, const std::vector<const Mesh*>& design) {
 size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& notes) {
   if (!ctx.end_form.active()) return 0;
   const size_t n = ctx.nominal.size();
-  const double tol = ctx.options.end_dip_tolerance_mm;
   const double lead = ctx.basics.lead_deg, tilt = ctx.basics.tilt_deg;
   // Signed raise per row (deg of lead): forward first, the other way only where forward finds none.
   std::vector<double> up(n, 0.0), down(n, 0.0);
   std::vector<char> stuck(n, 0);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-    if (dip_at(ctx, i, ctx.nominal[i]) <= tol) return;
+    if (!dips(ctx, i, ctx.nominal[i])) return;
     const int sign = lead >= 0 ? 1 : -1;
     double l = least_lifting_lead(ctx, i, lead, tilt, sign, false);
     if (std::isfinite(l)) {
@@ -132,8 +136,8 @@ size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& no
     notes.push_back(std::to_string(raised) + " row(s): the nominal lead was changed by up to " +
                     std::to_string(most) + " deg so that the end does not dip below the design surface");
   if (count > 0)
-    notes.push_back(std::to_string(count) + " row(s) dip the end below the design surface at every lead within "
-                    "max_tilt_deg (first: row " + std::to_string(first) + ")");
+    notes.push_back(std::to_string(count) + " row(s) dip the end below the design surface at every lead within 45 deg of "
+                    "the nominal one and max_tilt_deg (first: row " + std::to_string(first) + ")");
   return raised;
 }
 

@@ -72,6 +72,10 @@ Planned plan_stage(const Scene& scene, const JobOptions& options, JobSummary& su
   PlanResult planned = plan(scene, plan_options, options.progress);
   summary.nominal_colliding_rows = planned.metrics.rows_nominal_colliding;
   summary.uncleared_rows = planned.uncleared.size();
+  summary.end_lead_rows = planned.metrics.rows_lead_raised;
+  summary.end_turned_rows = planned.metrics.rows_end_turned;
+  summary.end_dipping_rows = planned.metrics.rows_end_dipping;
+  summary.max_end_dip_mm = planned.metrics.max_end_dip_mm;
   summary.seconds.plan = seconds_since(t0);
   return {std::move(plan_options), std::move(planned)};
 }
@@ -325,7 +329,11 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
     << "  plan         min clearance "
     << (std::isfinite(s.min_clearance_mm) && s.min_clearance_mm < 1e6 ? fixed(s.min_clearance_mm, 3) + " mm"
                                                                        : std::string("none (no check surface or fixture)"))
-    << " (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n"
+    << " (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n";
+  if (s.end_lead_rows + s.end_turned_rows + s.end_dipping_rows > 0)
+    o << "  end form     kept out of the design: nominal lead changed on " << s.end_lead_rows << " rows, "
+      << s.end_turned_rows << " rows turned after the stages; " << s.end_dipping_rows << " rows still dip (max " << fixed(s.max_end_dip_mm, 3) << " mm)\n";
+  o
     << "  program      " << s.blocks << " blocks\n"
     << "  collisions   " << s.collisions_first << " found, " << (s.collisions_first - std::min(s.collisions_first, s.collisions_final))
     << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n";

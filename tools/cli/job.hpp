@@ -38,6 +38,9 @@ struct JobSummary {
   size_t rows = 0;
   size_t nominal_colliding_rows = 0;  // rows the nominal axis leaves below the safety distance
   size_t uncleared_rows = 0;          // rows the planner could not clear
+  // A flat or bull end against the design: rows whose lead the planner changed, rows still dipping, mm.
+  size_t end_lead_rows = 0, end_turned_rows = 0, end_dipping_rows = 0;
+  double max_end_dip_mm = 0;
   double min_clearance_mm = 0;        // of the final oriented path
   size_t blocks = 0;
   size_t collisions_first = 0;  // in the first verification
