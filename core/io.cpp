@@ -77,7 +77,11 @@ void write_path_atomic(const fs::path& file, const std::function<void(const fs::
   const fs::path tmp = temporary_for(target);
   try {
     write(tmp);
-    fs::rename(tmp, target);
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec)
+      throw std::runtime_error(file.string() + ": cannot replace it (" + ec.message() +
+                               "); an earlier file of that name is left as it was");
   } catch (...) {
     std::error_code ec;
     fs::remove(tmp, ec);

@@ -23,7 +23,7 @@ using Eigen::Vector3d;
 
 namespace {
 // Reported clearance when there is nothing to collide with (no check surfaces): JSON and CSV want a number.
-constexpr double kNoObstacle = 1e6;
+constexpr double kNoObstacle = kNoObstacleClearance;
 
 double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
 }  // namespace

@@ -248,6 +248,15 @@ TEST_F(VerifyCli, BadInputExitsTwoWithFileAndLine) {
                     " --resolution -1", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(fs::exists(dir / "v.json"));
+  // A lattice coarser than a quarter of the stock's thinnest side (10 mm): at 1000 mm the stock had grown
+  // 800 times.
+  write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X1 F100\n");
+  r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string() +
+                    " --resolution 3", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("too coarse for this stock"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2.5 mm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "v.json"));
   // RS274 numbers have no exponent: "1e3" is X1 followed by the word E3, which LinuxCNC refuses too.
   write(dir / "p.ngc", "G0 X0 Y0 Z20\nG1 X1e3 F100\n");
   r = tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " -o " + (dir / "v.json").string(), dir);

@@ -213,6 +213,25 @@ TEST(ReportSvg, DenseSeriesAreReducedButSpikesSurvive) {
   gap.series.push_back({"gap", "#000", {0, 1, 2, 3}, {0, 1, std::nan(""), 3}});
   const std::string g = render_line_plot(gap);
   EXPECT_EQ(count(g, "M"), count(render_line_plot(LinePlot{}), "M") + 2);
+  // The lone point after the gap is a dot (a zero-length line with round caps): a one-row path drew nothing.
+  EXPECT_EQ(count(g, "h0"), 1);
+  EXPECT_NE(g.find("stroke-linecap=\"round\""), std::string::npos);
+}
+
+// The plan's "no obstacle" clearance (1000000 mm) is no distance: the clearance plot had been drawn from 0 to
+// a million, and the tightest row named with it (black-box testing).
+TEST(Report, NoObstacleClearanceIsNotPlotted) {
+  auto job = synthetic_job();
+  for (auto& r : job->oriented.rows) r.clearance_mm = kNoObstacleClearance;
+  for (auto& r : job->first_plan.rows) r.clearance_mm = kNoObstacleClearance;
+  job->inputs.summary.min_clearance_mm = kNoObstacleClearance;
+  const std::string html = render_html_report(job->inputs);
+  const size_t at = html.find("id=\"plot-clearance\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::string plot = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(plot.find("no finite clearance"), std::string::npos) << plot;
+  EXPECT_EQ(plot.find("class=\"series\""), std::string::npos) << plot;
+  EXPECT_EQ(html.find("clearance 1000000"), std::string::npos) << "the tightest row is not named by it";
 }
 
 TEST(ReportIo, RunFolder) {
@@ -245,7 +264,7 @@ TEST(ReportIo, RunFolder) {
   }
   EXPECT_LT(worst, 0.06);
   const std::string html = render_html_report(in);
-  EXPECT_NE(html.find("not computed by the verifier"), std::string::npos);
+  EXPECT_NE(html.find("no block has a value (nothing engaged, or --no-engagement)"), std::string::npos);
   EXPECT_NE(html.find("1 collision left"), std::string::npos);
   // Nothing there: an empty report, not an error.
   TempDir empty;

@@ -1,5 +1,6 @@
 // tiltfield run [SCENE] [-o DIR]: the main job (see job.hpp).
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <system_error>
@@ -24,6 +25,17 @@ void check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
     outputs.emplace_back("-o", path);
   }
   check_outputs_apart(outputs, scene_inputs(scene));
+  // A folder that cannot be written is bad input, found before the work: it had failed with exit 1 after
+  // the plan (black-box testing).
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string(), 0, "-o", "cannot make the output folder (" + ec.message() + ")");
+  const std::filesystem::path probe = dir / ".tiltfield-write-test";
+  {
+    std::ofstream test(probe);
+    if (!test) throw InputError(dir.string(), 0, "-o", "cannot write in the output folder");
+  }
+  std::filesystem::remove(probe, ec);
 }
 }  // namespace
 

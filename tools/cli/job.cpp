@@ -325,9 +325,8 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
   std::ostringstream o;
   o << "tiltfield run: " << scene.file.string() << "\n"
     << "  path         " << s.rows << " rows; nominal axis too close on " << s.nominal_colliding_rows << " rows\n"
-    // The plan's 1000000 stands for "no obstacle" (PLAN.json, oriented.csv): not a distance to show.
     << "  plan         min clearance "
-    << (std::isfinite(s.min_clearance_mm) && s.min_clearance_mm < 1e6 ? fixed(s.min_clearance_mm, 3) + " mm"
+    << (clearance_measured(s.min_clearance_mm) ? fixed(s.min_clearance_mm, 3) + " mm"
                                                                        : std::string("none (no check surface or fixture)"))
     << " (safety " << fixed(scene.planner.safety_distance, 3) << "), " << s.uncleared_rows << " rows not cleared\n";
   if (s.end_lead_rows + s.end_turned_rows + s.end_dipping_rows > 0)

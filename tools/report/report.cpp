@@ -112,11 +112,11 @@ std::vector<Card> cards(const ReportInputs& in) {
   if (clearance < 0.0 && in.oriented) {
     clearance = std::numeric_limits<double>::infinity();
     for (const auto& r : in.oriented->rows)
-      if (std::isfinite(r.clearance_mm)) clearance = std::min(clearance, r.clearance_mm);
+      if (clearance_measured(r.clearance_mm)) clearance = std::min(clearance, r.clearance_mm);
     if (!std::isfinite(clearance)) clearance = -1.0;
   }
   const double safety = scene.planner.safety_distance;
-  if (clearance >= 1e6)  // the plan's "no obstacle" (1000000), not a distance
+  if (clearance >= kNoObstacleClearance)  // the plan's "no obstacle", not a distance
     out.push_back({"Min clearance", "none", "", "no check surface or fixture", ""});
   else
     out.push_back({"Min clearance", known(clearance, 3), clearance >= 0.0 ? "mm" : "",

@@ -91,11 +91,11 @@ LinePlot clearance_plot(const ReportInputs& in, const std::vector<double>& s) {
   if (in.first_plan && in.first_plan->rows.size() == in.oriented->rows.size()) {
     Series first{"first plan", kGrey, s, {}};
     first.dashed = true;
-    for (const auto& r : in.first_plan->rows) first.y.push_back(std::isfinite(r.clearance_mm) ? r.clearance_mm : kNaN);
+    for (const auto& r : in.first_plan->rows) first.y.push_back(clearance_measured(r.clearance_mm) ? r.clearance_mm : kNaN);
     p.series.push_back(std::move(first));
   }
   Series fin{in.first_plan ? "final plan" : "clearance", kGreen, s, {}};
-  for (const auto& r : in.oriented->rows) fin.y.push_back(std::isfinite(r.clearance_mm) ? r.clearance_mm : kNaN);
+  for (const auto& r : in.oriented->rows) fin.y.push_back(clearance_measured(r.clearance_mm) ? r.clearance_mm : kNaN);
   p.series.push_back(std::move(fin));
   p.hlines.push_back({in.scene->planner.safety_distance,
                       "safety distance " + fixed(in.scene->planner.safety_distance, 3) + " mm", "#d62728"});
@@ -140,7 +140,7 @@ LinePlot block_plot(const ReportInputs& in, std::string id, std::string title, s
   p.title = std::move(title);
   p.x_label = "block";
   p.y_label = std::move(y_label);
-  p.empty_note = in.blocks.empty() ? "no verification data" : "not computed by the verifier";
+  p.empty_note = in.blocks.empty() ? "no verification data" : "no block has a value (nothing engaged, or --no-engagement)";
   if (in.blocks.empty()) return p;
   const char* colors[] = {kBlue, kOrange, kGreen};
   for (size_t k = 0; k < fields.size(); ++k) {

@@ -243,7 +243,7 @@ nlohmann::json axes_layer(const std::vector<OrientedRow>& rows, const Scene& sce
     clearance.push_back(std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : std::isinf(c) ? 1e9f : float(c));
   }
   return {{"id", "axes"},
-          {"label", "Tool axes at " + std::to_string(samples) + " rows, coloured by clearance"},
+          {"label", "Tool axes at " + std::to_string(samples) + (samples == 1 ? " row" : " rows") + ", coloured by clearance"},
           {"kind", "segments"},
           {"visible", true},
           {"positions", base64_floats(seg)},
@@ -257,8 +257,8 @@ nlohmann::json axes_layer(const std::vector<OrientedRow>& rows, const Scene& sce
 std::optional<nlohmann::json> tightest_row_pose(const std::vector<OrientedRow>& rows, const Tool& tool) {
   size_t tight = 0;
   for (size_t i = 0; i < rows.size(); ++i)
-    if (std::isfinite(rows[i].clearance_mm) && !(rows[tight].clearance_mm <= rows[i].clearance_mm)) tight = i;
-  if (!std::isfinite(rows[tight].clearance_mm)) return std::nullopt;
+    if (clearance_measured(rows[i].clearance_mm) && !(rows[tight].clearance_mm <= rows[i].clearance_mm)) tight = i;
+  if (!clearance_measured(rows[tight].clearance_mm)) return std::nullopt;
   return pose_json({row_tip(rows[tight], tool), rows[tight].axis.normalized()},
                    "tightest row " + std::to_string(tight + 1) + ": clearance " + fixed(rows[tight].clearance_mm, 3) +
                        " mm");

@@ -76,13 +76,16 @@ std::string series_path(const Series& s, const Frame& f) {
     d << (pen_down ? 'L' : 'M') << num(f.X(x)) << ',' << num(f.Y(y));
     pen_down = true;
   };
+  auto drawable = [&](size_t i) { return i < n && std::isfinite(s.x[i]) && std::isfinite(s.y[i]); };
   if (!dense) {
     for (size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+      if (!drawable(i)) {
         pen_down = false;
         continue;
       }
+      const bool alone = !pen_down && !drawable(i + 1);
       emit(s.x[i], s.y[i]);
+      if (alone) d << "h0";  // a lone point: a dot (the round cap of a zero-length line)
     }
     return d.str();
   }
@@ -252,7 +255,7 @@ void write_clipped_content(std::ostringstream& o, const LinePlot& p, const Frame
     if (d.empty()) continue;
     o << "<path class=\"series\" data-label=\"" << escape_html(s.label) << "\" d=\"" << d
       << "\" fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\"" << fixed(s.width_px, 2)
-      << "\" stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "><title>"
+      << "\" stroke-linejoin=\"round\" stroke-linecap=\"round\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "><title>"
       << escape_html(s.label) << "</title></path>";
   }
   write_markers(o, p, f);

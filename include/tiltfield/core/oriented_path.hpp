@@ -2,6 +2,7 @@
 //
 // Units: mm, deg. The axis is a unit vector from the tool tip toward the spindle, in the part frame.
 #pragma once
+#include <cmath>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <filesystem>
@@ -12,6 +13,11 @@
 #include "tiltfield/core/toolpath.hpp"
 
 namespace tf {
+
+// The clearance the planner writes where the tool has nothing to collide with (no check surface or
+// fixture): CSV and JSON want a number, but it is no distance to show or plot.
+inline constexpr double kNoObstacleClearance = 1e6;
+inline bool clearance_measured(double c) { return std::isfinite(c) && c < kNoObstacleClearance; }
 
 struct OrientedRow {
   Eigen::Vector3d p;     // cutter location, part frame, mm (same as the input path's row)
