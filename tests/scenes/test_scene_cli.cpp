@@ -303,6 +303,18 @@ TEST(SceneCli, BadOptionsExitTwoWithOneLineNamingTheOption) {
       {"scene block --depth 25", "--depth"},
       {"scene block --stepover 0", "--stepover"},
       {"scene impeller --blades seven", "--blades"},
+      // Sizes out of range: 1e308 had written infinite vertices with exit 0, and a pocket's meshes before
+      // failing; 1e-300 degenerate meshes; thick blades or low ones had run for minutes (black-box testing).
+      {"scene block --size-x 1e308", "--size-x"},
+      {"scene block --size-x 1e-300", "--size-x"},
+      {"scene block --stepover 1e-300", "--stepover"},
+      {"scene block --stepover 0.01 --step 0.01", "--stepover"},  // 28 million rows
+      {"scene pocket --width 1e308", "--width"},
+      {"scene pocket --tool-radius 1e-300", "--tool-radius"},
+      {"scene impeller --thickness-hub 100", "--thickness-hub"},
+      {"scene impeller --thickness-tip 1e308", "--thickness-tip"},
+      {"scene impeller --inlet-height 1e-6", "--inlet-height"},
+      {"scene impeller --outlet-radius 1e308", "--outlet-radius"},
   };
   for (const auto& c : cases) {
     const fs::path out = d.path / "out";
@@ -310,7 +322,7 @@ TEST(SceneCli, BadOptionsExitTwoWithOneLineNamingTheOption) {
     EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.err;
     EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << ": " << r.err;
-    EXPECT_FALSE(fs::exists(out / "scene.json")) << c.args;
+    EXPECT_FALSE(fs::exists(out)) << c.args << ": nothing written";
   }
 }
 

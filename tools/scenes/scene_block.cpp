@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scene_geometry.hpp"
+#include "tiltfield/core/io.hpp"
 
 namespace tf::scenes {
 
@@ -11,15 +12,19 @@ void check_block(bool ok, const char* option, const std::string& what) { require
 }  // namespace
 
 void validate_block_options(const BlockOptions& o) {
-  check_block(positive(o.size_x), "--size-x", "must be positive");
-  check_block(positive(o.size_y), "--size-y", "must be positive");
-  check_block(positive(o.height), "--height", "must be positive");
+  check_block(size_mm(o.size_x), "--size-x", kSizeRange);
+  check_block(size_mm(o.size_y), "--size-y", kSizeRange);
+  check_block(size_mm(o.height), "--height", kSizeRange);
   check_block(positive(o.depth) && o.depth < o.height, "--depth", "must be positive and less than --height");
-  check_block(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
-  check_block(positive(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
-        "must be positive and at most the tool diameter");
+  check_block(size_mm(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be from 0.01 to 25 mm");
+  check_block(size_mm(o.stepover) && o.stepover <= 2.0 * o.tool_radius, "--stepover",
+        "must be at least 0.01 mm and at most the tool diameter");
   require_step(o.step, o.tool_radius, "block");
   check_block(positive(o.feed), "--feed", "must be positive (mm/min)");
+  const double rows = (o.size_y / o.stepover + 1) * ((o.size_x + 2 * o.tool_radius + 4) / o.step + 1);
+  check_block(rows <= kMaxSceneRows, "--stepover",
+              "with --step and the block's size makes " + fixed(rows, 0) + " rows, more than 2 000 000 (coarser "
+              "--stepover or --step)");
 }
 
 SceneBundle make_block_scene(const BlockOptions& o, const nlohmann::json& machine) {

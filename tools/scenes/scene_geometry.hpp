@@ -16,6 +16,13 @@ inline double rad(double deg) { return deg * kPi / 180.0; }
 // Options and measured facts go to scene.json rounded to 1e-6, so the file stays readable.
 inline double tidy(double v) { return std::round(v * 1e6) / 1e6; }
 inline bool positive(double v) { return std::isfinite(v) && v > 0; }
+// A size the generators build from, mm: 1e308 had written infinite vertices, 1e-300 degenerate meshes
+// that `check` took (black-box testing).
+inline constexpr double kMinSizeMm = 0.01, kMaxSizeMm = 10000.0;
+inline bool size_mm(double v) { return std::isfinite(v) && v >= kMinSizeMm && v <= kMaxSizeMm; }
+inline const char* kSizeRange = "must be from 0.01 to 10000 mm";
+// The most rows a generated path may have (a 0.001 mm stepover had written 5.8 million).
+inline constexpr double kMaxSceneRows = 2e6;
 
 // Parameters t0 = p[0] < ... < p.back() = t1 such that, for every sample curve returned by `eval(t)`
 // (several curves evaluated at the same parameter, e.g. the lines of a surface at fixed spans), the

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "scene_geometry.hpp"
+#include "tiltfield/core/io.hpp"
 #include "scene_impeller.hpp"
 
 namespace tf::scenes {
@@ -25,27 +26,30 @@ void validate_impeller_options(const ImpellerOptions& o) {
   check_impeller(finite_in(o.splitter_start, 0.05, 0.9), "--splitter-start", "must be within [0.05, 0.9]");
   check_impeller(std::isfinite(o.lean_deg) && std::abs(o.lean_deg) < 45, "--lean", "must be within (-45, 45) degrees");
   check_impeller(finite_in(o.wrap_deg, -180, 180), "--wrap", "must be within [-180, 180] degrees");
-  check_impeller(std::isfinite(o.inlet_radius) && o.inlet_radius > 0, "--inlet-radius", "must be positive");
-  check_impeller(std::isfinite(o.outlet_radius) && o.outlet_radius > o.inlet_radius, "--outlet-radius",
-        "must be greater than --inlet-radius");
-  check_impeller(std::isfinite(o.outlet_z) && o.outlet_z > 0, "--outlet-z", "must be positive");
-  check_impeller(std::isfinite(o.inlet_z) && o.inlet_z > o.outlet_z, "--inlet-z", "must be greater than --outlet-z");
-  check_impeller(std::isfinite(o.nose_z) && o.nose_z > o.inlet_z, "--nose-z", "must be greater than --inlet-z");
-  check_impeller(std::isfinite(o.inlet_height) && o.inlet_height > 0 && o.inlet_height < o.outlet_radius - o.inlet_radius,
-        "--inlet-height", "must be positive and less than --outlet-radius minus --inlet-radius");
-  check_impeller(std::isfinite(o.outlet_height) && o.outlet_height > 0 && o.outlet_height < o.inlet_z - o.outlet_z,
-        "--outlet-height", "must be positive and less than --inlet-z minus --outlet-z");
-  check_impeller(std::isfinite(o.thickness_hub) && o.thickness_hub > 0, "--thickness-hub", "must be positive");
-  check_impeller(std::isfinite(o.thickness_tip) && o.thickness_tip > 0, "--thickness-tip", "must be positive");
-  check_impeller(std::isfinite(o.blade_sink) && o.blade_sink > 0 && o.blade_sink < o.outlet_z, "--blade-sink",
+  check_impeller(size_mm(o.inlet_radius), "--inlet-radius", kSizeRange);
+  check_impeller(size_mm(o.outlet_radius) && o.outlet_radius > o.inlet_radius, "--outlet-radius",
+        "must be greater than --inlet-radius, at most 10000 mm");
+  check_impeller(size_mm(o.outlet_z), "--outlet-z", kSizeRange);
+  check_impeller(size_mm(o.inlet_z) && o.inlet_z > o.outlet_z, "--inlet-z",
+                 "must be greater than --outlet-z, at most 10000 mm");
+  check_impeller(size_mm(o.nose_z) && o.nose_z > o.inlet_z, "--nose-z", "must be greater than --inlet-z, at most 10000 mm");
+  check_impeller(std::isfinite(o.inlet_height) && o.inlet_height >= 1 && o.inlet_height < o.outlet_radius - o.inlet_radius,
+        "--inlet-height", "must be at least 1 mm and less than --outlet-radius minus --inlet-radius");
+  check_impeller(std::isfinite(o.outlet_height) && o.outlet_height >= 1 && o.outlet_height < o.inlet_z - o.outlet_z,
+        "--outlet-height", "must be at least 1 mm and less than --inlet-z minus --outlet-z");
+  // Blades thicker than half the pitch at the inlet leave no channel (the path search had run for minutes).
+  const double half_pitch = kPi * o.inlet_radius / (o.blades * (o.splitters ? 2 : 1));
+  const std::string thickness = "must be from 0.05 mm to half the blade pitch at the inlet, " + fixed(half_pitch, 3) + " mm";
+  check_impeller(finite_in(o.thickness_hub, 0.05, half_pitch), "--thickness-hub", thickness);
+  check_impeller(finite_in(o.thickness_tip, 0.05, half_pitch), "--thickness-tip", thickness);
+  check_impeller(size_mm(o.blade_sink) && o.blade_sink < o.outlet_z, "--blade-sink",
         "must be positive and less than --outlet-z");
   check_impeller(finite_in(o.tolerance, 0.0005, 1.0), "--tolerance", "must be within [0.0005, 1] mm");
   check_impeller(finite_in(o.blade_tolerance, 0.0005, 1.0), "--blade-tolerance", "must be within [0.0005, 1] mm");
   check_impeller(finite_in(o.stock_tolerance, 0.0005, 1.0), "--stock-tolerance", "must be within [0.0005, 1] mm");
-  check_impeller(std::isfinite(o.allowance) && o.allowance > 0 && o.allowance < o.inlet_radius, "--allowance",
+  check_impeller(size_mm(o.allowance) && o.allowance < o.inlet_radius, "--allowance",
         "must be positive and less than --inlet-radius");
-  check_impeller(std::isfinite(o.tool_radius) && o.tool_radius > 0 && o.tool_radius <= 25, "--tool-radius",
-        "must be positive (at most 25 mm)");
+  check_impeller(size_mm(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be from 0.01 to 25 mm");
   require_step(o.step, o.tool_radius, "impeller");
   check_impeller(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
   check_impeller(finite_in(o.m_start, 0.0, 1.0), "--m-start", "must be within [0, 1]");

@@ -17,24 +17,27 @@ void check_pocket(bool ok, const char* option, const std::string& what) { requir
 }  // namespace
 
 void validate_pocket_options(const PocketOptions& o) {
-  check_pocket(positive(o.length), "--length", "must be positive");
-  check_pocket(positive(o.width), "--width", "must be positive");
-  check_pocket(positive(o.floor_thickness), "--floor-thickness", "must be positive");
-  check_pocket(positive(o.wall_height), "--wall-height", "must be positive");
-  check_pocket(positive(o.wall_thickness), "--wall-thickness", "must be positive");
+  check_pocket(size_mm(o.length), "--length", kSizeRange);
+  check_pocket(size_mm(o.width), "--width", kSizeRange);
+  check_pocket(size_mm(o.floor_thickness), "--floor-thickness", kSizeRange);
+  check_pocket(size_mm(o.wall_height), "--wall-height", kSizeRange);
+  check_pocket(size_mm(o.wall_thickness), "--wall-thickness", kSizeRange);
   check_pocket(std::isfinite(o.overhang_deg) && o.overhang_deg >= 0 && o.overhang_deg <= 60, "--overhang",
         "must be within [0, 60] degrees");
   check_pocket(std::isfinite(o.overhang_deg) && o.wall_height * std::tan(rad(o.overhang_deg)) < o.width, "--overhang",
         "the overhang would reach past the vertical wall (lower --overhang or --wall-height)");
   check_pocket(positive(o.wall_sink) && o.wall_sink < o.floor_thickness, "--wall-sink",
         "must be positive and less than the floor thickness");
-  check_pocket(positive(o.allowance), "--allowance", "must be positive");
-  check_pocket(positive(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be positive (at most 25 mm)");
+  check_pocket(size_mm(o.allowance), "--allowance", kSizeRange);
+  check_pocket(size_mm(o.tool_radius) && o.tool_radius <= 25, "--tool-radius", "must be from 0.01 to 25 mm");
   require_step(o.step, o.tool_radius, "pocket");
   check_pocket(o.passes >= 1 && o.passes <= 500, "--passes", "must be an integer from 1 to 500");
   check_pocket(std::isfinite(o.ball_clearance) && o.ball_clearance >= 0 && o.ball_clearance <= 10, "--ball-clearance",
         "must be within [0, 10] mm");
   check_pocket(positive(o.feed), "--feed", "must be positive (mm/min)");
+  const double rows = o.passes * (o.length / o.step + 1);
+  check_pocket(rows <= kMaxSceneRows, "--step", "with --passes and --length makes " + fixed(rows, 0) +
+                                                     " rows, more than 2 000 000 (a coarser --step or fewer --passes)");
 }
 
 SceneBundle make_pocket_scene(const PocketOptions& o, const nlohmann::json& machine) {
