@@ -16,7 +16,6 @@ double wrap180(double d) { return d - 360.0 * std::round(d / 360.0); }
 
 bool tilt_is_a(KinematicsType k) { return k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC; }
 char tilt_letter(KinematicsType k) { return tilt_is_a(k) ? 'A' : 'B'; }
-double tilt_of(const Joints& j, KinematicsType k) { return tilt_is_a(k) ? j.a : j.b; }
 void set_tilt(Joints& j, KinematicsType k, double v) { (tilt_is_a(k) ? j.a : j.b) = v; }
 
 const AxisLimit* limit(const MachineSpec& m, char letter) {
@@ -70,24 +69,14 @@ std::vector<Candidate> candidates(const ToolPose& pose, const Kinematics& kin, c
   return out;
 }
 
-// Angle (deg) from the pole +Z to the great-circle arc between unit axes a and b.
-double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double ends = std::min(Kinematics::pole_angle_deg(a), Kinematics::pole_angle_deg(b));
-  const Eigen::Vector3d n = a.cross(b);
-  if (n.norm() < 1e-12) return ends;
-  const Eigen::Vector3d u = n.normalized();
-  const Eigen::Vector3d w = Eigen::Vector3d(-u.z() * u.x(), -u.z() * u.y(), 1.0 - u.z() * u.z());  // ez off the plane
-  if (w.norm() < 1e-12) return ends;                                                             // arc on the equator
-  const Eigen::Vector3d wn = w.normalized();
-  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); };
-  if (std::abs(ang(a, wn) + ang(wn, b) - ang(a, b)) > 1e-9) return ends;  // the nearest point is off the arc
-  return std::asin(std::min(1.0, std::abs(u.z()))) * 180.0 / 3.14159265358979323846;
-}
-
 // A change between the two solutions across one move makes the tilt pass 0, so the joint-linear axis
-// passes the pole itself: fine when the wanted arc passes that close anyway, otherwise the move cannot
-// be linearised and would need a retract. Priced like one, so that it is taken only when forced.
+// passes the pole itself and leaves the wanted arc by about the arc's distance from the pole: fine where
+// the linearisation accepts that (inside the pole cone, or within the axis tolerance), otherwise the move
+// cannot be linearised and would need a retract. Priced like one, so that it is taken only when forced.
 constexpr double kFlipPenalty = 1e6;
+bool flip_follows_the_arc(double arc_pole_deg, const PostOptions& options) {
+  return arc_pole_deg < options.pole_tolerance_deg || arc_pole_deg < kLinearizeSafety * options.axis_tolerance_deg;
+}
 
 // The 3-axis machine: the tip alone, within the pole tolerance of a vertical axis.
 std::vector<Joints> xyz_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options) {
@@ -115,8 +104,8 @@ struct Layers {
 void step_costs(const Layers& layers, const std::vector<ToolPose>& poses, size_t i, const std::vector<Candidate>& c,
                 const RotaryMetric& metric, const PostOptions& options, std::vector<double>& lc, std::vector<int>& lf) {
   const bool through_pole = layers.row.back() + 1 != i;
-  const bool flip_is_costly = !through_pole && arc_pole_distance(poses[i - 1].axis, poses[i].axis) >
-                                                   options.axis_tolerance_deg + options.pole_tolerance_deg;
+  const bool flip_is_costly =
+      !through_pole && !flip_follows_the_arc(arc_pole_distance(poses[i - 1].axis, poses[i].axis), options);
   const auto& pc = layers.cand.back();
   const auto& pcost = layers.cost.back();
   for (size_t s = 0; s < c.size(); ++s) {
@@ -230,6 +219,19 @@ std::vector<Joints> joints_at_c(const std::vector<ToolPose>& poses, const Kinema
 }
 
 }  // namespace
+
+double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double ends = std::min(Kinematics::pole_angle_deg(a), Kinematics::pole_angle_deg(b));
+  const Eigen::Vector3d n = a.cross(b);
+  if (n.norm() < 1e-12) return ends;
+  const Eigen::Vector3d u = n.normalized();
+  const Eigen::Vector3d w = Eigen::Vector3d(-u.z() * u.x(), -u.z() * u.y(), 1.0 - u.z() * u.z());  // ez off the plane
+  if (w.norm() < 1e-12) return ends;                                                             // arc on the equator
+  const Eigen::Vector3d wn = w.normalized();
+  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); };
+  if (std::abs(ang(a, wn) + ang(wn, b) - ang(a, b)) > 1e-9) return ends;  // the nearest point is off the arc
+  return std::asin(std::min(1.0, std::abs(u.z()))) * 180.0 / 3.14159265358979323846;
+}
 
 std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near) {
   InverseOptions exact;

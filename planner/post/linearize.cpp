@@ -45,14 +45,8 @@ Deviation joint_deviation(const Kinematics& kin, const Joints& j0, const Joints&
 namespace post_detail {
 namespace {
 
-// Sampling can miss a little of the true maximum between samples: accept only below this share of
-// the tolerance.
-constexpr double kSafety = 0.95;
-
 bool near_pole(const ToolPose& p0, const ToolPose& p1, double pole_tolerance_deg) {
-  for (double s : {0.0, 0.25, 0.5, 0.75, 1.0})
-    if (Kinematics::pole_angle_deg(slerp_axis(p0.axis, p1.axis, s)) < pole_tolerance_deg) return true;
-  return false;
+  return arc_pole_distance(p0.axis, p1.axis) < pole_tolerance_deg;
 }
 
 bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1,
@@ -60,7 +54,7 @@ bool refine(const Kinematics& kin, const ToolPose& p0, const Joints& j0, const T
   const Deviation d = joint_deviation(kin, j0, j1, p0, p1, o.samples);
   // Within the pole cone the rows themselves carry an axis error up to the pole tolerance.
   const double axis_allowed = o.axis_tolerance_deg + (near_pole(p0, p1, o.pole_tolerance_deg) ? o.pole_tolerance_deg : 0.0);
-  if (d.tip_mm <= kSafety * o.tip_tolerance_mm && d.axis_deg <= kSafety * axis_allowed) {
+  if (d.tip_mm <= kLinearizeSafety * o.tip_tolerance_mm && d.axis_deg <= kLinearizeSafety * axis_allowed) {
     out.push_back({p1, j1});
     return true;
   }

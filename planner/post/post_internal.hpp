@@ -17,12 +17,25 @@ namespace tf::post_detail {
 // and the tilt that best matches their axis. Throws PostRowError for a row without any solution.
 std::vector<Joints> choose_joints(const std::vector<ToolPose>& poses, const Kinematics& kin, const PostOptions& options);
 
+// The tilting rotary of a five-axis machine's joints (A or B), deg.
+inline double tilt_of(const Joints& j, KinematicsType k) {
+  return k == KinematicsType::TableTableAC || k == KinematicsType::HeadHeadAC ? j.a : j.b;
+}
+
 // Every joint solution of a pose within the limits: both solutions and, for a C axis with limits, each
 // of its turns (continuous axes: the turn nearest `near`).
 std::vector<Joints> all_solutions(const ToolPose& pose, const Kinematics& kin, const Joints& near);
 
+// Angle (deg) from the pole +Z to the great-circle arc between unit axes a and b: how close the wanted
+// axis comes to the singular pole on the move.
+double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
 // Why `pose` has no joint solution on this machine, in plain words (for PostRowError).
 std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, const PostOptions& options);
+
+// Sampling a block can miss a little of the true maximum between samples: the linearisation accepts a
+// block only below this share of the tolerances.
+inline constexpr double kLinearizeSafety = 0.95;
 
 struct LinearizeOptions {
   double tip_tolerance_mm = 0.01;  // +infinity: do not check the tip (tcp dialect)

@@ -220,6 +220,48 @@ TEST(Post, PassingNearThePoleBeyondTheTolerancesSwingsCAndStaysExact) {
   }
 }
 
+// A small tilt whose azimuth turns fast (0.5 deg off the pole, +137 deg a row, the great arcs between rows
+// passing 0.18 deg from the pole, outside the 0.1 deg cone): the per-row choice flips the tilt's sign where
+// the joints cannot follow without a retract, while staying in the present configuration (C swinging, the
+// move bisected) keeps every move within the tolerances. No retract but where a limited C must unwind
+// (black-box testing: 40 on 41 rows).
+TEST(Post, FastAzimuthNearThePoleNeedsNoRetract) {
+  for (const char* name : kFiveAxisMachines) {
+    const tf::PostJob job = job_for(name);
+    const Kinematics kin(job.machine, job.tool.length);
+    tf::OrientedPath path;
+    for (int i = 0; i < 41; ++i) {
+      tf::OrientedRow r;
+      r.p = {20.0 + 0.1 * i, 25.0, 18.0};
+      r.axis = polar_axis(0.5, 137.0 * i);
+      path.rows.push_back(r);
+    }
+    const tf::PostOptions opt;
+    const tf::Program prog = tf::post_program(path, job, opt);
+    int changes = 0;
+    for (const std::string& w : prog.warnings) changes += w.find("change of configuration") != std::string::npos;
+    // C follows the azimuth, 40 x 137 deg: a C limited to [min, max] unwinds once per max - min of it.
+    const auto c_limit = job.machine.limits.find('C');
+    const int unwinds = c_limit == job.machine.limits.end() ? 0 : int(40 * 137.0 / (c_limit->second.max - c_limit->second.min));
+    EXPECT_LE(changes, unwinds) << name;
+    double worst_tip = 0, worst_axis = 0;
+    size_t row = 1;
+    for (const Cut& c : cutting_blocks(prog)) {
+      ASSERT_LT(row, path.rows.size()) << name;
+      for (int k = 0; k <= 100; ++k) {
+        const ToolPose p = kin.forward(lerp(c.from, c.to, k / 100.0));
+        worst_tip = std::max(worst_tip, distance_to_segment(p.tip, tf::row_tip(path.rows[row - 1], job.tool),
+                                                            tf::row_tip(path.rows[row], job.tool)));
+        worst_axis = std::max(worst_axis, distance_to_arc(p.axis, path.rows[row - 1].axis, path.rows[row].axis));
+      }
+      if ((kin.forward(c.to).tip - tf::row_tip(path.rows[row], job.tool)).norm() < 1e-9) ++row;
+    }
+    EXPECT_EQ(row, path.rows.size()) << name;
+    EXPECT_LE(worst_tip, opt.tip_tolerance_mm) << name;
+    EXPECT_LE(worst_axis, opt.axis_tolerance_deg + opt.pole_tolerance_deg) << name;
+  }
+}
+
 TEST(Post, PoleModeHoldOrInterpolate) {
   // The axis comes in leaning toward +X, passes the pole and leaves leaning toward +Y: C must turn
   // 90 deg, and the rows inside the pole cone decide how.
