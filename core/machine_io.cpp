@@ -91,11 +91,15 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   if (m.tcp_on_code.empty() != m.tcp_off_code.empty())
     throw InputError(file, 0, join(prefix, m.tcp_on_code.empty() ? "tcp_on_code" : "tcp_off_code"),
                      "tcp_on_code and tcp_off_code come together (a program must switch TCP off again)");
-  m.max_feed = positive(number_or(j, "max_feed", m.max_feed, file, prefix), file, join(prefix, "max_feed"));
-  m.rapid_feed = positive(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), file, join(prefix, "rapid_feed"));
-  m.max_rotary_feed = positive(number_or(j, "max_rotary_feed", m.max_rotary_feed, file, prefix), file,
-                               join(prefix, "max_rotary_feed"));
-  m.safe_z = positive(number_or(j, "safe_z", m.safe_z, file, prefix), file, join(prefix, "safe_z"));
+  // Beyond any machine's, and small enough that every coordinate and feed the post writes stays a plain number.
+  constexpr double kMaxFeed = 1e6, kMaxSafeZ = 1e4;
+  m.max_feed = positive_at_most(number_or(j, "max_feed", m.max_feed, file, prefix), kMaxFeed, "mm/min", file,
+                                join(prefix, "max_feed"));
+  m.rapid_feed = positive_at_most(number_or(j, "rapid_feed", m.rapid_feed, file, prefix), kMaxFeed, "mm/min", file,
+                                  join(prefix, "rapid_feed"));
+  m.max_rotary_feed = positive_at_most(number_or(j, "max_rotary_feed", m.max_rotary_feed, file, prefix), kMaxFeed,
+                                       "deg/min", file, join(prefix, "max_rotary_feed"));
+  m.safe_z = positive_at_most(number_or(j, "safe_z", m.safe_z, file, prefix), kMaxSafeZ, "mm", file, join(prefix, "safe_z"));
   return m;
 }
 

@@ -33,11 +33,14 @@ BlockRow block_row(const BlockResult& b) {
   // Angles are empty where nothing is engaged (air moves, rapids): there is no angle to give.
   r.entry_deg = e.engaged() ? e.entry_deg : nan;
   r.exit_deg = e.engaged() ? e.exit_deg : nan;
-  r.engaged_area_mm2 = e.area_mm2;
   r.collision = b.collision;
-  r.axial_depth_mm = e.axial_depth_mm;
-  r.radial_width_mm = e.radial_width_mm;
-  r.pairs = e.max_pairs;
+  // A rapid is not measured (it does not cut by intent): its cells are empty, not a measured 0.
+  if (!b.rapid) {
+    r.engaged_area_mm2 = e.area_mm2;
+    r.axial_depth_mm = e.axial_depth_mm;
+    r.radial_width_mm = e.radial_width_mm;
+    r.pairs = e.max_pairs;
+  }
   r.tool = b.tool;
   return r;
 }

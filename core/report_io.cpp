@@ -126,7 +126,7 @@ void write_blocks_csv(const VerifyReport& report, const std::filesystem::path& f
       out << r.block << ',' << r.line << ',' << cell(r.removed_mm3, 4) << ',' << cell(r.mrr_mm3_min, 2) << ','
           << cell(r.entry_deg, 3) << ',' << cell(r.exit_deg, 3) << ',' << cell(r.engaged_area_mm2, 4) << ','
           << (r.collision ? 1 : 0) << ',' << cell(r.axial_depth_mm, 4) << ',' << cell(r.radial_width_mm, 4) << ','
-          << r.pairs << ',' << r.tool << "\n";
+          << (r.pairs >= 0 ? std::to_string(r.pairs) : std::string()) << ',' << r.tool << "\n";
     }
   });
 }

@@ -145,3 +145,37 @@ TEST(MeshIO, OpenMeshMessagesComeBackAfterTheLastGuard) {
 }
 
 }  // namespace
+
+namespace {
+
+// A cube of side 2 as OBJ text, faces outward; `flip` reverses every face, `drop` leaves out the last.
+std::string cube_obj(bool flip, bool drop) {
+  std::string s = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 0 0 2\nv 2 0 2\nv 2 2 2\nv 0 2 2\n";
+  const int f[12][3] = {{1, 3, 2}, {1, 4, 3}, {5, 6, 7}, {5, 7, 8}, {1, 2, 6}, {1, 6, 5},
+                        {2, 3, 7}, {2, 7, 6}, {3, 4, 8}, {3, 8, 7}, {4, 1, 5}, {4, 5, 8}};
+  for (int k = 0; k < (drop ? 11 : 12); ++k)
+    s += flip ? "f " + std::to_string(f[k][0]) + " " + std::to_string(f[k][2]) + " " + std::to_string(f[k][1]) + "\n"
+              : "f " + std::to_string(f[k][0]) + " " + std::to_string(f[k][1]) + " " + std::to_string(f[k][2]) + "\n";
+  return s;
+}
+
+}  // namespace
+
+// `check --mesh` says what a scene can use the mesh as (black-box testing: it printed only the triangle
+// count, for an open or an inside-out mesh too, which a scene then refused as its stock).
+TEST(MeshIO, CheckSaysWhetherTheMeshBoundsASolidOutward) {
+  tf::test::TempDir dir;
+  auto check = [&](const std::string& name, const std::string& text) {
+    tf::test::write_text(dir / name, text);
+    return tf::test::run_tiltfield("check --mesh '" + (dir / name).string() + "'");
+  };
+  const auto good = check("good.obj", cube_obj(false, false));
+  EXPECT_EQ(good.exit_code, 0);
+  EXPECT_NE(good.out.find("12 triangles, closed, faces outward, volume 8 mm3"), std::string::npos) << good.out;
+  const auto inside_out = check("flipped.obj", cube_obj(true, false));
+  EXPECT_EQ(inside_out.exit_code, 0);
+  EXPECT_NE(inside_out.out.find("faces point inward (volume -8 mm3)"), std::string::npos) << inside_out.out;
+  const auto open = check("open.obj", cube_obj(false, true));
+  EXPECT_EQ(open.exit_code, 0);
+  EXPECT_NE(open.out.find("11 triangles, open"), std::string::npos) << open.out;
+}

@@ -187,6 +187,11 @@ TEST(ReportIo, BlocksCsvRoundTrip) {
   EXPECT_FALSE(rows[0].collision);
   EXPECT_TRUE(std::isnan(rows[1].mrr_mm3_min)) << "a block that takes no time has no MRR";
   EXPECT_TRUE(std::isnan(rows[1].entry_deg)) << "nothing engaged: no angle";
+  // A rapid is not measured: its engagement cells are empty, not 0 (black-box testing).
+  EXPECT_TRUE(std::isnan(rows[1].engaged_area_mm2));
+  EXPECT_TRUE(std::isnan(rows[1].axial_depth_mm));
+  EXPECT_TRUE(std::isnan(rows[1].radial_width_mm));
+  EXPECT_EQ(rows[1].pairs, -1);
   EXPECT_TRUE(rows[1].collision);
 }
 

@@ -136,6 +136,18 @@ TEST(Report, TriangleBudgetSparesSmallMeshes) {
   EXPECT_LT(layer(data, "stock")->at("mesh")["triangles"].get<size_t>(), job->stock.n_faces());
 }
 
+// A collision "with fixture" names a part the view has to show (black-box testing: fixtures were not drawn).
+TEST(Report, FixturesAreDrawn) {
+  if (!viewer_built_in()) GTEST_SKIP() << "built without the 3-D viewer";
+  auto job = synthetic_job();
+  EXPECT_EQ(layer(scene_data(render_html_report(job->inputs)), "fixtures"), nullptr) << "none in the scene";
+  job->scene.fixtures.push_back(boss());
+  const auto data = scene_data(render_html_report(job->inputs));
+  const auto* fixtures = layer(data, "fixtures");
+  ASSERT_NE(fixtures, nullptr);
+  EXPECT_EQ((*fixtures)["mesh"]["triangles"], boss().n_faces());
+}
+
 TEST(Report, LongTablesAreCut) {
   auto job = synthetic_job();
   for (int i = 0; i < 40; ++i) job->inputs.collisions.push_back(collision(i, i + 1, ToolComponent::Ball, HitWith::Stock, true, 0.1));

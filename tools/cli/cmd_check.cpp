@@ -6,10 +6,27 @@
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/oriented_path.hpp"
 #include "tiltfield/core/scene.hpp"
 
 namespace tf::cli {
+
+namespace {
+
+// What a scene can use the mesh as: a stock or a design must bound a solid with its faces outward (a scene
+// refuses the others); a check surface or a fixture may be an open shell.
+std::string mesh_summary(const Mesh& m) {
+  std::string out = std::to_string(m.n_faces()) + " triangles, ";
+  if (!is_closed(m)) return out + "open (a check surface or fixture; not a stock or a closed design)";
+  const double v = signed_volume(m);
+  if (v > 0.0) return out + "closed, faces outward, volume " + fixed(v, 3) + " mm3";
+  return out + "closed but its faces point inward (volume " + fixed(v, 3) +
+         " mm3): refused as a stock or design; reverse the faces' order";
+}
+
+}  // namespace
 
 void add_check_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("check", "loads and validates a scene (and optionally other input files)");
@@ -50,9 +67,12 @@ void add_check_command(CLI::App& app) {
       }
       std::cout << "oriented path " << oriented << ": " << o.rows.size() << " rows\n";
     }
-    if (!machine.empty())
-      std::cout << "machine " << machine << ": " << to_string(read_machine_json(machine).kinematics) << "\n";
-    if (!mesh.empty()) std::cout << "mesh " << mesh << ": " << load_mesh(mesh).n_faces() << " triangles\n";
+    // Each file is read whole before its line is printed: a bad one leaves no half line on stdout.
+    if (!machine.empty()) {
+      const MachineSpec m = read_machine_json(machine);
+      std::cout << "machine " << machine << ": " << to_string(m.kinematics) << "\n";
+    }
+    if (!mesh.empty()) std::cout << "mesh " << mesh << ": " << mesh_summary(load_mesh(mesh)) << "\n";
   });
 }
 

@@ -99,7 +99,7 @@ nlohmann::json pose_json(const ToolPose& pose, const std::string& label) {
 }
 
 // The stock (machined, with its deviation and the blocks that cut it when known, else the raw stock faint
-// and hidden), the check surfaces and the design, each with its share of the triangle budget.
+// and hidden), the check surfaces, the fixtures and the design, each with its share of the triangle budget.
 std::vector<MeshLayer> mesh_layers(const ReportInputs& in, const ReportOptions& options) {
   const Scene& scene = *in.scene;
   std::vector<MeshLayer> meshes;
@@ -114,6 +114,9 @@ std::vector<MeshLayer> mesh_layers(const ReportInputs& in, const ReportOptions& 
   }
   if (!scene.check_surfaces.empty())
     meshes.push_back({"check", "Check surfaces", "#6f9fd8", 0.85, true, 1.0, merged(scene.check_surfaces)});
+  // Clamps and vices: what a collision "with fixture" names has to be seen.
+  if (!scene.fixtures.empty())
+    meshes.push_back({"fixtures", "Fixtures", "#8a8f98", 0.9, true, 0.5, merged(scene.fixtures)});
   if (options.include_design && scene.design.n_faces() > 0)
     // Under a machined stock the design is mostly hidden: a smaller share of the budget, off by default.
     meshes.push_back({"design", "Design surface", "#b9bec6", 1.0, !in.stock, in.stock ? 0.5 : 1.0,

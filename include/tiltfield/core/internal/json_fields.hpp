@@ -5,6 +5,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,18 @@ inline double required_number(const json& obj, const char* key, const std::strin
 
 inline double positive(double v, const std::string& file, const std::string& field) {
   if (!(v > 0.0)) throw InputError(file, 0, field, "must be positive");
+  return v;
+}
+
+// Positive and at most `max` (in `unit`): a machine value far beyond any machine's (a safe_z of 1e300 mm)
+// would be written into the program as a number no reader takes.
+inline double positive_at_most(double v, double max, const char* unit, const std::string& file, const std::string& field) {
+  positive(v, file, field);
+  if (!(v <= max)) {
+    std::ostringstream s;
+    s << "must be at most " << max << " " << unit;
+    throw InputError(file, 0, field, s.str());
+  }
   return v;
 }
 
