@@ -126,10 +126,24 @@ inline ClipperOutcome clipper_offset(const Profile& p, double gap, Side side, bo
   return o;
 }
 
+// This process's scratch folder, removed when the process ends (every test ran as a process of its own
+// and left one folder behind).
+inline const std::filesystem::path& temp_folder() {
+  struct Folder {
+    std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("tf_offset_test_" + std::to_string(::getpid()));
+    Folder() { std::filesystem::create_directories(path); }
+    ~Folder() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Folder folder;
+  return folder.path;
+}
+
 inline std::string write_temp(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tf_offset_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto f = dir / name;
+  const auto f = temp_folder() / name;
   std::ofstream(f, std::ios::binary) << text;
   return f.string();
 }
