@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 #include "plan_context.hpp"
 #include "tiltfield/core/angles.hpp"
@@ -62,10 +63,17 @@ double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, doubl
 std::vector<double> spread_raise(const std::vector<double>& raise, const std::vector<double>& arc, double w) {
   const size_t n = raise.size();
   std::vector<double> wide(n, 0.0), out(n, 0.0);
-  for (size_t i = 0; i < n; ++i) {
-    if (raise[i] == 0.0) continue;
-    for (size_t j = i; j-- > 0 && arc[i] - arc[j] <= w;) wide[j] = std::max(wide[j], raise[i]);
-    for (size_t j = i; j < n && arc[j] - arc[i] <= w; ++j) wide[j] = std::max(wide[j], raise[i]);
+  // The window's largest by a deque of candidates (indices, raises decreasing): linear in the rows, as a
+  // fine path holds a thousand rows or more within w.
+  std::deque<size_t> best;
+  size_t next = 0;  // the first row not yet in the window
+  for (size_t j = 0; j < n; ++j) {
+    for (; next < n && arc[next] - arc[j] <= w; ++next) {
+      while (!best.empty() && raise[best.back()] <= raise[next]) best.pop_back();
+      best.push_back(next);
+    }
+    while (arc[j] - arc[best.front()] > w) best.pop_front();  // j itself stays in: never empty
+    wide[j] = raise[best.front()];
   }
   std::vector<double> prefix(n + 1, 0.0);
   for (size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + wide[i];
