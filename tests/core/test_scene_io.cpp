@@ -236,3 +236,17 @@ TEST(SceneIO, CheckCommandSummarisesAValidScene) {
 }
 
 }  // namespace
+
+// A key given twice is named, the empty key too (found by fuzzing: `"": 1, "": 2` gave no field).
+TEST(SceneIO, AKeyGivenTwiceIsNamedEvenWhenEmpty) {
+  tf::test::TempDir dir;
+  tf::test::write_scene(dir, tf::test::valid_scene_json());
+  for (const auto& [text, field] : {std::pair<std::string, std::string>{"{\"units\": \"mm\", \"units\": \"mm\"}", "'units'"},
+                                    {"{\"\": 1, \"\": 2}", "'\"\"'"},
+                                    {"{\"tool\": {\"\": 1, \"\": 2}}", "'tool.\"\"'"}}) {
+    tf::test::write_text(dir / "scene.json", text);
+    const auto r = tf::test::run_tiltfield("check '" + (dir / "scene.json").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << text;
+    EXPECT_NE(r.out.find("field " + field + ": appears twice"), std::string::npos) << r.out;
+  }
+}

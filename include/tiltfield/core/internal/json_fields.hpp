@@ -22,6 +22,9 @@ inline std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
 }
 
+// A key as a message shows it: an empty key still gets a name.
+inline std::string shown_key(const std::string& key) { return key.empty() ? "\"\"" : key; }
+
 inline void require_object(const json& j, const std::string& file, const std::string& field) {
   if (!j.is_object()) throw InputError(file, 0, field, "must be a JSON object");
 }
@@ -32,8 +35,7 @@ inline void only_keys(const json& j, std::initializer_list<const char*> allowed,
   for (auto it = j.begin(); it != j.end(); ++it) {
     bool ok = false;
     for (const char* a : allowed) ok |= it.key() == a;
-    // An empty key still gets a name the message can show.
-    if (!ok) throw InputError(file, 0, join(prefix, it.key().empty() ? "\"\"" : it.key()), "unknown key");
+    if (!ok) throw InputError(file, 0, join(prefix, shown_key(it.key())), "unknown key");
   }
 }
 
@@ -104,7 +106,7 @@ class DuplicateKeys {
         const std::string key = parsed.get<std::string>();
         auto& keys = objects_.back().keys;
         if (std::find(keys.begin(), keys.end(), key) != keys.end())
-          throw InputError(file_, 0, join(objects_.back().path, key), "appears twice in its object");
+          throw InputError(file_, 0, join(objects_.back().path, shown_key(key)), "appears twice in its object");
         keys.push_back(key);
         break;
       }
@@ -122,7 +124,7 @@ class DuplicateKeys {
   // The path of the value being parsed: the enclosing objects' last keys (arrays' indices are not tracked).
   std::string path() const {
     if (objects_.empty() || objects_.back().keys.empty()) return objects_.empty() ? "" : objects_.back().path;
-    return join(objects_.back().path, objects_.back().keys.back());
+    return join(objects_.back().path, shown_key(objects_.back().keys.back()));
   }
   const std::string& file_;
   std::vector<Object> objects_;
