@@ -37,7 +37,7 @@ Eigen::Vector3d Tool::contact_offset(const Eigen::Vector3d& n, const Eigen::Vect
   // sin(t) = |normal_part|): the least move that keeps the dip within 0.001 mm. So an axis within about
   // 0.02 deg of n (the end face on the surface, the default lead and tilt of 0) does not move the end,
   // and the move grows continuously to R - r beyond.
-  constexpr double kDip = 1e-3;
+  constexpr double kDip = kContactDipMm;
   const double s = normal_part.norm();
   if ((R - r) * s <= kDip) return Eigen::Vector3d::Zero();
   return ((R - r) - kDip / s) / s * normal_part;

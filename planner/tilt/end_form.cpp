@@ -50,7 +50,11 @@ int design_side(const EndForm& form, const Eigen::Vector3d& contact, const Eigen
   const Triangle& t = form.design.triangle(hit.triangle);
   const Eigen::Vector3d nt = (t.b - t.a).cross(t.c - t.a);
   if (!(nt.squaredNorm() > 0)) return 0;
-  return nt.dot(normal) >= 0 ? 1 : -1;
+  // A triangle more than 60 deg off the row's normal (the contact on an edge of the design) does not tell
+  // which side the material is on: the row is not checked rather than checked on a guessed side.
+  const double c = nt.normalized().dot(normal.normalized());
+  if (std::abs(c) < 0.5) return 0;
+  return c > 0 ? 1 : -1;
 }
 
 double point_dip(const EndForm& form, const Eigen::Vector3d& x, int side, int* hint) {

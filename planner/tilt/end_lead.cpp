@@ -128,14 +128,29 @@ size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& no
   });
   const std::vector<double> ups = spread_raise(up, ctx.arc, ctx.options.response_length_mm);
   const std::vector<double> downs = spread_raise(down, ctx.arc, ctx.options.response_length_mm);
+  // The first way tried (away from a lead of 0) wherever its raise reaches the row, the other elsewhere:
+  // a difference of the two spreads had left rows between a forward and a backward need short of both
+  // (found in review).
+  const bool forward_up = lead >= 0;
+  auto either = [forward_up](double u, double d) { return forward_up ? (u > 0.0 ? u : -d) : (d > 0.0 ? -d : u); };
+  std::vector<double> change(n, 0.0);
+  for (size_t i = 0; i < n; ++i) change[i] = either(ups[i], downs[i]);
+  // A row the spread leans where its own least change would not (a wall of the design behind it)
+  // keeps its own.
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+    if (change[i] == 0.0) return;
+    const double own = either(up[i], down[i]);
+    if (own != change[i] && dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + change[i], tilt)) &&
+        !dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + own, tilt)))
+      change[i] = own;
+  });
   size_t raised = 0;
   double most = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double change = ups[i] - downs[i];
-    if (change == 0.0) continue;
-    ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], lead + change, tilt);
+    if (change[i] == 0.0) continue;
+    ctx.nominal[i] = axis_from_lead_tilt(ctx.frames[i], lead + change[i], tilt);
     ++raised;
-    most = std::max(most, std::abs(change));
+    most = std::max(most, std::abs(change[i]));
   }
   size_t count = 0, first = 0;
   for (size_t i = n; i-- > 0;)

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/tool.hpp"
 #include "tiltfield/tilt/plan.hpp"
 
 namespace tf {
@@ -117,8 +118,11 @@ PlanOptions parse_plan_options(const nlohmann::json& j, const std::string& file,
   if (o.sample_spacing_mm < 0.05) throw InputError(file, 0, "planner.sample_spacing_mm", "must be at least 0.05 mm");
   if (o.between_rows_tolerance_mm < 0.001)
     throw InputError(file, 0, "planner.between_rows_tolerance_mm", "must be at least 0.001 mm");
-  if (o.end_dip_tolerance_mm < 1e-4)
-    throw InputError(file, 0, "planner.end_dip_tolerance_mm", "must be at least 0.0001 mm");
+  // Above the dip a tilted end's contact keeps by design, or every tilted row would count as dipping
+  // (found in review: 0.0005 mm set every lead to about 0).
+  if (!(o.end_dip_tolerance_mm >= 1.5 * Tool::kContactDipMm))
+    throw InputError(file, 0, "planner.end_dip_tolerance_mm",
+                     "must be at least 0.0015 mm (a tilted end's contact lies 0.001 mm below the surface by design)");
   if (o.pointwise_step_deg > 10) throw InputError(file, 0, "planner.pointwise_step_deg", "at most 10 degrees");
   return o;
 }

@@ -124,7 +124,7 @@ TEST(EndForm, ToleranceIsChecked) {
   const Tool tool = end_mill(0.0);
   PlannerBasics basics;
   EXPECT_THROW(parse_plan_options({{"end_dip_tolerance_mm", 0.0}}, "s.json", tool, basics, 1000), InputError);
-  EXPECT_THROW(parse_plan_options({{"end_dip_tolerance_mm", 1e-5}}, "s.json", tool, basics, 1000), InputError);
+  EXPECT_THROW(parse_plan_options({{"end_dip_tolerance_mm", 0.0005}}, "s.json", tool, basics, 1000), InputError);
   EXPECT_DOUBLE_EQ(parse_plan_options({{"end_dip_tolerance_mm", 0.01}}, "s.json", tool, basics, 1000).end_dip_tolerance_mm,
                    0.01);
 }

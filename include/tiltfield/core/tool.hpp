@@ -64,6 +64,8 @@ struct Tool {
   // tiny axis changes there do not move the end. n zero (unknown): 0, the row point is the cutter
   // location itself.
   Eigen::Vector3d contact_offset(const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const;
+  // How far below its contact contact_offset() leaves a tilted flat or bull end, mm.
+  static constexpr double kContactDipMm = 1e-3;
   // In: a path row's point p (mm), its surface normal n (zero: unknown) and a unit tool axis. Out: the
   // tool's tip there, mm: the cutter location p + contact_offset(n, axis), cl_height() down the axis.
   Eigen::Vector3d tip_at(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& axis) const {
