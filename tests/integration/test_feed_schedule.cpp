@@ -150,13 +150,16 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
     EXPECT_GE(p2.blocks[i].feed, 10.0) << "block " << i + 1;
   }
   EXPECT_DOUBLE_EQ(p2.blocks[4].feed, 5000.0);
-  // A limit that is not positive: exit 2 naming the option, no program.
-  const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
-                                 " --schedule-feed -3 -o " + (dir / "p3.ngc").string());
-  EXPECT_EQ(bad.exit_code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("--schedule-feed"), std::string::npos) << bad.out;
-  EXPECT_EQ(test::count_lines(bad.out), 1) << bad.out;
-  EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));  // the retract and the move back cut nothing: the machine's max feed
+  // A limit that is not positive, 0 included (black-box testing: 0 had written the report as the
+  // program): exit 2 naming the option, no program.
+  for (const char* limit : {"-3", "0"}) {
+    const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                                   " --schedule-feed " + limit + " -o " + (dir / "p3.ngc").string());
+    EXPECT_EQ(bad.exit_code, 2) << bad.out;
+    EXPECT_NE(bad.out.find("--schedule-feed"), std::string::npos) << bad.out;
+    EXPECT_EQ(test::count_lines(bad.out), 1) << bad.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
+  }  // the retract and the move back cut nothing: the machine's max feed
   EXPECT_DOUBLE_EQ(p2.blocks.back().feed, 5000.0);  // the air move at the machine's max feed
   const double after = max_mrr((dir / "p2.ngc").string());
   std::cout << "max MRR " << before << " -> " << after << " mm3/min (limit 6000)\n";
@@ -255,11 +258,14 @@ TEST_F(ScheduleCli, PostMaxMrr) {
   std::cout << "post --max-mrr: " << before << " -> " << after << " (limit " << limit << ")\n";
   EXPECT_LE(after, limit + 0.005);  // blocks.csv rounds to 0.01
   EXPECT_GE(after, limit * 0.98);
-  // Bad limits: exit 2, one line naming the option, no program written.
-  r = run_tiltfield(post + (dir / "p3.ngc").string() + " --max-mrr -5");
-  EXPECT_EQ(r.exit_code, 2) << r.out;
-  EXPECT_NE(r.out.find("--max-mrr"), std::string::npos) << r.out;
-  EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
+  // Bad limits, 0 included (black-box testing: 0 was taken as no limit): exit 2, one line naming the
+  // option, no program written.
+  for (const char* bad : {" --max-mrr -5", " --max-mrr 0"}) {
+    r = run_tiltfield(post + (dir / "p3.ngc").string() + bad);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find("--max-mrr"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
+  }
   TF_REQUIRE_RS274();
   const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);

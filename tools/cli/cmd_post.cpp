@@ -25,6 +25,8 @@ struct PostArgs {
   double resolution = 0.1;       // mm, of that verification
   double link_gap = 0.0;         // mm, taken only when --link-gap is given
   CLI::Option* link_gap_option = nullptr;
+  CLI::Option* max_mrr_option = nullptr;  // given (0 included, which is refused): feeds are scheduled
+  bool scheduling() const { return max_mrr_option && max_mrr_option->count() > 0; }
 };
 
 void positive_option(double v, const char* name) {
@@ -88,7 +90,7 @@ void run_post(PostArgs& a) {
   job.title = "tiltfield post: " + scene.file.filename().string() + ", " + std::filesystem::path(a.oriented).filename().string();
 
   const Dialect dialect = effective_dialect(o, job.machine);
-  if (dialect == Dialect::Apt && a.schedule.max_mrr != 0.0)
+  if (dialect == Dialect::Apt && a.scheduling())
     throw InputError("", 0, "--max-mrr", "feeds are scheduled on G-code; APT output has no machine program to simulate");
   if (dialect == Dialect::Apt) {
     write_file_atomic(a.out, [&](std::ostream& out) { write_apt(out, path, job, o); });
@@ -105,7 +107,7 @@ void run_post(PostArgs& a) {
   }
   if (!global_options().quiet)
     for (const std::string& w : program.warnings) std::cerr << "tiltfield post: " << a.oriented << ": " << w << "\n";
-  if (a.schedule.max_mrr != 0.0) {
+  if (a.scheduling()) {
     std::ostringstream text;
     write_gcode(text, program, job, o);
     const std::string scheduled = schedule_posted_feeds(a, scene, text.str());
@@ -141,7 +143,7 @@ void add_post_command(CLI::App& app) {
   a.link_gap_option = cmd->add_option("--link-gap", a.link_gap,
                                       "rows farther apart are linked (retract, rapid, approach), not cut through, mm; "
                                       "default: 4 x the tool radius");
-  cmd->add_option("--max-mrr", a.schedule.max_mrr,
+  a.max_mrr_option = cmd->add_option("--max-mrr", a.schedule.max_mrr,
                   "simulate the program and lower feeds so that no block removes more than this many mm3/min");
   cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")->capture_default_str();
   cmd->add_option("--air-feed", a.schedule.air_feed, "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)");

@@ -29,6 +29,7 @@ struct VerifyArgs {
   std::string scene, program, out, blocks, stock_mesh, pairs, report, html, subroutine_path;
   double mesh_tolerance = 0.01;
   double schedule_mrr = 0.0;
+  CLI::Option* schedule_option = nullptr;  // given (0 included, which is refused): feeds are scheduled
   FeedScheduleOptions schedule;
   bool no_engagement = false;
   bool block_delete = false;
@@ -95,7 +96,7 @@ void run_verify(const VerifyArgs& a) {
   }
   opt.progress = terminal_progress();
   opt.record_last_block = !a.html.empty();  // the report colours the stock by the block that cut it
-  const bool scheduling = a.schedule_mrr != 0.0;
+  const bool scheduling = a.schedule_option && a.schedule_option->count() > 0;
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
   if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
@@ -180,7 +181,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--engagement-axial-step", args.engagement.axial_step_mm,
                   "engagement rings (the heights of --engagement's pairs) this far apart along the tool's profile, mm; "
                   "0: the arc between two angle samples at the tool's radius, at least the resolution (default 0)");
-  cmd->add_option("--schedule-feed", args.schedule_mrr,
+  args.schedule_option = cmd->add_option("--schedule-feed", args.schedule_mrr,
                   "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
   cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();
   cmd->add_option("--air-feed", args.schedule.air_feed, "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
