@@ -17,8 +17,12 @@ std::vector<BodyPiece> body_pieces(const Tool& tool) {
   auto cyl = [&](ToolComponent comp, int seg, double a, double b, double r) {
     if (b - a > 1e-9 && r > 0) out.push_back({comp, seg, false, a - cl, b - cl, r});
   };
+  const auto* bull = std::get_if<BullCutter>(&tool.cutter);
   if (std::holds_alternative<BallCutter>(tool.cutter)) {
     out.push_back({ToolComponent::Ball, -1, true, 0.0, 0.0, R});
+  } else if (bull && tool.flute_length >= 2.0 * bull->corner_radius) {
+    const double r = bull->corner_radius;
+    out.push_back({ToolComponent::Ball, -1, false, -cl, 2.0 * r - cl, R, r});
   } else {
     cyl(ToolComponent::Ball, -1, 0.0, std::max(tool.end_height(), 1e-6), R);
   }
@@ -121,9 +125,10 @@ Vector3d closest_on_simplex(std::array<Vector3d, 4>& y, int& n, bool& inside) {
 }  // namespace
 
 double triangle_cylinder_distance(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double r) {
-  const Vector3d axis = (p1 - p0).normalized();
-  const Vector3d mid = 0.5 * (p0 + p1);
-  const double half = 0.5 * (p1 - p0).norm();
+  return triangle_cylinder_distance(t, 0.5 * (p0 + p1), (p1 - p0).normalized(), 0.5 * (p1 - p0).norm(), r);
+}
+
+double triangle_cylinder_distance(const Triangle& t, const Vector3d& mid, const Vector3d& axis, double half, double r) {
   auto support_tri = [&](const Vector3d& d) {
     const double a = t.a.dot(d), b = t.b.dot(d), c = t.c.dot(d);
     return a >= b ? (a >= c ? t.a : t.c) : (b >= c ? t.b : t.c);
@@ -195,6 +200,40 @@ double cylinder_leaf(const Triangle& t, const Vector3d& p0, const Vector3d& p1, 
 
 }  // namespace
 
+double rounded_cylinder_distance(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double R, double rounding,
+                                 double best) {
+  const Vector3d ax = (p1 - p0).normalized();
+  const Vector3d c0 = p0 + rounding * ax, c1 = p1 - rounding * ax;  // the core's axis
+  const double half = 0.5 * std::max(0.0, (c1 - c0).dot(ax)), core = std::max(0.0, R - rounding);
+  const Vector3d mid = 0.5 * (c0 + c1);
+  const bool disc = half <= 1e-9;
+  // The capsule of radius R about the core's axis encloses the piece: a lower bound, exact where the
+  // closest axis point lies strictly inside (the lateral surface, as for a cylinder).
+  double s = 0.5;
+  const double capsule =
+      (disc ? (closest_point_on_triangle(mid, t) - mid).norm() : segment_triangle_distance(c0, c1, t, &s)) - R;
+  if (capsule >= best) return capsule;
+  if (!disc && s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
+  // A triangle wholly beyond a face of the core (a bull end's disc: either side) lies at least its nearest
+  // vertex's height above it, less the rounding, and exactly that when the vertex stands over the face.
+  const Vector3d* v[3] = {&t.a, &t.b, &t.c};
+  double h[3];
+  for (int i = 0; i < 3; ++i) h[i] = (*v[i] - mid).dot(ax);
+  const double sign = disc ? (h[0] + h[1] + h[2] >= 0 ? 1.0 : -1.0) : (s <= 0.5 ? -1.0 : 1.0);
+  int low = 0;
+  for (int i = 0; i < 3; ++i) {
+    h[i] = sign * h[i] - half;
+    if (h[i] < h[low]) low = i;
+  }
+  if (h[low] > 0) {
+    const double d = h[low] - rounding;
+    if (d >= best) return d;
+    const Vector3d q = *v[low] - mid;
+    if ((q - q.dot(ax) * ax).squaredNorm() <= core * core) return std::max(0.0, d);
+  }
+  return std::max(0.0, triangle_cylinder_distance(t, mid, ax, half, core) - rounding);
+}
+
 double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
                       bool first_below) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -223,7 +262,10 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
         const Vector3d c = 0.5 * (lo + hi);
         return seg_point_distance(c) - 0.5 * (hi - lo).norm() - R;
       },
-      [&](int i, double best) { return cylinder_leaf(bvh.triangle(i), p0, p1, R, best); },
+      [&](int i, double best) {
+        return piece.rounding > 0 ? rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best)
+                                  : cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+      },
       limit, first_below ? limit : -inf);
   return std::max(0.0, d);
 }
@@ -234,7 +276,8 @@ void merge_coaxial_pieces(std::vector<BodyPiece>& pieces, std::vector<double>& r
   std::vector<double> r;
   for (size_t i = 0; i < pieces.size(); ++i) {
     const BodyPiece& q = pieces[i];
-    if (!p.empty() && !p.back().sphere && !q.sphere && p.back().radius == q.radius && r.back() == required[i] &&
+    if (!p.empty() && !p.back().sphere && !q.sphere && p.back().rounding == 0 && q.rounding == 0 &&
+        p.back().radius == q.radius && r.back() == required[i] &&
         std::abs(p.back().h1 - q.h0) <= 1e-12 * (1 + std::abs(q.h0))) {
       p.back().h1 = q.h1;
       continue;
@@ -279,7 +322,8 @@ double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pos
   const Vector3d out = -pose.axis.normalized();  // p0's cap faces this way (h0 < h1)
   const double R = piece.radius;
   auto leaf = [&](int i, double best) {
-    const double d = cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+    const double d = piece.rounding > 0 ? rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best)
+                                        : cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
     if (d < best) arg = i;
     return d;
   };

@@ -20,11 +20,17 @@ struct BodyPiece {
   bool sphere = false;  // the ball: centre at height h0 (= 0 for a ball cutter), radius `radius`
   double h0 = 0, h1 = 0;  // height range above C_L, mm (h0 < h1 for a cylinder)
   double radius = 0;      // mm
+  // A cylinder rounded by `rounding` (mm): the points within it of the cylinder of radius radius - rounding
+  // over [h0 + rounding, h1 - rounding]. A bull end is the disc of radius R - r at its torus' centre
+  // height rounded by r. 0: a plain cylinder.
+  double rounding = 0;
 };
 
-// The pieces of a tool. A ball cutter gives a sphere of its radius; a flat or bull end form is a
-// cylinder of the cutter radius over the end-form height (for a bull cutter this encloses the torus:
-// a conservative simplification). Pieces of zero length are left out.
+// The pieces of a tool. A ball cutter gives a sphere of its radius; a flat end a cylinder of the cutter
+// radius over the end-form height; a bull end the rounded disc of its torus (exact: its upper half lies
+// inside the flutes), or, when the flutes are shorter than twice the corner radius, the cylinder of the
+// cutter radius over the end-form height, which encloses the torus (conservative: the rounded disc would
+// reach above the flutes). Pieces of zero length are left out.
 std::vector<BodyPiece> body_pieces(const Tool& tool);
 
 // Clearance each component must keep from the check surfaces: ball and flutes the safety distance, the
@@ -51,6 +57,14 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
 
 // Distance between a triangle and a finite cylinder (axis p0 -> p1, radius r) by GJK, mm. 0 on contact.
 double triangle_cylinder_distance(const Triangle& t, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double r);
+// The same for the cylinder centred at `mid` about the unit `axis`, half height `half` >= 0 and radius r >= 0:
+// a disc when half = 0, a segment when r = 0.
+double triangle_cylinder_distance(const Triangle& t, const Eigen::Vector3d& mid, const Eigen::Vector3d& axis,
+                                  double half, double r);
+// Distance between a triangle and a rounded cylinder (BodyPiece::rounding) whose outer extent runs from p0 to
+// p1 along its axis with radius R, mm, or a value >= `best` (a lower bound) when it cannot beat `best`.
+double rounded_cylinder_distance(const Triangle& t, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double R,
+                                 double rounding, double best);
 
 struct BodyClearance {
   double distance = 0;  // smallest distance of the whole body to the surfaces, mm

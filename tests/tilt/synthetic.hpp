@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bull_end_fcl.hpp"
 #include "tiltfield/core/local_frame.hpp"
 #include "tiltfield/core/mesh.hpp"
 #include "tiltfield/core/oriented_path.hpp"
@@ -120,10 +121,13 @@ inline FclCheck fcl_check(const OrientedPath& path, const Tool& tool, const std:
   auto cyl = [&](double h0, double h1, double r, ToolComponent c) {
     if (h1 - h0 > 1e-9) parts.push_back({std::make_shared<fcl::Cylinderd>(r, h1 - h0), 0.5 * (h0 + h1) - cl, req(c)});
   };
+  const auto* bull = std::get_if<BullCutter>(&tool.cutter);
   if (std::holds_alternative<BallCutter>(tool.cutter))
     parts.push_back({std::make_shared<fcl::Sphered>(tool.radius()), 0.0, basics.safety_distance});
+  else if (bull && tool.flute_length >= 2 * bull->corner_radius)  // the torus itself, centred on the CL
+    parts.push_back({bull_end_convex(tool.radius(), bull->corner_radius, 360, 90), 0.0, basics.safety_distance});
   else
-    cyl(0.0, tool.end_height(), tool.radius(), ToolComponent::Ball);  // a bull's torus in its cylinder
+    cyl(0.0, tool.end_height(), tool.radius(), ToolComponent::Ball);
   cyl(tool.end_height(), tool.flute_length, tool.radius(), ToolComponent::Flute);
   cyl(tool.flute_length, tool.length, tool.shank_radius, ToolComponent::Shank);
   double h = tool.length;
