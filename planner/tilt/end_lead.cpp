@@ -176,9 +176,13 @@ EndDips settle_end_dips(const PlanContext& ctx, std::vector<Vector3d>& axes, std
     dip[i] = dip_at(ctx, i, axes[i]);
     if (dip[i] <= tol || !may_turn) return;
     const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], axes[i].normalized());
-    const int sign = lt.x() >= 0 ? 1 : -1;
-    double l = least_lifting_lead(ctx, i, lt.x(), lt.y(), sign, true);
-    if (!std::isfinite(l)) l = least_lifting_lead(ctx, i, lt.x(), lt.y(), -sign, true);
+    // Both ways, and the nearer: the first clear lead one way can lie far beyond an obstacle the other way
+    // does not meet (a row of a flat end between blades went from 1.5 to 27 deg where -3 deg was clear and
+    // its neighbours took it; the swing gouged between the rows, black-box testing).
+    const double up = least_lifting_lead(ctx, i, lt.x(), lt.y(), 1, true);
+    const double down = least_lifting_lead(ctx, i, lt.x(), lt.y(), -1, true);
+    double l = up;
+    if (!std::isfinite(up) || (std::isfinite(down) && lt.x() - down < up - lt.x())) l = down;
     if (!std::isfinite(l)) return;
     axes[i] = axis_from_lead_tilt(ctx.frames[i], l, lt.y());
     clear[i] = ctx.clearance(i, axes[i]);

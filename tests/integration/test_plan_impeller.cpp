@@ -167,3 +167,29 @@ TEST(ImpellerPlanNarrow, AMotionWithinTheBetweenRowsToleranceIsNotAFailure) {
 
 }  // namespace
 }  // namespace tf
+
+namespace tf {
+namespace {
+
+// A flat end R 3 on the hub of 5 blades (the path's contacts from the generated ball centres): the rows
+// whose end dips after the stages are turned to the nearer lead that lifts it. The first clear lead one
+// way lay past a blade at 27 deg where the other way's -3 deg was clear: a 30 deg swing over two rows,
+// which gouged the hub between them (black-box testing).
+TEST(ImpellerPlanQuality, AFlatEndIsLiftedByTheNearerLead) {
+  scenes::ImpellerOptions o = coarse(5, 15.0);
+  o.tolerance = 0.002;
+  Impeller s = make(o);
+  Tool& tool = s.bundle.tool;
+  const double R = tool.radius();
+  tool.cutter = FlatCutter{R};
+  for (CLPoint& row : s.bundle.path.rows) row.p -= R * row.contact_normal();
+  const PlanOptions options = derive_plan_options(tool, s.bundle.planner, s.bundle.feed);
+  const PlanResult r = plan_path(s.bundle.path, tool, {s.meshes(), {}, {&s.bundle.design.mesh}}, s.bundle.planner,
+                                 s.bundle.feed, options);
+  EXPECT_GT(r.metrics.rows_end_turned, 0u) << "the case this guards: rows turned after the stages";
+  EXPECT_EQ(r.metrics.rows_end_dipping, 0u);
+  EXPECT_LT(r.metrics.max_step_deg, 10.0);
+}
+
+}  // namespace
+}  // namespace tf
