@@ -74,6 +74,7 @@ Collision read_collision(const json& o, const std::string& file, const std::stri
   c.with = named(o, "with", {HitWith::Stock, HitWith::Check, HitWith::Fixture}, file, prefix);
   c.rapid = boolean(o, "rapid", file, prefix);
   c.depth_mm = jf::required_number(o, "depth_mm", file, prefix);
+  if (c.depth_mm < 0) throw InputError(file, 0, jf::join(prefix, "depth_mm"), "must be >= 0 (a depth into the obstacle)");
   if (o.contains("tool")) c.tool = whole_number(o, "tool", file, prefix);
   if (c.tool < 0) throw InputError(file, 0, jf::join(prefix, "tool"), "must be a whole number >= 0");
   read_poses(o, file, prefix, c);
@@ -82,8 +83,10 @@ Collision read_collision(const json& o, const std::string& file, const std::stri
 
 Gouge read_gouge(const json& o, const std::string& file, const std::string& prefix) {
   jf::require_object(o, file, prefix);
-  return {whole_number(o, "block", file, prefix), whole_number(o, "line", file, prefix),
-          jf::required_number(o, "depth_mm", file, prefix)};
+  const Gouge g{whole_number(o, "block", file, prefix), whole_number(o, "line", file, prefix),
+                jf::required_number(o, "depth_mm", file, prefix)};
+  if (g.depth_mm < 0) throw InputError(file, 0, jf::join(prefix, "depth_mm"), "must be >= 0 (a depth below the design)");
+  return g;
 }
 
 const json* array_field(const json& j, const char* key, const std::string& file) {

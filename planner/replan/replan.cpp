@@ -263,10 +263,16 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   for (const ReplanWindow& w : result.windows)
     for (size_t i = w.first; i <= w.last; ++i) rows.push_back(i);
   const std::vector<RowClearance> clear = row_clearances(result.path, rows, scene.tool, scene.planner, obstacles);
+  // The CSV's clearance is the plan's: to the check surfaces and fixtures, not the stock obstacle the
+  // windows were also kept from (black-box testing: 10 mm to the stock in a scene without check surfaces,
+  // where `plan` writes none).
+  const std::vector<RowClearance> scene_clear =
+      extra_obstacles.empty() ? clear : row_clearances(result.path, rows, scene.tool, scene.planner, scene_obstacles(scene));
   result.min_clearance_mm = std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < rows.size(); ++k) {
-    result.path.rows[rows[k]].clearance_mm = clear[k].distance_mm;
-    result.min_clearance_mm = std::min(result.min_clearance_mm, clear[k].distance_mm);
+    const double d = scene_clear[k].distance_mm;
+    result.path.rows[rows[k]].clearance_mm = std::isfinite(d) ? std::min(d, kNoObstacleClearance) : kNoObstacleClearance;
+    result.min_clearance_mm = std::min(result.min_clearance_mm, result.path.rows[rows[k]].clearance_mm);
     // The planner's own test: below the clearance is below it (a tolerance here hid rows 0.005 mm short).
     if (clear[k].margin_mm < 0.0) {
       ++result.rows_below_safety;

@@ -69,6 +69,23 @@ TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 
+// A verification report of one holder collision with `with` on the block from row 100 to 101 of the
+// scene's vertical rows, moved by `shift`.
+std::string holder_report(const tf::Scene& scene, const Eigen::Vector3d& shift, const std::string& with = "stock",
+                          const std::string& depth = "0.4") {
+  const double cl = scene.tool.cl_height();
+  const Eigen::Vector3d a = scene.path.rows[100].p - cl * Eigen::Vector3d::UnitZ() + shift;
+  const Eigen::Vector3d b = scene.path.rows[101].p - cl * Eigen::Vector3d::UnitZ() + shift;
+  const auto v = [](const Eigen::Vector3d& x) {
+    std::ostringstream o;
+    o << '[' << x.x() << ',' << x.y() << ',' << x.z() << ']';
+    return o.str();
+  };
+  return R"({"collisions": [{"block": 7, "line": 19, "component": "holder", "with": ")" + with +
+         R"(", "rapid": false, "depth_mm": )" + depth + R"(, "start_tip": )" + v(a) + R"(, "start_axis": [0,0,1], "end_tip": )" +
+         v(b) + R"(, "end_axis": [0,0,1]}]})";
+}
+
 // A verification report of another program (its blocks millimetres from this path) is bad input: it had
 // been re-planned at whatever rows lay nearest (black-box testing). The same report moved onto the path
 // is re-planned.
@@ -77,19 +94,7 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   const fs::path scene_file = write_hidden_post_scene(dir);
   const tf::Scene scene = tf::load_scene(scene_file);
   tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
-  const double cl = scene.tool.cl_height();
-  const auto report = [&](const Eigen::Vector3d& shift) {
-    const Eigen::Vector3d a = scene.path.rows[100].p - cl * Eigen::Vector3d::UnitZ() + shift;
-    const Eigen::Vector3d b = scene.path.rows[101].p - cl * Eigen::Vector3d::UnitZ() + shift;
-    const auto v = [](const Eigen::Vector3d& x) {
-      std::ostringstream o;
-      o << '[' << x.x() << ',' << x.y() << ',' << x.z() << ']';
-      return o.str();
-    };
-    return R"({"collisions": [{"block": 7, "line": 19, "component": "holder", "with": "stock", "rapid": false,
-      "depth_mm": 0.4, "start_tip": )" + v(a) + R"(, "start_axis": [0,0,1], "end_tip": )" + v(b) +
-           R"(, "end_axis": [0,0,1]}]})";
-  };
+  const auto report = [&](const Eigen::Vector3d& shift) { return holder_report(scene, shift); };
   const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
                               (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
                               (dir / "out.csv").string();
@@ -105,6 +110,39 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   const auto near = tf::test::run_command(command);
   EXPECT_NE(near.exit_code, 2) << near.out;
   EXPECT_TRUE(fs::exists(dir / "out.csv")) << near.out;
+  // The re-planned rows' clearance is the plan's, to check surfaces and fixtures (the scene's are at least
+  // 15 mm away), not to the stock obstacle the windows kept the holder from (black-box testing).
+  const tf::OrientedPath out = tf::read_oriented_csv(dir / "out.csv");
+  ASSERT_EQ(out.rows.size(), scene.path.rows.size());
+  size_t windows = 0;  // rows outside the windows keep the input's clearance (0 in p.csv)
+  for (const tf::OrientedRow& row : out.rows)
+    if (row.clearance_mm != 0.0) {
+      EXPECT_GT(row.clearance_mm, 15.0);
+      ++windows;
+    }
+  EXPECT_GT(windows, 10u);
+}
+
+// A --stock-mesh that cannot be read and a negative depth are bad input whether or not a stock collision
+// asks for the mesh (both had been accepted, exit 0; black-box testing).
+TEST(ReplanCli, AnUnreadableStockMeshAndANegativeDepthExitTwo) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const tf::Scene scene = tf::load_scene(scene_file);
+  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
+  const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
+                              (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
+                              (dir / "out.csv").string();
+  tf::test::write_text(dir / "v.json", holder_report(scene, Eigen::Vector3d::Zero(), "check"));
+  const auto missing = tf::test::run_command(command + " --stock-mesh " + (dir / "missing.ply").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.out;
+  EXPECT_NE(missing.out.find("missing.ply"), std::string::npos) << missing.out;
+  tf::test::write_text(dir / "v.json", holder_report(scene, Eigen::Vector3d::Zero(), "check", "-3"));
+  const auto negative = tf::test::run_command(command);
+  EXPECT_EQ(negative.exit_code, 2) << negative.out;
+  EXPECT_NE(negative.out.find("collisions[0].depth_mm"), std::string::npos) << negative.out;
+  EXPECT_EQ(std::count(negative.out.begin(), negative.out.end(), '\n'), 1) << negative.out;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 }  // namespace
 

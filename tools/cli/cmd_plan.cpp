@@ -75,11 +75,15 @@ void add_plan_command(CLI::App& app) {
     if (!result.uncleared.empty()) {
       std::ostringstream msg;
       msg << result.uncleared.size() << " row(s) could not be cleared (row: clearance mm):";
-      for (size_t k = 0; k < result.uncleared.size() && k < 10; ++k)
-        msg << (k ? "," : "") << " " << result.uncleared[k].row << ": " << fixed(result.uncleared[k].clearance_mm, 4)
-            << (result.uncleared[k].unreachable ? " (unreachable)" : "")
-            << (result.uncleared[k].between_rows ? " (the motion to the next row)" : "")
-            << (result.uncleared[k].obstacle == "fixtures" ? " (fixture)" : "");
+      for (size_t k = 0; k < result.uncleared.size() && k < 10; ++k) {
+        const UnclearedRow& u = result.uncleared[k];
+        msg << (k ? "," : "") << " " << u.row << ": ";
+        // A clear row whose motion is not: the row's clearance would read as a contradiction (black-box
+        // testing), the motion's shortfall says what fails.
+        if (u.between_rows) msg << "the motion to the next row comes " << fixed(-u.margin_mm, 4) << " short";
+        else msg << fixed(u.clearance_mm, 4);
+        msg << (u.unreachable ? " (unreachable)" : "") << (u.obstacle == "fixtures" ? " (fixture)" : "");
+      }
       if (result.uncleared.size() > 10) msg << ", ... (all in --json)";
       throw JobError(msg.str());
     }

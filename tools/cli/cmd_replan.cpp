@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "cli.hpp"
@@ -31,6 +32,10 @@ void run_replan(const ReplanArgs& a) {
   const Scene scene = load_scene(a.scene);
   check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented, a.verify, a.stock_mesh}));
   require_for_planning(scene);
+  // Read when given, used or not: a missing or broken file is bad input whether or not a stock collision
+  // asks for it (it had been read only then, black-box testing).
+  std::optional<Mesh> given_stock;
+  if (!a.stock_mesh.empty()) given_stock = load_mesh(a.stock_mesh);
   OrientedPath original = read_oriented_csv(a.oriented);
   if (original.rows.size() != scene.path.rows.size())
     throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +
@@ -63,7 +68,7 @@ void run_replan(const ReplanArgs& a) {
   Mesh obstacle;
   std::vector<const Mesh*> extra;
   if (stock_hit) {
-    const Mesh stock = a.stock_mesh.empty() ? stock_to_mesh(scene.stock) : load_mesh(a.stock_mesh);
+    const Mesh stock = given_stock ? *given_stock : stock_to_mesh(scene.stock);
     obstacle = stock_obstacle(stock, scene.path, scene.tool, scene.planner, scene.tool.radius() / 2.0,
                               a.options.crop_margin_mm);
     extra.push_back(&obstacle);
@@ -72,9 +77,10 @@ void run_replan(const ReplanArgs& a) {
   write_oriented_csv(r.path, a.out);
   if (!global_options().quiet) {
     // No window (every collision one no axis fixes): no clearance to give (it had thrown on infinity).
-    const std::string clearance = r.windows.empty() || !std::isfinite(r.min_clearance_mm)
-                                      ? "no window re-planned"
-                                      : "min clearance in the windows " + fixed(r.min_clearance_mm, 3) + " mm";
+    const std::string clearance =
+        r.windows.empty() || !std::isfinite(r.min_clearance_mm) ? "no window re-planned"
+        : clearance_measured(r.min_clearance_mm) ? "min clearance in the windows " + fixed(r.min_clearance_mm, 3) + " mm"
+                                                 : "no check surface or fixture near the windows";
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
               << " rows changed, " << clearance << "\n";
   }

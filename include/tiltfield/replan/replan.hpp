@@ -77,7 +77,7 @@ struct ReplanResult {
   std::vector<ReplanWindow> windows;
   size_t rows_changed = 0;
   size_t rows_below_safety = 0;  // rows of the windows still below their clearance afterwards
-  double min_clearance_mm = 0;   // over the windows' rows, against check surfaces and the obstacle
+  double min_clearance_mm = 0;   // over the windows' rows, to check surfaces and fixtures (kNoObstacleClearance: none)
   std::vector<size_t> uncleared; // those rows
   std::vector<size_t> unreachable;  // rows of the windows without a joint solution on the scene's machine
 };
