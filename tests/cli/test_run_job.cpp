@@ -198,6 +198,24 @@ TEST(OutputNames, QuietAfterTheSubCommandToo) {
   EXPECT_NE(r.out.find("--loud"), std::string::npos) << r.out;
 }
 
+// An empty value is refused naming its option: CLI11 reads it as 0, which an option without a range of
+// its own had taken (`--gouge-tolerance ""` ran with 0; black-box testing).
+TEST(OutputNames, AnEmptyValueExitsTwoNamingTheOption) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "profile.txt", "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n");
+  const std::string exe = std::string(TILTFIELD_EXE) + " offset " + (dir / "profile.txt").string() + " -o " +
+                          (dir / "o.ngc").string();
+  for (const auto& [args, field] : {std::pair<std::string, std::string>{" -d ''", "-d"}, {" -d 1 --gap-blend ''", "--gap-blend"},
+                                    {" -d 1 --gap-blend=", "--gap-blend"}}) {
+    const auto r = tf::test::run_command(exe + args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find("'" + field + "': empty value"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(dir / "o.ngc"));
+  EXPECT_EQ(tf::test::run_command(exe + " -d 1 --gap-blend 0").exit_code, 0);
+}
+
 // An output named like an input (or like another output) is refused before the work: it would be
 // renamed over the input at the end.
 TEST(OutputNames, AnOutputThatIsAnInputOrAnotherOutputExitsTwo) {

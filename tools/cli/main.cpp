@@ -1,6 +1,7 @@
 // tiltfield: 5-axis tool-axis planning, posting and verification. See README.md.
 #include <iostream>
 #include <new>
+#include <string>
 
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
@@ -22,6 +23,19 @@ int main(int argc, char** argv) {
   tf::cli::add_grind_command(app);
   tf::cli::add_scene_command(app);
   tf::cli::add_check_command(app);
+  // An empty value (`--gouge-tolerance ""`, `--mesh-tolerance=`) reads as 0 to CLI11: refused here, where
+  // an option without a range of its own would take it (black-box testing).
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const size_t eq = a.find('=');
+    std::string field;
+    if (a.empty()) field = i > 1 && argv[i - 1][0] == '-' ? argv[i - 1] : "argument " + std::to_string(i);
+    else if (a.rfind("--", 0) == 0 && eq + 1 == a.size()) field = a.substr(0, eq);
+    if (!field.empty()) {
+      std::cerr << "tiltfield: field '" << field << "': empty value\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
