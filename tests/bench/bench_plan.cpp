@@ -10,7 +10,8 @@
 // mm, the generator's default path (1 300 rows): the dynamics swing the axis and the corrections leave rows
 // failing there, so the fall-back to the baseline's axes runs (0.6.14). BM_PlanWideHolder: the bundled
 // impeller's tool on a coarse path (203 rows) with a holder of radius 25 at a gauge length of 30: its face
-// lies over the blade tips, where every leaf was a cap contact for GJK before 0.6.14.
+// lies over the blade tips, where every leaf was a cap contact for GJK before 0.6.14. BM_PlanBullEnd: the
+// bundled impeller with a bull end (below).
 // Options: TILTFIELD_BENCH_ROWS (default 100000), TILTFIELD_BENCH_TOLERANCE (hub, default 0.0005 mm),
 // TILTFIELD_BENCH_BLADE_TOLERANCE (blades, default 0.002 mm), TILTFIELD_BENCH_REPEAT (default 1: plans
 // this many times and reports the fastest, for a machine shared with other jobs; the rate counter then
@@ -152,13 +153,14 @@ void run(benchmark::State& state, tf::PlanMethod method, size_t max_rows, bool f
 }
 
 // A generated impeller planned as it is (for the scenes beside the throughput one).
-void run_small(benchmark::State& state, const tf::scenes::SceneBundle& b) {
-  std::vector<const tf::Mesh*> meshes;
+void run_small(benchmark::State& state, const tf::scenes::SceneBundle& b, bool with_design = false) {
+  std::vector<const tf::Mesh*> meshes, design;
   for (const auto& c : b.check_surfaces) meshes.push_back(&c.mesh);
+  if (with_design) design.push_back(&b.design.mesh);
   const tf::PlanOptions o = tf::derive_plan_options(b.tool, b.planner, b.feed);
   tf::PlanResult r;
   for (auto _ : state) {
-    r = tf::plan_path(b.path, b.tool, {meshes, {}, {}}, b.planner, b.feed, o);
+    r = tf::plan_path(b.path, b.tool, {meshes, {}, design}, b.planner, b.feed, o);
     benchmark::DoNotOptimize(r);
   }
   state.counters["rows"] = static_cast<double>(b.path.rows.size());
@@ -194,6 +196,16 @@ void BM_PlanWideHolder(benchmark::State& state) {
   run_small(state, b);
 }
 
+// The bundled impeller's scene with a bull end R 3 r 1 on the same contacts (the path's points moved by
+// R - r against the normal) and the hub as design: the exact rounded disc (0.6.22) and the end form.
+void BM_PlanBullEnd(benchmark::State& state) {
+  auto b = tf::scenes::make_impeller_scene(tf::scenes::ImpellerOptions{}, tf::scenes::machine_json("table-table-ac", {}));
+  const double R = b.tool.radius(), r = 1.0;
+  b.tool.cutter = tf::BullCutter{R, r};
+  for (tf::CLPoint& p : b.path.rows) p.p -= (R - r) * p.contact_normal();
+  run_small(state, b, true);
+}
+
 void BM_PlanDynamic(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX); }
 void BM_PlanDynamicWithFixture(benchmark::State& state) { run(state, tf::PlanMethod::Dynamic, SIZE_MAX, true); }
 // The baseline searches every colliding row independently, on the same path.
@@ -204,6 +216,7 @@ BENCHMARK(BM_PlanDynamicWithFixture)->Unit(benchmark::kSecond)->Iterations(1)->U
 BENCHMARK(BM_PlanPointwise)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_PlanNarrowChannel)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_PlanWideHolder)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_PlanBullEnd)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
 
