@@ -15,6 +15,7 @@ void Builder::start(const ToolPose& pose, const Joints& j, double feed) {
   prog_.start.a = prog_.start.b = prog_.start.c = 0.0;
   rapid(prog_.start);
   rapid(t.high);
+  if (t.via) rapid(*t.via);
   rapid(t.retract);
   plunge(target(pose, j), feed);
 }
@@ -44,6 +45,7 @@ void Builder::link(const ToolPose& from_pose, const Joints& from, const ToolPose
 void Builder::reposition(const ToolPose& from_pose, const Joints& from, const ToolPose& to_pose, const Joints& to, double feed) {
   const Transit a = transit(from_pose, from), b = transit(to_pose, to);
   rapid(a.retract);
+  if (a.via) rapid(*a.via);
   rapid(a.high);
   Joints turned = a.high;
   turned.a = b.high.a;
@@ -52,6 +54,7 @@ void Builder::reposition(const ToolPose& from_pose, const Joints& from, const To
   check_turn(a.high, turned);
   rapid(turned);
   rapid(b.high);
+  if (b.via) rapid(*b.via);
   rapid(b.retract);
   plunge(target(to_pose, to), feed);
 }
@@ -157,9 +160,24 @@ Builder::Transit Builder::transit(const ToolPose& pose, const Joints& j, bool ch
   Transit t = transit_at(pose, j, lift, full);
   if (!check_rise) return t;  // only the retract is used
   if (lift >= full) return reachable(t);
+  // A rise along the axis that goes sideways farther than the full retract would (by more than safe_z)
+  // is not needed: the full retract's vertical rise clears. Along an axis 84 deg off vertical on a head
+  // machine without X or Y limits it had gone 2.2 m sideways to reach the transit height (black-box
+  // testing; the limits had stopped it where they exist). A table's tool stays vertical: never sideways.
   const ToolPose low = pose_at(t.retract, pose.axis), high = pose_at(t.high, pose.axis);
-  if (t.high_within_limits && check_.translation_clear(low, high.tip - low.tip, 0.5 * job_.machine.safe_z)) return t;
-  return reachable(transit_at(pose, j, full, full));
+  if (t.high_within_limits && t.sideways_beyond_full <= job_.machine.safe_z &&
+      check_.translation_clear(low, high.tip - low.tip, 0.5 * job_.machine.safe_z))
+    return t;
+  Transit f = reachable(transit_at(pose, j, full, full));
+  // Out along the axis to the full retract by rapid, the plunge from the shorter one: the full lift at
+  // half the feed had cost seconds a link.
+  const ToolPose out = pose_at(f.retract, pose.axis);
+  if (t.high_within_limits && t.sideways_beyond_full > job_.machine.safe_z &&
+      check_.translation_clear(low, out.tip - low.tip, 0.5 * job_.machine.safe_z)) {
+    f.via = f.retract;
+    f.retract = t.retract;
+  }
+  return f;
 }
 
 Builder::Transit Builder::reachable(Transit t) const {
@@ -204,6 +222,7 @@ Builder::Transit Builder::transit_at(const ToolPose& pose, const Joints& j, doub
     const double k = (z - t.retract.z) / dir.z();
     t.high.x += k * dir.x();
     t.high.y += k * dir.y();
+    t.sideways_beyond_full = std::max(0.0, lift + k - full) * std::hypot(dir.x(), dir.y());
   }
   t.high.z = z;
   t.high_within_limits = machine_within(t.high);

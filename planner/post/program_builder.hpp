@@ -38,6 +38,7 @@ class Builder {
   void finish(const ToolPose& pose, const Joints& j) {
     const Transit t = transit(pose, j);
     rapid(t.retract);
+    if (t.via) rapid(*t.via);
     rapid(t.high);
   }
 
@@ -60,7 +61,13 @@ class Builder {
   struct Transit {
     Joints retract;  // the tool backed off along its axis until it clears the part
     Joints high;     // further along the axis (or straight up) to the transit height
+    // Between them, where the rise goes on along the axis only to the full retract and then straight up:
+    // that point (the plunge from the shorter retract stays short).
+    std::optional<Joints> via;
     bool high_within_limits = true;
+    // How far sideways (programmed X Y) the rise along the axis takes the tool beyond where the full
+    // retract would, mm (0: straight up, or no farther).
+    double sideways_beyond_full = 0.0;
   };
 
   // The tool pose at programmed joints (tcp: the tip itself, with `axis`).

@@ -103,6 +103,36 @@ TEST(Links, RetractLiftsClearOfAFixtureBesideIt) {
   EXPECT_LT(highest_link_tip(prog, kin), 70.0 + safe_z - 5.0);
 }
 
+// A head 84 deg off vertical beside the boss (the axis pointing away from it) on a machine without X or Y
+// limits: the retract is short, and the rise to the transit height went on along the axis, 1 m sideways
+// (black-box testing; limits had stopped it where they exist). Now out along the axis to the full
+// retract by rapid, then straight up; the plunge still starts from the short retract.
+TEST(Links, AFarTiltedHeadGoesNoFartherSidewaysThanItsFullRetract) {
+  const tf::PostJob job = boss_job("head-head-ac");
+  ASSERT_EQ(job.machine.limits.count('X'), 0u);
+  const tf::Kinematics kin(job.machine, job.tool.length);
+  tf::OrientedPath path;
+  for (int i = 0; i <= 10; ++i) {
+    tf::OrientedRow r;
+    r.p = {50.0, -5.0 + i, 20.0};
+    r.axis = post_test::polar_axis(84.0, 0.0);
+    path.rows.push_back(r);
+  }
+  const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+  // The full retract lies safe_z beyond the part's extent along the axis, which here is behind the tip: the
+  // tilted tool (the start's turn from A 0 left out) stays within about safe_z of the path sideways.
+  double farthest = 0.0, plunge = 0.0;
+  for (size_t i = 0; i < prog.blocks.size(); ++i) {
+    const tf::Block& b = prog.blocks[i];
+    if (std::abs(b.target.a) > 1.0) farthest = std::max(farthest, kin.forward(b.target).tip.x() - 50.0);
+    if (b.motion == tf::Motion::Linear && i > 0 && prog.blocks[i - 1].motion == tf::Motion::Rapid && plunge == 0.0)
+      plunge = (kin.forward(b.target).tip - kin.forward(prog.blocks[i - 1].target).tip).norm();
+  }
+  EXPECT_LT(farthest, 2.0 * job.machine.safe_z);
+  EXPECT_GT(plunge, 0.5);
+  EXPECT_LT(plunge, job.machine.safe_z + 1.0) << "the plunge from the short retract";
+}
+
 TEST(Links, StockInsideTestAndCapsuleClearance) {
   const tf::PostJob job = boss_job("xyz");
   const tf::post_detail::TransitChecker check(job);
