@@ -6,6 +6,8 @@
 #include <map>
 
 #include "grind_test_util.hpp"
+#include "test_support.hpp"
+#include "tiltfield/grind/grind.hpp"
 #include "tiltfield/grind/sections.hpp"
 
 namespace tf::grind {
@@ -157,6 +159,24 @@ TEST_F(EndMill, RemovedVolumeMatchesAnIndependentMonteCarloSweep) {
   std::printf("end mill: removed volume mesh %.3f mm3, Monte-Carlo sweep %.3f mm3 (%d points), rel. diff %.4f\n",
               mesh, mc, N, rel);
   EXPECT_LT(rel, 0.01);
+}
+
+// The end mill's first flute alone (a helix ground with the wheel swivelled 30 deg) at a step and spacing
+// of 0.2 mm: two sections' contours touch at a point there, and the mesh came out open ("the rebuilt tool
+// surface is not closed", black-box testing; --step 0.25 passed).
+TEST(EndMillFlute, TouchingContoursAtAFinerStepStayClosed) {
+  test::TempDir dir;
+  test::write_text(dir / "flute.json", R"({"units": "mm", "blank": {"radius": 5.0, "length": 30.0},
+    "wheel": {"radius": 50.0, "thickness": 4.0, "edge_radius": 1.0},
+    "start": {"x": 0, "y": 80, "z": 0, "u": 0, "a": 0, "w": 0},
+    "program": ["G90", "OP fluting flute 1", "G0 Y150", "G0 X1.299 Y58.2 Z-0.75 U-36 A0 W30", "G1 Y53.2 F300",
+                "G1 U-12 A158.7827", "G0 Y58.2"]})");
+  SectionOptions opt;
+  opt.spacing = 0.2;
+  opt.step = 0.2;
+  const Mesh m = tile_sections(simulate_sections(load_grind_scene(dir / "flute.json"), opt));
+  EXPECT_TRUE(is_closed(m));
+  EXPECT_GT(signed_volume(m), 0.0);
 }
 
 }  // namespace

@@ -8,6 +8,13 @@
 namespace tf::grind {
 namespace {
 
+Contour square(double x0, double y0, double side) {
+  Contour c;
+  c.points = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+  c.labels.assign(4, 0);
+  return c;
+}
+
 Contour circle(double cx, double cy, double r, int n, bool hole = false, double phase = 0.0) {
   Contour c;
   c.hole = hole;
@@ -126,6 +133,15 @@ TEST(Tiling, IntersectingTilesFallBackToAStairStep) {
   expect_clean_solid(stack_of({{c_shape(0)}, {c_shape(M_PI)}, {c_shape(M_PI)}}, 0.05), -1, &st);
   std::printf("C-shape: tiled %d, fallback slabs %d\n", st.tiled_pairs, st.fallback_slabs);
   EXPECT_EQ(st.fallback_slabs, 1);
+
+  // Beside it two squares that touch at a corner in both sections: the slab's stair step meets their
+  // walls in one vertex of its mid-plane, round which they make two fans (one a square). No half-edge
+  // mesh holds such a vertex, and the mesh came out open (the end mill at --step 0.2, black-box testing):
+  // each fan gets a vertex of its own; the solid touches itself there, as the sections do.
+  const Contour s1 = square(5, 0, 1), s2 = square(6, 1, 1);
+  const Mesh m = tile_sections(stack_of({{c_shape(0), s1, s2}, {c_shape(M_PI), s1, s2}}, 0.05), {}, &st);
+  EXPECT_EQ(st.fallback_slabs, 1);
+  EXPECT_TRUE(is_closed(m));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 
+#include <cmath>
 #include <map>
 #include <queue>
 #include <unordered_map>
@@ -129,32 +130,66 @@ void stair_step(const std::vector<PlacedContour>& lower, const std::vector<Place
   }
 }
 
+namespace {
+
+// A contour vertex at a triangulation vertex: its id and the directions of its next and previous
+// neighbours. The material lies left of every contour edge, so the vertex's corner of material is the
+// turn counter-clockwise from the next neighbour's direction to the previous one's.
+struct Corner {
+  int id = 0;
+  double to_next = 0, to_prev = 0;  // rad
+  bool holds(double dir) const {
+    const double span = std::remainder(to_prev - to_next, 2 * M_PI), at = std::remainder(dir - to_next, 2 * M_PI);
+    return (at >= 0 ? at : at + 2 * M_PI) <= (span > 0 ? span : span + 2 * M_PI);
+  }
+};
+
+}  // namespace
+
 void end_cap(const std::vector<PlacedContour>& contours, bool up, SlabMesh& out) {
   Arrangement ar;
   insert_side(ar, contours, 0);
   if (ar.cdt.dimension() < 2) return;  // nothing left at this end: no cap
   classify(ar);
-  std::unordered_map<const void*, int> id;
+  // Contours that touch at a point share its triangulation vertex: each face there takes the id of the
+  // contour vertex whose corner of material holds it (one id for all had left one contour's walls without
+  // their cap, black-box testing).
+  std::unordered_map<const void*, std::vector<Corner>> corners;
   for (size_t c = 0; c < contours.size(); ++c) {
     const auto& pts = contours[c].contour->points;
-    for (size_t i = 0; i < pts.size(); ++i) {
+    const size_t n = pts.size();
+    for (size_t i = 0; i < n; ++i) {
       const CDTP::Constraint_id cid = ar.edges[0][c][i];
       if (cid.vl_ptr() == nullptr) continue;
       const std::vector<VH> ch = chain(ar.cdt, cid, pts[i]);
-      id[&*ch.front()] = (*contours[c].ids)[i];
-      id[&*ch.back()] = (*contours[c].ids)[(i + 1) % pts.size()];
+      const Eigen::Vector2d to_next = pts[(i + 1) % n] - pts[i], to_prev = pts[(i + n - 1) % n] - pts[i];
+      corners[&*ch.front()].push_back({(*contours[c].ids)[i], std::atan2(to_next.y(), to_next.x()),
+                                       std::atan2(to_prev.y(), to_prev.x())});
     }
   }
   const double z = contours.empty() ? 0.0 : contours.front().z;
-  auto vid = [&](VH v) {
-    auto [it, fresh] = id.try_emplace(&*v, 0);
+  std::unordered_map<const void*, int> fresh_ids;
+  auto vid = [&](CDTP::Face_handle f, int k) {
+    const VH v = f->vertex(k);
+    const auto c = corners.find(&*v);
+    if (c != corners.end()) {
+      if (c->second.size() == 1) return c->second.front().id;
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero(), at(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()));
+      for (int j = 0; j < 3; ++j)
+        centre += Eigen::Vector2d(CGAL::to_double(f->vertex(j)->point().x()), CGAL::to_double(f->vertex(j)->point().y())) / 3.0;
+      const double dir = std::atan2(centre.y() - at.y(), centre.x() - at.x());
+      for (const Corner& corner : c->second)
+        if (corner.holds(dir)) return corner.id;
+      return c->second.front().id;
+    }
+    auto [it, fresh] = fresh_ids.try_emplace(&*v, 0);
     if (fresh) it->second = out.add({CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()), z});
     return it->second;
   };
   for (auto f = ar.cdt.finite_faces_begin(); f != ar.cdt.finite_faces_end(); ++f) {
     if ((f->info() & kInLower) == 0) continue;
-    if (up) out.F.push_back({vid(f->vertex(0)), vid(f->vertex(1)), vid(f->vertex(2))});
-    else out.F.push_back({vid(f->vertex(0)), vid(f->vertex(2)), vid(f->vertex(1))});
+    if (up) out.F.push_back({vid(f, 0), vid(f, 1), vid(f, 2)});
+    else out.F.push_back({vid(f, 0), vid(f, 2), vid(f, 1)});
   }
 }
 

@@ -15,6 +15,7 @@
 #include <CGAL/Surface_mesh.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <atomic>
 #include <numeric>
 #include <polyclipping/clipper.hpp>
@@ -278,6 +279,45 @@ SlabMesh tile_slab(const PlacedSection& P, const PlacedSection& Q, SlabCounts& c
   return out;
 }
 
+// Gives every fan of faces round a vertex beyond the first a vertex of its own (at the same place). Two
+// contours of a section that touch at a point meet a stair step's mid-plane in one vertex of the exact
+// triangulation, which two wall strips then share: a vertex no half-edge mesh holds, whose faces it drops
+// (the end mill at --step 0.2 came out open, black-box testing). The surface touches itself there, as the
+// sections do; every edge keeps its two faces.
+void split_pinched_vertices(std::vector<Eigen::Vector3d>& V, std::vector<std::array<int, 3>>& F) {
+  // Per vertex, its corners: (face, position in the face).
+  std::vector<std::vector<std::pair<int, int>>> corners(V.size());
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int c = 0; c < 3; ++c) corners[static_cast<size_t>(F[f][c])].push_back({static_cast<int>(f), c});
+  std::vector<char> done;
+  for (size_t v = 0; v < corners.size(); ++v) {
+    const auto& cs = corners[v];
+    if (cs.size() < 2) continue;
+    // Round the vertex a face (v, a, b) leads from a to b; a fan is a chain of such steps.
+    done.assign(cs.size(), 0);
+    auto next_of = [&](size_t k) {  // the corner whose face starts at this corner's b
+      const auto [f, c] = cs[k];
+      const int b = F[static_cast<size_t>(f)][(c + 2) % 3];
+      for (size_t m = 0; m < cs.size(); ++m)
+        if (F[static_cast<size_t>(cs[m].first)][(cs[m].second + 1) % 3] == b) return m;
+      return cs.size();
+    };
+    int fans = 0;
+    for (size_t start = 0; start < cs.size(); ++start) {
+      if (done[start]) continue;
+      int id = static_cast<int>(v);
+      if (fans++ > 0) {
+        id = static_cast<int>(V.size());
+        V.push_back(V[v]);
+      }
+      for (size_t k = start; k < cs.size() && !done[k]; k = next_of(k)) {
+        done[k] = 1;
+        F[static_cast<size_t>(cs[k].first)][cs[k].second] = id;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Mesh tile_sections(const SectionStack& stack, const TilingOptions& options, TilingStats* stats) {
@@ -329,6 +369,7 @@ Mesh tile_sections(const SectionStack& stack, const TilingOptions& options, Tili
       F.push_back(g);
     }
   }
+  split_pinched_vertices(V, F);
   if (stats) *stats = {static_cast<int>(slabs), tiled, matched, groups, fallbacks};
   Eigen::MatrixX3d Vm(V.size(), 3);
   for (size_t i = 0; i < V.size(); ++i) Vm.row(i) = V[i].transpose();
