@@ -110,6 +110,11 @@ Profile parse_profile(std::string_view text, const std::string& file) {
     }
     const double L = e.chord.norm();
     if (L == 0) throw InputError(file, n, "DX", "element of zero length (DX = DY = 0)");
+    // Below the 1e-6 mm the closure snaps: such an element has no direction the geometry can use, and a
+    // 1e-12 mm one was reported as a self-crossing of its neighbours (black-box testing).
+    if (L < 1e-6)
+      throw InputError(file, n, "DX", "element " + fixed(L, 12) + " mm long, below the profile's 1e-6 mm resolution (join it "
+                                      "to a neighbour)");
     // A half circle written in decimals (R 1.41421356 over the chord (2, 2)) has its chord up to about
     // 1e-8 longer than 2|R|; it was refused (black-box testing).
     if (e.R != 0 && L > 2 * std::abs(e.R) * (1 + 1e-9) + 2e-8)

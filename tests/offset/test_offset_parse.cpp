@@ -65,6 +65,7 @@ TEST(OffsetParse, BadInputNamesTheLine) {
   EXPECT_EQ(line_of("START 0 0\n0 10 0\n0 0 1o\n0 -10 0\n0 0 -10\n"), 3);        // garbage number
   EXPECT_EQ(line_of("START 0 0\n0 10 0\n0 0 10 SHORT\n"), 3);                     // unknown word
   EXPECT_EQ(line_of("START 0 0\n0 10 0\n0 0 0\n0 -10 0\n"), 3);                   // zero length
+  EXPECT_EQ(line_of("START 0 0\n0 10 0\n0 0 1e-12\n0 0 10\n0 -10 0\n0 0 -10\n"), 3);  // below 1e-6 mm
   EXPECT_EQ(line_of("START 0 0\n0 10 0\n0 -10 0\n"), 3);                          // reverses onto itself
   EXPECT_EQ(line_of("0 10 0\n"), 1);                                              // no START
   EXPECT_EQ(line_of("START 0 0 0\n"), 1);
