@@ -289,32 +289,40 @@ void split_pinched_vertices(std::vector<Eigen::Vector3d>& V, std::vector<std::ar
   std::vector<std::vector<std::pair<int, int>>> corners(V.size());
   for (size_t f = 0; f < F.size(); ++f)
     for (int c = 0; c < 3; ++c) corners[static_cast<size_t>(F[f][c])].push_back({static_cast<int>(f), c});
-  std::vector<char> done;
+  std::vector<size_t> next;
+  std::vector<char> done, has_prev;
   for (size_t v = 0; v < corners.size(); ++v) {
     const auto& cs = corners[v];
     if (cs.size() < 2) continue;
-    // Round the vertex a face (v, a, b) leads from a to b; a fan is a chain of such steps.
-    done.assign(cs.size(), 0);
-    auto next_of = [&](size_t k) {  // the corner whose face starts at this corner's b
-      const auto [f, c] = cs[k];
-      const int b = F[static_cast<size_t>(f)][(c + 2) % 3];
-      for (size_t m = 0; m < cs.size(); ++m)
-        if (F[static_cast<size_t>(cs[m].first)][(cs[m].second + 1) % 3] == b) return m;
-      return cs.size();
-    };
-    int fans = 0;
-    for (size_t start = 0; start < cs.size(); ++start) {
-      if (done[start]) continue;
-      int id = static_cast<int>(v);
-      if (fans++ > 0) {
-        id = static_cast<int>(V.size());
-        V.push_back(V[v]);
-      }
-      for (size_t k = start; k < cs.size() && !done[k]; k = next_of(k)) {
-        done[k] = 1;
-        F[static_cast<size_t>(cs[k].first)][cs[k].second] = id;
-      }
+    // Round the vertex a face (v, a, b) leads from a to b; a fan is a chain of such steps (a cycle on a
+    // closed surface; an open one is walked from its first corner, so that it stays one fan).
+    const size_t k_end = cs.size();
+    next.assign(k_end, k_end);
+    has_prev.assign(k_end, 0);
+    for (size_t k = 0; k < k_end; ++k) {
+      const int b = F[static_cast<size_t>(cs[k].first)][(cs[k].second + 2) % 3];
+      for (size_t m = 0; m < k_end; ++m)
+        if (F[static_cast<size_t>(cs[m].first)][(cs[m].second + 1) % 3] == b) {
+          next[k] = m;
+          has_prev[m] = 1;
+          break;
+        }
     }
+    done.assign(k_end, 0);
+    int fans = 0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (size_t start = 0; start < k_end; ++start) {
+        if (done[start] || (pass == 0 && has_prev[start])) continue;
+        int id = static_cast<int>(v);
+        if (fans++ > 0) {
+          id = static_cast<int>(V.size());
+          V.push_back(V[v]);
+        }
+        for (size_t k = start; k < k_end && !done[k]; k = next[k]) {
+          done[k] = 1;
+          F[static_cast<size_t>(cs[k].first)][cs[k].second] = id;
+        }
+      }
   }
 }
 
