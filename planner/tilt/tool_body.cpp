@@ -169,49 +169,16 @@ double triangle_cylinder_distance(const Triangle& t, const Vector3d& mid, const 
   return v.norm();
 }
 
-namespace {
-
-// Exact distance from the cylinder [p0, p1] of radius R to triangle t, or a value >= best (a lower bound)
-// when it cannot beat `best`.
-double cylinder_leaf(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double R, double best) {
-  double s = 0;
-  const double capsule = segment_triangle_distance(p0, p1, t, &s) - R;  // the capsule encloses the cylinder
-  if (capsule >= best) return capsule;
-  // A closest axis point strictly inside the segment means the capsule's nearest point is on the
-  // cylinder's lateral surface (the direction to the triangle is then normal to the axis): the capsule
-  // distance is the cylinder's, exactly. Only cap-side contacts need GJK.
-  if (s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
-  // A cap-side contact. A triangle wholly beyond the cap's plane lies at least its nearest vertex's height
-  // above that plane, and exactly that when the vertex stands over the cap's disc. For a wide holder over
-  // many triangles this spares GJK nearly every leaf: the capsule's hemisphere reaches R past the cap, so
-  // its bound let through every triangle within R of the holder's face.
-  const Vector3d end = s <= 0.5 ? p0 : p1;
-  const Vector3d out = (s <= 0.5 ? p0 - p1 : p1 - p0).normalized();
-  const Vector3d* v[3] = {&t.a, &t.b, &t.c};
-  int low = 0;
-  double h[3];
-  for (int i = 0; i < 3; ++i) {
-    h[i] = (*v[i] - end).dot(out);
-    if (h[i] < h[low]) low = i;
-  }
-  if (h[low] > 0) {
-    if (h[low] >= best) return h[low];
-    if ((*v[low] - end - h[low] * out).squaredNorm() <= R * R) return h[low];
-  }
-  return triangle_cylinder_distance(t, p0, p1, R);
-}
-
-}  // namespace
-
 double rounded_cylinder_distance(const Triangle& t, const Vector3d& p0, const Vector3d& p1, double R, double rounding,
                                  double best) {
   const Vector3d ax = (p1 - p0).normalized();
-  const Vector3d c0 = p0 + rounding * ax, c1 = p1 - rounding * ax;  // the core's axis
-  const double half = 0.5 * std::max(0.0, (c1 - c0).dot(ax)), core = std::max(0.0, R - rounding);
+  const Vector3d c0 = p0 + rounding * ax, c1 = p1 - rounding * ax;  // the core's axis (p0, p1 for rounding 0)
+  const bool disc = (c1 - c0).dot(ax) <= 2e-9;
   const Vector3d mid = 0.5 * (c0 + c1);
-  const bool disc = half <= 1e-9;
+  const double core = std::max(0.0, R - rounding);
   // The capsule of radius R about the core's axis encloses the piece: a lower bound, exact where the
-  // closest axis point lies strictly inside (the lateral surface, as for a cylinder).
+  // closest axis point lies strictly inside (the direction to the triangle is then normal to the axis and
+  // the nearest point is on the lateral surface). Only contacts on the end side need more.
   double s = 0.5;
   const double capsule =
       (disc ? (closest_point_on_triangle(mid, t) - mid).norm() : segment_triangle_distance(c0, c1, t, &s)) - R;
@@ -219,22 +186,30 @@ double rounded_cylinder_distance(const Triangle& t, const Vector3d& p0, const Ve
   if (!disc && s > 1e-9 && s < 1 - 1e-9) return std::max(0.0, capsule);
   // A triangle wholly beyond a face of the core (a bull end's disc: either side) lies at least its nearest
   // vertex's height above it, less the rounding, and exactly that when the vertex stands over the face.
+  // For a wide holder over many triangles this spares GJK nearly every leaf: the capsule's hemisphere
+  // reaches R past the face, so its bound lets through every triangle within R of it.
   const Vector3d* v[3] = {&t.a, &t.b, &t.c};
-  double h[3];
-  for (int i = 0; i < 3; ++i) h[i] = (*v[i] - mid).dot(ax);
-  const double sign = disc ? (h[0] + h[1] + h[2] >= 0 ? 1.0 : -1.0) : (s <= 0.5 ? -1.0 : 1.0);
+  Vector3d end = mid, out = ax;
+  if (!disc) {
+    end = s <= 0.5 ? c0 : c1;
+    out = (s <= 0.5 ? c0 - c1 : c1 - c0).normalized();
+  } else if ((*v[0] - mid).dot(ax) + (*v[1] - mid).dot(ax) + (*v[2] - mid).dot(ax) < 0) {
+    out = -ax;
+  }
   int low = 0;
+  double h[3];
   for (int i = 0; i < 3; ++i) {
-    h[i] = sign * h[i] - half;
+    h[i] = (*v[i] - end).dot(out);
     if (h[i] < h[low]) low = i;
   }
   if (h[low] > 0) {
     const double d = h[low] - rounding;
     if (d >= best) return d;
-    const Vector3d q = *v[low] - mid;
-    if ((q - q.dot(ax) * ax).squaredNorm() <= core * core) return std::max(0.0, d);
+    if ((*v[low] - end - h[low] * out).squaredNorm() <= core * core) return std::max(0.0, d);
   }
-  return std::max(0.0, triangle_cylinder_distance(t, mid, ax, half, core) - rounding);
+  const double cylinder = disc ? triangle_cylinder_distance(t, mid, ax, 0.5 * std::max(0.0, (c1 - c0).dot(ax)), core)
+                               : triangle_cylinder_distance(t, c0, c1, core);
+  return std::max(0.0, cylinder - rounding);
 }
 
 double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose& pose, double limit,
@@ -266,8 +241,7 @@ double piece_distance(const TriangleBvh& bvh, const BodyPiece& piece, const Pose
         return seg_point_distance(c) - 0.5 * (hi - lo).norm() - R;
       },
       [&](int i, double best) {
-        return piece.rounding > 0 ? rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best)
-                                  : cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+        return rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best);
       },
       limit, first_below ? limit : -inf);
   return std::max(0.0, d);
@@ -325,8 +299,7 @@ double piece_distance(const ClearanceBvh& bvh, const BodyPiece& piece, const Pos
   const Vector3d out = -pose.axis.normalized();  // p0's cap faces this way (h0 < h1)
   const double R = piece.radius;
   auto leaf = [&](int i, double best) {
-    const double d = piece.rounding > 0 ? rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best)
-                                        : cylinder_leaf(bvh.triangle(i), p0, p1, R, best);
+    const double d = rounded_cylinder_distance(bvh.triangle(i), p0, p1, R, piece.rounding, best);
     if (d < best) arg = i;
     return d;
   };

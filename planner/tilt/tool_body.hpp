@@ -61,8 +61,9 @@ double triangle_cylinder_distance(const Triangle& t, const Eigen::Vector3d& p0, 
 // a disc when half = 0, a segment when r = 0.
 double triangle_cylinder_distance(const Triangle& t, const Eigen::Vector3d& mid, const Eigen::Vector3d& axis,
                                   double half, double r);
-// Distance between a triangle and a rounded cylinder (BodyPiece::rounding) whose outer extent runs from p0 to
-// p1 along its axis with radius R, mm, or a value >= `best` (a lower bound) when it cannot beat `best`.
+// Distance between a triangle and a rounded cylinder (BodyPiece::rounding; 0: a plain cylinder) whose outer
+// extent runs from p0 to p1 along its axis with radius R, mm, or a value >= `best` (a lower bound) when it
+// cannot beat `best`.
 double rounded_cylinder_distance(const Triangle& t, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double R,
                                  double rounding, double best);
 
