@@ -60,6 +60,11 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
   if (j.contains("tilt_offset")) m.tilt_offset = vec3(j["tilt_offset"], file, join(prefix, "tilt_offset"));
   if (j.contains("table_center")) m.table_center = vec3(j["table_center"], file, join(prefix, "table_center"));
   m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
+  // Measured up from the spindle nose to the head's rotation centre: below the nose it would turn the head
+  // about a point in the tool (a negative length had been taken as given, black-box testing).
+  if (!(m.head_pivot_length >= 0.0 && m.head_pivot_length <= 1e4))
+    throw InputError(file, 0, join(prefix, "head_pivot_length"),
+                     "must be from 0 to 10000 mm: the distance from the spindle nose up to the head's rotation centre");
   if (j.contains("limits")) {
     const auto& lim = j["limits"];
     const std::string lp = join(prefix, "limits");

@@ -142,6 +142,8 @@ std::vector<BadScene> bad_scenes() {
       {"machine not json", [](json&) {}, "", "{\n  \"kinematics\": \n}", "machine.json", ":3"},
       {"safe_z beyond any machine (black-box testing: 1e300 wrote a 300-digit Z)", [](json&) {}, "",
        R"({"kinematics": "xyz", "safe_z": 1e300})", "machine.json", "safe_z"},
+      {"head pivot below the spindle nose", [](json&) {}, "", R"({"kinematics": "head-head-ac", "head_pivot_length": -5})",
+       "machine.json", "head_pivot_length"},
       {"max_feed beyond any machine", [](json&) {}, "", R"({"kinematics": "xyz", "max_feed": 2e6})", "machine.json",
        "max_feed"},
       {"no tool at all", [](json& j) { j.erase("tool"); }, "", "", "scene.json", "tool"},

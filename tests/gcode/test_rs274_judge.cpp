@@ -117,6 +117,32 @@ TEST(Rs274Judge, CannedCyclesOffsetsAndToolLengths) {
   expect_same_motion(judge(kCycles, library(), trt_joint()), "cycles");
 }
 
+// A cycle's sticky R, bottom and Q, and the initial level G98 returns to, across G20/G21: LinuxCNC keeps the
+// numbers and reads them in the new units (R0.1 in G20, then G21: 0.1 mm; an initial level of 50 mm, 1.9685
+// in G20, then 1.9685 mm), where the reader had kept them converted (2.54 mm, 50 mm). The verifier follows
+// what the controller does.
+TEST(Rs274Judge, StickyCycleWordsAreReadInTheNewUnits) {
+  TF_REQUIRE_RS274();
+  const char* const program = R"(G21 G17 G90 G94
+T1 M6
+G43 H1
+G0 X0 Y0 Z50 A0 C0
+G20
+G98 G81 X1 Y1 Z-0.1 R0.1 F10
+G21
+X30
+G20
+G99 G83 X2 Y2 Z-0.2 R0.05 Q0.03
+G21
+X40
+G20
+X3
+G80
+M2
+)";
+  expect_same_motion(judge(program, library(), trt_joint()), "cycles across units");
+}
+
 // Offsets changed by the program: G10 L2/L20, G92 and its cancels, G53, G49, dwells, arcs.
 const char* const kOffsets = R"(G21 G90 G17
 T1 M6

@@ -146,3 +146,25 @@ TEST(Tiling, IntersectingTilesFallBackToAStairStep) {
 
 }  // namespace
 }  // namespace tf::grind
+
+namespace tf::grind {
+namespace {
+
+// A square beside the square of the section above: the two share an edge with the material on either
+// side of it, so the stair step's mid-plane meets four faces along that edge (two walls, a face up and a
+// face down), two sheets that touch there. Each face has to be continued by the face of its own sheet
+// (the first one turning about the edge into its material); taking the first face found had mixed the sheets
+// and left the mesh open.
+TEST(Tiling, SectionsSharingAnEdgeWithTheMaterialSwappedStayClosed) {
+  for (const double dz : {0.05, 1.0}) {
+    const Contour left = square(0, 0, 1), right = square(1, 0, 1), far = square(0, 3, 1);
+    TilingStats st;
+    const Mesh m = tile_sections(stack_of({{left, far}, {right, far}}, dz), {}, &st);
+    EXPECT_TRUE(is_closed(m)) << dz;
+    EXPECT_NEAR(signed_volume(m), 2 * dz, 1e-12) << dz;
+    EXPECT_EQ(connected_pieces(m), 3u) << dz;  // the two squares' solids touch along the edge only
+  }
+}
+
+}  // namespace
+}  // namespace tf::grind

@@ -42,9 +42,9 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   const char la = "XYZ"[ax[0]], lb = "XYZ"[ax[1]], lc = "XYZ"[ax[2]];
   const bool same = st_.motion == motion;  // the same cycle already in force: R, Z, P, Q are sticky
   if (!val.has('R') && !same) throw InputError(file_, line, name, "R (the retract plane) missing");
-  const double r_word = val.has('R') ? *val['R'] * unit() : st_.cycle_r;
+  const double r_number = val.has('R') ? *val['R'] : st_.cycle_r, r_word = r_number * unit();
   if (!val.has(lc) && !same) throw InputError(file_, line, name, std::string(1, lc) + " (the hole bottom) missing");
-  const double cc_word = val.has(lc) ? length(lc, *val[lc]) : st_.cycle_cc;
+  const double cc_number = val.has(lc) ? *val[lc] : st_.cycle_cc, cc_word = cc_number * unit();
   int repeats = 1;
   if (val.has('L')) {
     const double l = *val['L'];
@@ -55,17 +55,18 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
       throw InputError(file_, line, val.word('L'), "more than 10 000 repeats: a block expands into at most 10 000 moves here");
     repeats = static_cast<int>(l);
   }
-  double p = st_.cycle_p, q = st_.cycle_q;
+  double p = st_.cycle_p, q_number = st_.cycle_q;
   if (motion == 820 || motion == 860 || motion == 890 || motion == 840 || motion == 740) {
     if (val.has('P')) p = *val['P'];
     else if (!same && motion != 840 && motion != 740) throw InputError(file_, line, name, "P (the dwell) missing");
     if (p < 0) throw InputError(file_, line, val.word('P'), "negative dwell");
   }
   if (motion == 730 || motion == 830) {
-    if (val.has('Q')) q = *val['Q'] * unit();
+    if (val.has('Q')) q_number = *val['Q'];
     else if (!same) throw InputError(file_, line, name, "Q (the peck depth) missing");
-    if (!(q > 0)) throw InputError(file_, line, val.word('Q'), "the peck depth must be positive");
+    if (!(q_number > 0)) throw InputError(file_, line, val.word('Q'), "the peck depth must be positive");
   }
+  const double q = q_number * unit();
   if (motion == 840 && st_.spindle_dir != 1) throw InputError(file_, line, name, "G84 needs the spindle turning clockwise (M3)");
   if (motion == 740 && st_.spindle_dir != -1) throw InputError(file_, line, name, "G74 needs the spindle turning counterclockwise (M4)");
   if (motion == 860 && st_.spindle_dir == 0) throw InputError(file_, line, name, "G86 needs the spindle turning");
@@ -81,9 +82,10 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
   double current_cc = st_.pos[ax[2]];
   double old_cc;
   if (st_.cycle_il_flag) {
-    old_cc = st_.cycle_il;
+    old_cc = st_.cycle_il * unit();
   } else {
-    old_cc = st_.cycle_il = current_cc;
+    old_cc = current_cc;
+    st_.cycle_il = current_cc / unit();
     st_.cycle_il_flag = true;
   }
   double a_inc = 0.0, b_inc = 0.0, r = r_word, bottom = cc_word;
@@ -164,10 +166,10 @@ void Reader::canned_cycle(int motion, const Values& val, int line) {
       }
     }
   }
-  st_.cycle_cc = cc_word;
-  st_.cycle_r = r_word;
+  st_.cycle_cc = cc_number;
+  st_.cycle_r = r_number;
   st_.cycle_p = p;
-  st_.cycle_q = q;
+  st_.cycle_q = q_number;
 }
 
 }  // namespace tf::gcode

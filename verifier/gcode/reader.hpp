@@ -83,7 +83,9 @@ struct State {
   std::array<Axes, 9> offsets{};
   std::array<bool, 9> defined{};
   Axes g92{}, g92_saved{};
-  // Canned cycles (LinuxCNC's cycle_il, cycle_r, cycle_cc, cycle_p, cycle_q); G99 is its default.
+  // Canned cycles (LinuxCNC's cycle_il, cycle_r, cycle_cc, cycle_p, cycle_q); G99 is its default. The
+  // initial level, R, the bottom and Q are kept in program units: after G20/G21 LinuxCNC reads the same
+  // numbers in the new units (a G98 retract after G21 goes to the initial level's inches taken as mm).
   bool retract_r_plane = true;
   bool cycle_il_flag = false;
   double cycle_il = 0.0, cycle_r = 0.0, cycle_cc = 0.0, cycle_p = 0.0, cycle_q = 0.0;

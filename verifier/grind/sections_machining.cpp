@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "tiltfield/core/error.hpp"
+#include "section_contours.hpp"
 #include "wheel_section.hpp"
 #include "tiltfield/grind/sections.hpp"
 
@@ -302,7 +303,7 @@ bool cut_section(Slice& slice, double z0, const std::vector<PoseInfo>& poses, co
   c.AddPaths(removed, ClipperLib::ptClip, true);
   Paths result;
   c.Execute(ClipperLib::ctDifference, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  ClipperLib::CleanPolygons(result, opt.clean_tolerance * kScale);
+  result = detail::tidy_contours(std::move(result), opt.clean_tolerance * kScale);
   result.erase(std::remove_if(result.begin(), result.end(), [](const Path& p) { return p.size() < 3; }),
                result.end());
   slice.labels = relabel(slice, result, label, opt.clean_tolerance * kScale);

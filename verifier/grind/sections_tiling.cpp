@@ -17,6 +17,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <numeric>
 #include <polyclipping/clipper.hpp>
 
@@ -279,6 +280,22 @@ SlabMesh tile_slab(const PlacedSection& P, const PlacedSection& Q, SlabCounts& c
   return out;
 }
 
+// Face (v, a, b) and a face (v, b, c) share the edge v-b. Where an edge has more than two faces (two sheets
+// of the surface meeting along it: a stair step whose lower and upper contours share an edge, with the
+// material on opposite sides), the face that continues (v, a, b)'s sheet is the first one met turning about
+// the edge from (v, a, b) into its material (behind its outward normal). Returns that turn, rad in (0, 2 pi].
+double turn_into_material(const Eigen::Vector3d& v, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e = (b - v).normalized();
+  auto across = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d d = p - v;
+    return Eigen::Vector3d(d - d.dot(e) * e);
+  };
+  const Eigen::Vector3d da = across(a), inward = -(a - v).cross(b - v), dc = across(c);
+  const double t = std::atan2(dc.dot(inward.normalized()), dc.dot(da.normalized()));
+  return t > 0 ? t : t + 2 * M_PI;
+}
+
 // Gives every fan of faces round a vertex beyond the first a vertex of its own (at the same place). Two
 // contours of a section that touch at a point meet a stair step's mid-plane in one vertex of the exact
 // triangulation, which two wall strips then share: a vertex no half-edge mesh holds, whose faces it drops
@@ -300,13 +317,27 @@ void split_pinched_vertices(std::vector<Eigen::Vector3d>& V, std::vector<std::ar
     next.assign(k_end, k_end);
     has_prev.assign(k_end, 0);
     for (size_t k = 0; k < k_end; ++k) {
-      const int b = F[static_cast<size_t>(cs[k].first)][(cs[k].second + 2) % 3];
-      for (size_t m = 0; m < k_end; ++m)
-        if (F[static_cast<size_t>(cs[m].first)][(cs[m].second + 1) % 3] == b) {
+      const std::array<int, 3>& fk = F[static_cast<size_t>(cs[k].first)];
+      const int a = fk[(cs[k].second + 1) % 3], b = fk[(cs[k].second + 2) % 3];
+      double best = 1e300;
+      int found = 0;
+      for (size_t m = 0; m < k_end; ++m) {
+        const std::array<int, 3>& fm = F[static_cast<size_t>(cs[m].first)];
+        if (fm[(cs[m].second + 1) % 3] != b) continue;
+        if (found++ == 0) {  // the turns are needed only where the edge has more than two faces
           next[k] = m;
-          has_prev[m] = 1;
-          break;
+          continue;
         }
+        if (found == 2) {
+          const std::array<int, 3>& f0 = F[static_cast<size_t>(cs[next[k]].first)];
+          best = turn_into_material(V[v], V[static_cast<size_t>(a)], V[static_cast<size_t>(b)],
+                                    V[static_cast<size_t>(f0[(cs[next[k]].second + 2) % 3])]);
+        }
+        const double turn = turn_into_material(V[v], V[static_cast<size_t>(a)], V[static_cast<size_t>(b)],
+                                               V[static_cast<size_t>(fm[(cs[m].second + 2) % 3])]);
+        if (turn < best) best = turn, next[k] = m;
+      }
+      if (next[k] < k_end) has_prev[next[k]] = 1;
     }
     done.assign(k_end, 0);
     int fans = 0;
