@@ -178,4 +178,11 @@ TEST(MeshIO, CheckSaysWhetherTheMeshBoundsASolidOutward) {
   const auto open = check("open.obj", cube_obj(false, true));
   EXPECT_EQ(open.exit_code, 0);
   EXPECT_NE(open.out.find("11 triangles, open"), std::string::npos) << open.out;
+  // A file that is no mesh: exit 2, one line on stderr and nothing on stdout (it had printed "mesh X: "
+  // without an end, black-box testing).
+  tf::test::write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+  const auto bad = tf::test::run_command(std::string("{ '") + TILTFIELD_EXE + "' check --mesh '" +
+                                         (dir / "bad.obj").string() + "' 2>/dev/null; }");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.out, "");
 }

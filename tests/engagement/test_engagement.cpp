@@ -65,6 +65,31 @@ test::Moves slot_program(double y, double depth) {
   return test::Moves().rapid({-10, y, 10.0 - depth}).line({.x = 30}, 600).line({.x = 50});
 }
 
+// A flat end R5 along a G2 arc at radius 24 about a round boss of radius 20, 1 mm into it: climb milling,
+// engaged from 180 - acos((24^2 + 5^2 - 20^2) / (2 24 5)) = 146.88 deg to 180 at every point of the arc.
+// The feed direction is the arc's tangent at the block's end; a chord over the arc's last quarter had
+// turned it by an eighth of the sweep (a quarter turn: entry 158.2, area 19.0 for 28.8 mm2, black-box
+// testing).
+TEST(Engagement, AlongAnArcTheFeedIsTheTangent) {
+  Scene s;
+  s.stock.kind = Stock::Kind::Cylinder;
+  s.stock.cylinder = {{0, 0, 0}, {0, 0, 1}, 20.0, 20.0};
+  s.tool = make_tool(FlatCutter{R});
+  const double rp = 24.0, entry = 180.0 - std::acos((rp * rp + R * R - 400.0) / (2 * rp * R)) * kDeg;
+  for (const double sweep : {10.0, 90.0, 180.0}) {
+    const double end = (90.0 - sweep) / kDeg;  // clockwise from the top (0, 24)
+    const test::Moves m = test::Moves().rapid({-30, rp, 10}).line({.x = 0}, 600).arc(
+        {.x = rp * std::cos(end), .y = rp * std::sin(end)}, 0, 0, true);
+    const VerifyReport r = run(s, m);
+    ASSERT_EQ(r.per_block.size(), 3u);
+    const Engagement& line = r.per_block[1].engagement, &arc = r.per_block[2].engagement;
+    EXPECT_NEAR(line.entry_deg, entry, 0.5) << sweep;
+    EXPECT_NEAR(arc.entry_deg, entry, 0.5) << sweep;
+    EXPECT_NEAR(arc.exit_deg, 180.0, 0.5) << sweep;
+    EXPECT_NEAR(arc.area_mm2, line.area_mm2, 0.01 * line.area_mm2) << sweep;
+  }
+}
+
 TEST(Engagement, FlatSlotting180) {
   const Scene s = box_scene({0, -20, 0}, {100, 20, 10}, make_tool(FlatCutter{R}));
   const VerifyReport r = run(s, slot_program(0.0, ap));

@@ -111,6 +111,9 @@ TEST(Gcode, ArcErrors) {
   expect_error("G0 X0 Y0 Z0\nG2 X0.0005 I0.0001 F100\n", 2, "I");
   expect_error("G0 X0 Y0 Z0\nG2 X0.0024 I0.0012 F100\n", 2, "I");
   EXPECT_EQ(parse("G0 X0 Y0 Z0\nG2 X0.0026 I0.0013 F100\n").blocks.size(), 2u);
+  // The R form has no such test in rs274: a tiny R is an arc, R0 (whose centre rs274 makes NaN) is refused.
+  EXPECT_EQ(parse("G0 X0 Y0 Z0\nG2 X0.001 Y0 R0.0005 F100\n").blocks.size(), 2u);
+  expect_error("G0 X0 Y0 Z0\nG2 X0.001 Y0 R0 F100\n", 2, "R");
   expect_error("G0 X10 Y0 Z0\nG2 X0 Y10 F100\n", 2, "I");         // no centre
 }
 

@@ -51,6 +51,28 @@ TEST(FeedSchedule, RewriteTouchesOnlyFeedWords) {
   EXPECT_DOUBLE_EQ(q.blocks[3].feed, 5000.0);
 }
 
+// A feed written as a parameter, an expression or a function is one F word as well: the rewrite replaces it
+// whole ("F#1" had kept its word beside the new one, "F#1 F455.19", which LinuxCNC refuses). Parameter
+// names and FIX/FUP are not F words.
+TEST(FeedSchedule, RewriteReplacesParameterAndExpressionFeeds) {
+  const std::string text =
+      "G21 G90 G94\n#1=1000\n#<feed>=800\nG0 X-10 Y0 Z8\nG1 X10 F#1\nG1 X20 F[#1 / 2]\nG1 X30 F #<feed>\n"
+      "G1 X40 F##2\nG1 X50 FABS[-700]\nG1 X[FIX[60.5]] F ATAN[1]/[1] (F9)\nG1 X70 F#[1]\nG1 X80 F#<_f> Y0\nM30\n";
+  const std::string with_params = "#2=1\n#<_f>=500\n" + text;
+  const Program p = parse_gcode(with_params, "t.ngc", MachineSpec{});
+  ASSERT_EQ(p.blocks.size(), 9u);
+  FeedSchedule fs;
+  fs.feed = {0.0, 300.0, 310.0, 320.0, 330.0, 340.0, 350.0, 360.0, 370.0};
+  const std::string out = rewrite_feeds(with_params, p, fs);
+  EXPECT_EQ(out,
+            "#2=1\n#<_f>=500\nG21 G90 G94\n#1=1000\n#<feed>=800\nG0 X-10 Y0 Z8\nG1 X10 F300\nG1 X20 F310\n"
+            "G1 X30 F320\nG1 X40 F330\nG1 X50 F340\nG1 X[FIX[60.5]] F350 (F9)\nG1 X70 F360\nG1 X80 Y0 F370\nM30\n");
+  const Program q = parse_gcode(out, "t.ngc", MachineSpec{});
+  ASSERT_EQ(q.blocks.size(), 9u);
+  for (size_t i = 1; i < 9; ++i) EXPECT_DOUBLE_EQ(q.blocks[i].feed, fs.feed[i]) << i;
+  EXPECT_DOUBLE_EQ(q.blocks[6].target.x, 60.0);
+}
+
 // Under G93 one F times an arc's P turns (or a spline's chords) together: unchanged blocks write back the
 // same F, and a block slowed to twice its time makes the line's F as slow as that block needs.
 TEST(FeedSchedule, InverseTimeLineSharesItsF) {
@@ -152,11 +174,18 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
   EXPECT_DOUBLE_EQ(p2.blocks[4].feed, 5000.0);
   // A limit that is not positive, 0 included (black-box testing: 0 had written the report as the
   // program): exit 2 naming the option, no program.
-  for (const char* limit : {"-3", "0"}) {
-    const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
-                                   " --schedule-feed " + limit + " -o " + (dir / "p3.ngc").string());
-    EXPECT_EQ(bad.exit_code, 2) << bad.out;
-    EXPECT_NE(bad.out.find("--schedule-feed"), std::string::npos) << bad.out;
+  // The air and minimum feeds likewise, and beyond any machine's (black-box testing: --air-feed 1e300
+  // wrote a 300-digit F; -1, 0 and nan had fallen back to the default without a word).
+  const std::vector<std::pair<std::string, std::string>> bad_options{
+      {"--schedule-feed -3", "--schedule-feed"}, {"--schedule-feed 0", "--schedule-feed"},
+      {"--schedule-feed 6000 --air-feed 1e300", "--air-feed"}, {"--schedule-feed 6000 --air-feed -1", "--air-feed"},
+      {"--schedule-feed 6000 --air-feed 0", "--air-feed"},    {"--schedule-feed 6000 --air-feed nan", "--air-feed"},
+      {"--schedule-feed 6000 --min-feed 1e12", "--min-feed"}};
+  for (const auto& [options, named] : bad_options) {
+    const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " " +
+                                   options + " -o " + (dir / "p3.ngc").string());
+    EXPECT_EQ(bad.exit_code, 2) << options << ": " << bad.out;
+    EXPECT_NE(bad.out.find(named), std::string::npos) << bad.out;
     EXPECT_EQ(test::count_lines(bad.out), 1) << bad.out;
     EXPECT_FALSE(std::filesystem::exists(dir / "p3.ngc"));
   }  // the retract and the move back cut nothing: the machine's max feed

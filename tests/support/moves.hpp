@@ -20,6 +20,12 @@ class Moves {
   Moves& line(const Axes& to, double feed) { return add(Motion::Linear, to, FeedMode::PerMinute, feed); }
   // G1 at the previous block's feed and feed mode.
   Moves& line(const Axes& to) { return add(Motion::Linear, to, mode_, feed_); }
+  // G17 G2 (`clockwise`) or G3 about `centre` (X Y; Z the arc's own), at the previous block's feed.
+  Moves& arc(const Axes& to, double cx, double cy, bool clockwise) {
+    add(clockwise ? Motion::ArcCW : Motion::ArcCCW, to, mode_, feed_);
+    program_.blocks.back().arc_center = {cx, cy, at_.z};
+    return *this;
+  }
   // G93 G1: `per_minute` is 1 / the block's time in minutes.
   Moves& inverse_time(const Axes& to, double per_minute) {
     return add(Motion::Linear, to, FeedMode::InverseTime, per_minute);

@@ -72,7 +72,12 @@ void add_check_command(CLI::App& app) {
       const MachineSpec m = read_machine_json(machine);
       std::cout << "machine " << machine << ": " << to_string(m.kinematics) << "\n";
     }
-    if (!mesh.empty()) std::cout << "mesh " << mesh << ": " << mesh_summary(load_mesh(mesh)) << "\n";
+    if (!mesh.empty()) {
+      // Its summary first: the operands of << run in order, and "mesh X: " had been printed before a bad
+      // file's error (black-box testing).
+      const std::string summary = mesh_summary(load_mesh(mesh));
+      std::cout << "mesh " << mesh << ": " << summary << "\n";
+    }
   });
 }
 

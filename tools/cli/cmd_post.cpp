@@ -26,6 +26,7 @@ struct PostArgs {
   double link_gap = 0.0;         // mm, taken only when --link-gap is given
   CLI::Option* link_gap_option = nullptr;
   CLI::Option* max_mrr_option = nullptr;  // given (0 included, which is refused): feeds are scheduled
+  CLI::Option* air_feed_option = nullptr;  // given: its value (0 included, which is refused)
   bool scheduling() const { return max_mrr_option && max_mrr_option->count() > 0; }
 };
 
@@ -38,7 +39,8 @@ void positive_option(double v, const char* name) {
 // moves at the air feed, by default the machine's max_feed).
 std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const std::string& text) {
   FeedScheduleOptions so = a.schedule;
-  if (!(so.air_feed > 0.0)) so.air_feed = scene.machine->max_feed;
+  if (a.air_feed_option->count() == 0) so.air_feed = scene.machine->max_feed;
+  else if (!(so.air_feed > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
   check_feed_schedule_options(so);  // before the simulation
   positive_option(a.resolution, "--resolution");
   const Program program = parse_gcode(text, a.out, *scene.machine, gcode_options(scene));
@@ -146,7 +148,8 @@ void add_post_command(CLI::App& app) {
   a.max_mrr_option = cmd->add_option("--max-mrr", a.schedule.max_mrr,
                   "simulate the program and lower feeds so that no block removes more than this many mm3/min");
   cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")->capture_default_str();
-  cmd->add_option("--air-feed", a.schedule.air_feed, "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)");
+  a.air_feed_option = cmd->add_option("--air-feed", a.schedule.air_feed,
+                                      "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)");
   cmd->add_option("--resolution", a.resolution, "with --max-mrr: dexel spacing of the simulation, mm")->capture_default_str();
   cmd->callback([] { run_post(a); });
 }

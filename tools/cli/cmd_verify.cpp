@@ -30,6 +30,7 @@ struct VerifyArgs {
   double mesh_tolerance = 0.01;
   double schedule_mrr = 0.0;
   CLI::Option* schedule_option = nullptr;  // given (0 included, which is refused): feeds are scheduled
+  CLI::Option* air_feed_option = nullptr;  // given: its value (0 included, which is refused)
   FeedScheduleOptions schedule;
   bool no_engagement = false;
   bool block_delete = false;
@@ -99,7 +100,8 @@ void run_verify(const VerifyArgs& a) {
   const bool scheduling = a.schedule_option && a.schedule_option->count() > 0;
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
-  if (!(so.air_feed > 0.0)) so.air_feed = machine.max_feed;
+  if (a.air_feed_option->count() == 0) so.air_feed = machine.max_feed;
+  else if (!(so.air_feed > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
   if (scheduling) {
     check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
@@ -184,7 +186,8 @@ void add_verify_command(CLI::App& app) {
   args.schedule_option = cmd->add_option("--schedule-feed", args.schedule_mrr,
                   "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
   cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();
-  cmd->add_option("--air-feed", args.schedule.air_feed, "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
+  args.air_feed_option = cmd->add_option("--air-feed", args.schedule.air_feed,
+                                         "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
   cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON")->check(output_file());
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");

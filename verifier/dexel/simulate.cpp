@@ -295,7 +295,10 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
     }
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
-  const double back = 1.0 / (4.0 * std::max(1, sweep_.substeps));
+  // The velocity at the block's end: a step short enough that the chord is the tangent (a quarter of a
+  // sub-step, an arc's swept in one, had turned an arc's feed direction by an eighth of its sweep, and its
+  // engagement with it: black-box testing), long enough that a point's motion stays far above rounding.
+  const double back = 1e-4;
   br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

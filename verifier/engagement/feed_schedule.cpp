@@ -14,7 +14,13 @@ namespace tf {
 void check_feed_schedule_options(const FeedScheduleOptions& o, const std::string& limit_option) {
   if (!(o.max_mrr > 0.0) || !std::isfinite(o.max_mrr))
     throw InputError("", 0, limit_option, "must be a positive number of mm3/min");
-  if (!(o.min_feed > 0.0) || !std::isfinite(o.min_feed)) throw InputError("", 0, "--min-feed", "must be a positive number of mm/min");
+  // Beyond any machine's feed, as the machine file's max_feed: a feed of 1e300 had been written as a
+  // 300-digit F that neither LinuxCNC nor the reader takes (black-box testing).
+  constexpr double kMaxFeed = 1e6;
+  if (!(o.min_feed > 0.0 && o.min_feed <= kMaxFeed))
+    throw InputError("", 0, "--min-feed", "must be a positive number of mm/min, at most 1000000");
+  if (o.air_feed != 0.0 && !(o.air_feed > 0.0 && o.air_feed <= kMaxFeed))
+    throw InputError("", 0, "--air-feed", "must be a positive number of mm/min, at most 1000000");
 }
 
 FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, const FeedScheduleOptions& o) {
@@ -81,26 +87,88 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
 
 namespace {
 
-// [begin, end) of the F word in `code` (a line without comments), or npos.
+constexpr size_t npos = std::string::npos;
+
+bool blank(char c) { return c == ' ' || c == '\t'; }
+size_t skip_blanks(const std::string& code, size_t k) {
+  while (k < code.size() && blank(code[k])) ++k;
+  return k;
+}
+// After the ']' that closes the '[' at k, or npos.
+size_t bracket_end(const std::string& code, size_t k) {
+  int depth = 0;
+  for (; k < code.size(); ++k) {
+    if (code[k] == '[') ++depth;
+    else if (code[k] == ']' && --depth == 0) return k + 1;
+  }
+  return npos;
+}
+// After the number at k (RS274/NGC ignores blanks inside a number: "F12. 5" is F12.5, so they belong to it
+// when more of the number follows), or k when there is none.
+size_t number_end(const std::string& code, size_t k) {
+  size_t e = k;
+  for (size_t i = k; i < code.size(); ++i) {
+    const bool sign = (code[i] == '+' || code[i] == '-') && e == k;  // a sign only leads
+    if (std::isdigit(static_cast<unsigned char>(code[i])) || code[i] == '.' || sign) e = i + 1;
+    else if (!blank(code[i])) break;
+  }
+  return e;
+}
+// After the real value at k: a number, a parameter (#1, ##2, #<name>, #[...]), an expression [...] or a
+// unary function NAME[...] (ATAN[...]/[...]); k when there is none. A feed written as a parameter had
+// kept its word beside the new one ("F#1 F455.19", which LinuxCNC refuses, black-box testing).
+size_t value_end(const std::string& code, size_t k) {
+  k = skip_blanks(code, k);
+  if (k >= code.size()) return k;
+  if (code[k] == '[') return std::min(bracket_end(code, k), code.size());
+  if (code[k] == '#') {
+    size_t m = k;
+    while (m < code.size() && (code[m] == '#' || blank(code[m]))) ++m;
+    if (m < code.size() && code[m] == '<') {
+      const size_t close = code.find('>', m);
+      return close == npos ? code.size() : close + 1;
+    }
+    if (m < code.size() && code[m] == '[') return std::min(bracket_end(code, m), code.size());
+    return number_end(code, m);
+  }
+  if (std::isalpha(static_cast<unsigned char>(code[k]))) {
+    size_t m = k;
+    while (m < code.size() && std::isalpha(static_cast<unsigned char>(code[m]))) ++m;
+    m = skip_blanks(code, m);
+    if (m >= code.size() || code[m] != '[') return k;
+    size_t e = std::min(bracket_end(code, m), code.size());
+    const size_t slash = skip_blanks(code, e);  // ATAN[y]/[x]
+    if (slash < code.size() && code[slash] == '/') {
+      const size_t open = skip_blanks(code, slash + 1);
+      if (open < code.size() && code[open] == '[') e = std::min(bracket_end(code, open), code.size());
+    }
+    return e;
+  }
+  return number_end(code, k);
+}
+
+// [begin, end) of the F word in `code` (a line without comments, names of parameters masked), or npos.
 std::pair<size_t, size_t> find_f_word(const std::string& code, size_t from) {
   for (size_t k = from; k < code.size(); ++k) {
     if (code[k] != 'F' && code[k] != 'f') continue;
-    size_t e = k + 1;
-    while (e < code.size() && (code[e] == ' ' || code[e] == '\t')) ++e;
-    const size_t num = e;
-    // RS274/NGC ignores blanks inside a number too ("F12. 5" is F12.5): they belong to the word when more
-    // of the number follows them.
-    auto number_char = [&](size_t i) {
-      const bool sign = (code[i] == '+' || code[i] == '-') && e == num;  // a sign only leads
-      return std::isdigit(static_cast<unsigned char>(code[i])) || code[i] == '.' || sign;
-    };
-    for (size_t i = e; i < code.size(); ++i) {
-      if (number_char(i)) e = i + 1;
-      else if (code[i] != ' ' && code[i] != '\t') break;
+    // FIX[...] and FUP[...] are functions, not words.
+    const size_t next = skip_blanks(code, k + 1);
+    if (next < code.size() && std::isalpha(static_cast<unsigned char>(code[next]))) {
+      size_t m = next;
+      while (m < code.size() && std::isalpha(static_cast<unsigned char>(code[m]))) ++m;
+      if (skip_blanks(code, m) < code.size() && code[skip_blanks(code, m)] == '[' && m - next == 2) {
+        const char a = static_cast<char>(std::toupper(static_cast<unsigned char>(code[next])));
+        const char b = static_cast<char>(std::toupper(static_cast<unsigned char>(code[next + 1])));
+        if ((a == 'I' && b == 'X') || (a == 'U' && b == 'P')) {
+          k = m - 1;
+          continue;
+        }
+      }
     }
-    if (e > num) return {k, e};
+    const size_t e = value_end(code, k + 1);
+    if (e > skip_blanks(code, k + 1)) return {k, e};
   }
-  return {std::string::npos, std::string::npos};
+  return {npos, npos};
 }
 
 // Rewrites one line: F words outside comments removed, " F<value>" added after the last code character.
@@ -119,6 +187,9 @@ std::string rewrite_line(const std::string& line, const std::string& f) {
     } else if (c == ';') {
       for (size_t m = k; m < line.size(); ++m) code[m] = ' ';
       break;
+    } else if (c == '<') {  // a parameter's name: its letters are no words
+      for (++k; k < line.size() && line[k] != '>'; ++k) code[k] = '_';
+      if (k == line.size()) break;
     }
   }
   std::string out = line;

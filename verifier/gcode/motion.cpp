@@ -300,7 +300,9 @@ Eigen::Vector3d Reader::arc_center(bool ccw, const Axes& start, const Axes& end,
     const Eigen::Vector2d s2(start[pa.u], start[pa.v]), e2(end[pa.u], end[pa.v]);
     const double chord = (e2 - s2).norm();
     if (chord < 1e-9) throw InputError(file_, line, "R", "an R-form arc needs distinct start and end points");
-    if (std::abs(r) < kRadiusTolerance) throw InputError(file_, line, "R", "arc radius is zero");
+    // rs274's zero-radius test is the centre form's only: an R arc is refused only at R0, whose centre it
+    // makes NaN (a tiny R had been refused, black-box testing).
+    if (r == 0.0) throw InputError(file_, line, "R", "arc radius is zero");
     if (std::abs(r) < chord / 2.0 - kRadiusTolerance)
       throw InputError(file_, line, "R", "radius is smaller than half the chord");
     const double h = std::sqrt(std::max(0.0, r * r - chord * chord / 4.0));

@@ -33,8 +33,8 @@ struct FeedSchedule {
   std::vector<std::string> warnings;  // blocks above the limit even at the minimum feed
 };
 
-// Throws InputError naming `limit_option` (the command's name for max_mrr) or "--min-feed" when an
-// option is out of range; commands call it before their simulation.
+// Throws InputError naming `limit_option` (the command's name for max_mrr), "--min-feed" or "--air-feed"
+// when an option is out of range (feeds: at most 1e6 mm/min); commands call it before their simulation.
 void check_feed_schedule_options(const FeedScheduleOptions& options, const std::string& limit_option = "--max-mrr");
 
 // The schedule for `program` from its verification `report` (one BlockResult per block, in order).
