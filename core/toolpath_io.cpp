@@ -2,6 +2,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "tiltfield/core/error.hpp"
@@ -79,7 +80,23 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
   double feed = std::numeric_limits<double>::quiet_NaN();
   double unit = 1.0;                               // mm per file unit (UNITS/INCHES: 25.4)
   Eigen::Vector3d last_axis = Eigen::Vector3d::UnitZ();  // a GOTO of three values keeps the tool axis in force
+  std::optional<Eigen::Vector3d> last_tip;               // file units: where GODLTA starts from
   bool skip_next_goto = false, finished = false;
+  // A tool tip (file units) and axis reached by a motion record: a row, unless a RAPID came before it.
+  auto reach = [&](const Eigen::Vector3d& tip, const Eigen::Vector3d& axis) {
+    last_tip = tip;
+    last_axis = axis;
+    if (skip_next_goto) {
+      skip_next_goto = false;
+      return;
+    }
+    CLPoint pt;
+    pt.p = unit * tip + tool.cl_height() * axis;
+    pt.n = axis;
+    pt.normal_known = false;  // the axis stands in: a flat or bull end keeps this cutter location
+    pt.feed = feed;
+    path.rows.push_back(pt);
+  };
   auto handle = [&](const std::string& rec, int at) {
     std::string r = upper(rec);
     r.erase(std::remove_if(r.begin(), r.end(), [](unsigned char c) { return std::isspace(c); }), r.end());
@@ -119,23 +136,37 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       feed = parse_number(value, name, at, "FEDRAT");
       if (feed <= 0) throw InputError(name, at, "FEDRAT", "feed must be positive");
       feed *= mode == "MMPM" ? 1.0 : mode == "IPM" ? 25.4 : unit;
-    } else if (word == "GOTO") {
+    } else if (word == "GOTO" || word == "FROM") {
       if (a.size() != 3 && a.size() != 6)
-        throw InputError(name, at, "GOTO", "expected x,y,z or x,y,z,i,j,k, found " + std::to_string(a.size()) + " values");
+        throw InputError(name, at, word, "expected x,y,z or x,y,z,i,j,k, found " + std::to_string(a.size()) + " values");
       double v[6] = {0, 0, 0, last_axis.x(), last_axis.y(), last_axis.z()};
-      for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, "GOTO") : parse_number(a[i], name, at, "GOTO");
-      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GOTO i,j,k");
-      last_axis = axis;
-      if (skip_next_goto) {
-        skip_next_goto = false;
-        return;
+      for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, word) : parse_number(a[i], name, at, word);
+      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, word + " i,j,k");
+      if (word == "FROM") {  // the start position: where GODLTA counts from, not a cut
+        last_tip = Eigen::Vector3d(v[0], v[1], v[2]);
+        last_axis = axis;
+      } else {
+        reach({v[0], v[1], v[2]}, axis);
       }
-      CLPoint pt;
-      pt.p = unit * Eigen::Vector3d(v[0], v[1], v[2]) + tool.cl_height() * axis;
-      pt.n = axis;
-      pt.normal_known = false;  // the axis stands in: a flat or bull end keeps this cutter location
-      pt.feed = feed;
-      path.rows.push_back(pt);
+    } else if (word == "GODLTA") {
+      // GODLTA/dx,dy,dz (from the last position), /dx,dy,dz,i,j,k (and a new axis) or /d (along the axis).
+      if (a.size() != 1 && a.size() != 3 && a.size() != 6)
+        throw InputError(name, at, "GODLTA", "expected d, dx,dy,dz or dx,dy,dz,i,j,k, found " + std::to_string(a.size()) + " values");
+      if (!last_tip) throw InputError(name, at, "GODLTA", "an incremental move before any GOTO or FROM: there is no position to move from");
+      double v[6] = {0, 0, 0, last_axis.x(), last_axis.y(), last_axis.z()};
+      for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, "GODLTA") : parse_number(a[i], name, at, "GODLTA");
+      const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GODLTA i,j,k");
+      const Eigen::Vector3d delta = a.size() == 1 ? Eigen::Vector3d(v[0] * last_axis) : Eigen::Vector3d(v[0], v[1], v[2]);
+      reach(*last_tip + delta, axis);
+    } else if (word == "CIRCLE" || word == "CYCLE" || word == "MOVARC" || word == "GOFWD" || word == "GOLFT" ||
+               word == "GORGT" || word == "GOBACK" || word == "GOUP" || word == "GODOWN" || word == "GO") {
+      // Motion these records define (an arc to the next GOTO, a drilling cycle at each GOTO, a move along
+      // a part surface) is no straight line between the points: read silently, an arc had been cut as its
+      // chord (black-box testing). CYCLE/OFF only ends a cycle.
+      if (!(word == "CYCLE" && a.size() == 1 && a[0] == "OFF"))
+        throw InputError(name, at, word,
+                         "motion record not followed here (arcs, cycles and part-surface moves): give the path as "
+                         "GOTO points (CLDATA with arcs and cycles linearised)");
     }
     // Other records (MULTAX, CUTTER, LOADTL, SPINDL, COOLNT, FINI, ...) do not change the geometry.
   };

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include "test_support.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/local_frame.hpp"
@@ -94,6 +96,35 @@ TEST(PathIO, AptUnitsInlineCommentsAndFini) {
       EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
     }
   }
+}
+
+// GODLTA moves from the last position (FROM's or a GOTO's): by dx,dy,dz, or by d along the tool axis.
+// Records whose motion is no straight line to the next point (an arc, a cycle) are refused by name: read
+// silently, a CIRCLE's quarter arc had been cut as its chord, 1.46 mm off (black-box testing).
+TEST(PathIO, AptIncrementalMovesAndMotionNotFollowed) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "d.cl", "FROM/0,0,50,0,0,1\nGODLTA/0,0,-50\nGODLTA/10,0,0\nGODLTA/0,10,0\nGODLTA/5\nFINI\n");
+  const auto p = tf::read_toolpath_apt(dir / "d.cl", ball3());
+  ASSERT_EQ(p.rows.size(), 4u);  // FROM is where the tool starts, not a cut
+  EXPECT_NEAR((p.rows[0].p - Eigen::Vector3d(0, 0, 3)).norm(), 0, 1e-12);
+  EXPECT_NEAR((p.rows[1].p - Eigen::Vector3d(10, 0, 3)).norm(), 0, 1e-12);
+  EXPECT_NEAR((p.rows[2].p - Eigen::Vector3d(10, 10, 3)).norm(), 0, 1e-12);
+  EXPECT_NEAR((p.rows[3].p - Eigen::Vector3d(10, 10, 8)).norm(), 0, 1e-12);
+  for (const auto& [text, line, field] :
+       {std::tuple<std::string, int, std::string>{"GODLTA/1,0,0\nGOTO/1,2,3\n", 1, "GODLTA"},
+        {"GOTO/5,0,0,0,0,1\nINDIRV/0,1,0\nCIRCLE/0,0,0,0,0,1,5\nGOTO/0,5,0,0,0,1\n", 3, "CIRCLE"},
+        {"GOTO/5,0,0\nCYCLE/DRILL,5,100,MMPM\nGOTO/5,0,0\n", 2, "CYCLE"}}) {
+    tf::test::write_text(dir / "bad.cl", text);
+    try {
+      tf::read_toolpath_apt(dir / "bad.cl", ball3());
+      ADD_FAILURE() << text;
+    } catch (const tf::InputError& e) {
+      EXPECT_EQ(e.line(), line) << text;
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  }
+  tf::test::write_text(dir / "off.cl", "GOTO/5,0,0\nCYCLE/OFF\nGOTO/6,0,0\n");
+  EXPECT_EQ(tf::read_toolpath_apt(dir / "off.cl", ball3()).rows.size(), 2u);
 }
 
 TEST(PathIO, BadAptNamesTheLine) {

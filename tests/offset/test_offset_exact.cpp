@@ -115,6 +115,20 @@ TEST(OffsetExact, GapLawMustCloseOnClosedProfile) {
   law.gap = {1, 2};
   law.file = "law.csv";
   EXPECT_THROW(offset_profile(p, law, {}), InputError);
+  // Within the closure's snap (1e-6 mm) the gaps are equal: a law ending at s = 302.832 on the profile
+  // 302.8318531 long (black-box testing: refused for 4.8e-7 mm, "1 differs from 1").
+  law.s = {0, 150, 302.832};
+  law.gap = {1, 1.5, 1};
+  const OffsetResult r = offset_profile(p, law, {});
+  EXPECT_EQ(r.contours.size(), 1u);
+  expect_clean_contours(r);
+  law.s = {0, 150, 302.9};
+  try {
+    offset_profile(p, law, {});
+    ADD_FAILURE() << "a gap 2.3e-4 mm off at the end accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("by 0.000223 mm"), std::string::npos) << e.what();
+  }
 }
 
 TEST(OffsetExact, GapLawInterpolatesLinearlyAndBlends) {

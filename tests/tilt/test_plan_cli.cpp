@@ -106,5 +106,35 @@ TEST(PlanCli, UnclearableRowsExitOneAfterWriting) {
   EXPECT_EQ(j.at("uncleared").size(), j.at("rows_below_safety").get<size_t>());
 }
 
+// A row no axis of the machine reaches (its normal points down, A stops at -100 deg) in a scene with no check
+// surface or fixture: PLAN.json is written, its unmeasured values null (JSON has no infinity; the command had
+// stopped with "fixed(): non-finite number" and no PLAN.json, black-box testing).
+TEST(PlanCli, AnUnreachableRowWithoutObstaclesIsInPlanJson) {
+  const fs::path dir = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / "unreachable";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_mesh(test::box_mesh({0, 0, 0}, {60, 40, 20}, 4), dir / "block.stl");
+  std::ofstream(dir / "path.csv") << "x,y,z,nx,ny,nz\n10,10,19,0,0,1\n10.5,10,19,0,0,-1\n11,10,19,0,0,1\n";
+  std::ofstream(dir / "machine.json")
+      << R"({"kinematics": "table-table-ac", "tilt_offset": [0, 20, 10], "limits": {"A": [-100, 50]}})";
+  std::ofstream(dir / "scene.json") << R"({"units": "mm", "design": "block.stl", "machine": "machine.json",
+    "stock": {"box": {"min": [0, 0, 0], "max": [60, 40, 20]}},
+    "tool": {"type": "flat", "radius": 4, "flute_length": 16, "shank_radius": 4, "length": 60,
+             "holder": [{"radius": 12, "length": 40}]},
+    "path": {"file": "path.csv", "feed": 800}, "planner": {"safety_distance": 1.0}})";
+  std::string err;
+  EXPECT_EQ(run("plan " + (dir / "scene.json").string() + " -o " + (dir / "o.csv").string() + " --json " +
+                    (dir / "plan.json").string(),
+                &err),
+            1);
+  EXPECT_NE(err.find("(unreachable)"), std::string::npos) << err;
+  ASSERT_TRUE(fs::exists(dir / "plan.json")) << err;
+  std::ifstream in(dir / "plan.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("uncleared").size(), 1u);
+  EXPECT_EQ(j.at("uncleared")[0].at("row").get<int>(), 1);
+  EXPECT_TRUE(j.at("uncleared")[0].at("unreachable").get<bool>());
+}
+
 }  // namespace
 }  // namespace tf

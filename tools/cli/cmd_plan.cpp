@@ -1,5 +1,6 @@
 // tiltfield plan SCENE -o ORIENTED.csv [--json PLAN.json] [--method dynamic|pointwise] [--smooth]
 #include <ostream>
+#include <cmath>
 #include <sstream>
 
 #include "cli.hpp"
@@ -33,7 +34,11 @@ void write_json(std::ostream& os, const nlohmann::json& j, int indent) {
     }
     os << (first ? "]" : "\n" + end_pad + "]");
   } else if (j.is_number_float()) {
-    os << fixed(j.get<double>(), 6);
+    // JSON has no infinity: a value that is none (an unreachable row's margin with no obstacle to measure
+    // it by) is null. It had stopped the command with "fixed(): non-finite number" (black-box testing).
+    const double v = j.get<double>();
+    if (std::isfinite(v)) os << fixed(v, 6);
+    else os << "null";
   } else {
     os << j.dump();
   }
