@@ -75,12 +75,18 @@ std::vector<std::pair<size_t, size_t>> windows_around(const PlanContext& ctx, co
 void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vector3d>& axes) {
   const size_t m = w1 - w0 + 1;
   std::vector<std::vector<Vector3d>> cand(m);
+  std::vector<double> ball(m, 0.0);  // per row: what the ball is asked for beyond its clearance
   tbb::parallel_for(size_t{0}, m, [&](size_t k) {
     const size_t row = w0 + k;
     ClearanceHints hints;
     std::vector<Vector3d> clear;
+    // The ball is asked only for what it leaves: where the ball alone lies within the margin of a blade
+    // (its distance the same at every axis), asking it for the margin had found no candidate, and the
+    // rows kept the jumps they were searched for (15.7 deg between rows 0.5 mm apart, black-box testing).
+    const double margin = ctx.options.correction_margin_mm, ball_extra = std::max(0.0, ball_extra_at(ctx, row, axes[row], margin));
+    ball[k] = ball_extra;
     for (const Vector3d& a : cone_axes(ctx, row, axes[row]))
-      if (ctx.reachable(row, a) && ctx.clears(row, a, ctx.options.correction_margin_mm, &hints)) clear.push_back(a);
+      if (ctx.reachable(row, a) && ctx.clears(row, a, margin, &hints, ball_extra)) clear.push_back(a);
     if (clear.empty()) clear.push_back(axes[row]);
     cand[k] = std::move(clear);
   });
@@ -140,7 +146,7 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
       const Vector3d sum = axes[row - 1] + 2 * axes[row] + axes[row + 1];
       if (sum.norm() < 1e-9) continue;
       const Vector3d a = clamp_to_cone(sum.normalized(), ctx.frames[row].n, ctx.cos_max_tilt);
-      if (ctx.reachable(row, a) && ctx.clears(row, a, ctx.options.correction_margin_mm)) axes[row] = a;
+      if (ctx.reachable(row, a) && ctx.clears(row, a, ctx.options.correction_margin_mm, nullptr, ball[row - w0])) axes[row] = a;
     }
 }
 

@@ -96,6 +96,20 @@ std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vec
   return out;
 }
 
+double ball_extra_at(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra) {
+  double ball_extra = extra;
+  for (size_t i = 0; i < ctx.pieces.size(); ++i)
+    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0)
+      for (const ObstacleSet& set : ctx.obstacles) {
+        if (set.bvh.empty()) continue;
+        const double need = set.required[i] + extra;
+        const double left = piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) - set.required[i];
+        if (left < 0) return -1.0;
+        ball_extra = std::min(ball_extra, std::max(0.0, left - 1e-9));
+      }
+  return ball_extra;
+}
+
 bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& axis, double extra, double step,
                             Vector3d& turn) {
   turn.setZero();
@@ -104,20 +118,9 @@ bool smallest_clearing_turn(const PlanContext& ctx, size_t row, const Vector3d& 
   auto usable = [&](const Vector3d& a) { return a.dot(fr.n) >= ctx.cos_max_tilt - 1e-12 && ctx.reachable(row, a); };
   const bool clear_now = ctx.clears(row, axis, extra, &hints);
   if (clear_now && usable(axis)) return true;
-  // A sphere turning about its centre keeps its distance: when the ball itself is too close no turn helps,
-  // and when it is nearer than its clearance plus `extra` no turn gives it that much, so the ball is asked
-  // for what it leaves (less a rounding step), the other pieces for `extra` (asking the ball for more had
-  // failed rows whose every other piece could be cleared).
-  double ball_extra = extra;
-  for (size_t i = 0; i < ctx.pieces.size() && !clear_now; ++i)
-    if (ctx.pieces[i].sphere && ctx.pieces[i].h0 == 0.0)
-      for (const ObstacleSet& set : ctx.obstacles) {
-        if (set.bvh.empty()) continue;
-        const double need = set.required[i] + extra;
-        const double left = piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) - set.required[i];
-        if (left < 0) return false;
-        ball_extra = std::min(ball_extra, std::max(0.0, left - 1e-9));
-      }
+  // Asking the ball for more than it leaves had failed rows whose every other piece could be cleared.
+  const double ball_extra = ball_extra_at(ctx, row, axis, extra);
+  if (ball_extra < 0) return false;
   if (ball_extra < extra && ctx.clears(row, axis, extra, &hints, ball_extra) && usable(axis)) return true;
   // Directions: 16 round, plus the ascent direction of the margin (finite differences), tried first.
   std::vector<Vector3d> dirs;

@@ -120,6 +120,12 @@ struct FallbackResult {
 FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Eigen::Vector3d>& axes,
                                       std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
 
+// A sphere turning about its centre keeps its distance: when the ball at the cutter location is nearer to an
+// obstacle than its clearance plus `extra`, no axis gives it that much. Returns the extra the ball can be
+// asked for at `row` (at most `extra`, what it leaves less a rounding step), or < 0 when the ball itself is
+// below its clearance (no axis clears the row); the other pieces are asked for `extra`.
+double ball_extra_at(const PlanContext& ctx, size_t row, const Eigen::Vector3d& axis, double extra);
+
 // The last resort (cone_search.cpp): over windows around the rows `bad` flags (at most 1500 rows in
 // all), the smoothest axes that clear, by dynamic programming over fixed axes in each row's max-tilt cone
 // (rings 5 degrees apart). Sets `axes` and their `clear` there; returns the rows searched.

@@ -150,6 +150,26 @@ TEST(ImpellerPlanNarrow, MotionsAcrossABladeAreBridged) {
   EXPECT_EQ(fcl.rows_below, 0u) << "min margin " << fcl.min_margin;
 }
 
+// 12 blades with splitters, a radius-1 ball 0.6 mm from them and a safety distance of 0.6 (black-box
+// testing): where the ball alone sets the clearance (its distance the same at every axis), the last-resort
+// search asked it for the correction margin too, found no candidate and kept the jumps it was searching
+// for: 15.7 deg between rows 0.5 mm apart where a turn of about 1 deg a row cleared (here 15.7 deg before,
+// 4.5 after; the clearances are the planner's exact ones, which FCL checks in the tests above).
+TEST(ImpellerPlanNarrow, RowsTheBallLimitsAreSearchedForSmoothAxes) {
+  scenes::ImpellerOptions o = coarse(12, 15, true);
+  o.tool_radius = 1.0;
+  o.ball_clearance = 0.6;
+  o.passes = 5;
+  o.step = 0.5;
+  Impeller s = make(o);
+  s.bundle.planner.safety_distance = 0.6;
+  const PlanResult r = run(s, PlanMethod::Dynamic);
+  std::printf("max step %.2f deg over %zu rows\n", r.metrics.max_step_deg, r.path.rows.size());
+  EXPECT_EQ(r.metrics.rows_below_safety, 0u);
+  EXPECT_EQ(r.metrics.segments_below_safety, 0u);
+  EXPECT_LE(r.metrics.max_step_deg, 8.0);
+}
+
 // The same channel at the generator's default step and passes, splitters, the blades leaning -30 deg (black-box
 // testing): one motion between rows came 0.0036 mm closer than the clearance, within the documented
 // between_rows_tolerance_mm of 0.01, and failed the plan. The motions are judged by the stated bound.
