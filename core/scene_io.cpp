@@ -53,6 +53,10 @@ fs::path resolve(Scene& s, const json& j, const std::string& field) {
   if (name.empty()) throw InputError(s.file.string(), 0, field, "empty file name");
   fs::path p(name);
   if (!p.is_absolute()) p = s.dir / p;
+  // Named with the field that refers to it: "./x.stl: mesh file not found" had not said which of the
+  // scene's files it was (black-box testing).
+  std::error_code ec;
+  if (!fs::exists(p, ec)) throw InputError(s.file.string(), 0, field, "the file '" + p.string() + "' does not exist");
   s.files.push_back(p);
   return p;
 }

@@ -109,7 +109,9 @@ struct BadScene {
 std::vector<BadScene> bad_scenes() {
   const std::string nan_row = "x,y,z,nx,ny,nz\n10,10,21,0,0,1\n11,nan,21,0,0,1\n";
   return {
-      {"missing mesh file", [](json& j) { j["design"] = "nope.stl"; }, "", "", "nope.stl", "not found"},
+      // Named with the field that refers to it (black-box testing: "./nope.stl: mesh file not found").
+      {"missing mesh file", [](json& j) { j["design"] = "nope.stl"; }, "", "", "nope.stl", "field 'design'"},
+      {"missing machine file", [](json& j) { j["machine"] = "nope.json"; }, "", "", "nope.json", "field 'machine'"},
       {"design wrong type", [](json& j) { j["design"] = 3; }, "", "", "scene.json", "'design'"},
       {"check not array", [](json& j) { j["check_surfaces"] = "wall.stl"; }, "", "", "scene.json", "check_surfaces"},
       {"negative radius", [](json& j) { j["tool"]["radius"] = -3; }, "", "", "scene.json", "tool.radius"},
