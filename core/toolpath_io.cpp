@@ -80,18 +80,18 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
   double feed = std::numeric_limits<double>::quiet_NaN();
   double unit = 1.0;                               // mm per file unit (UNITS/INCHES: 25.4)
   Eigen::Vector3d last_axis = Eigen::Vector3d::UnitZ();  // a GOTO of three values keeps the tool axis in force
-  std::optional<Eigen::Vector3d> last_tip;               // file units: where GODLTA starts from
+  std::optional<Eigen::Vector3d> last_tip;               // mm: where GODLTA starts from (UNITS may change between)
   bool skip_next_goto = false, finished = false;
   // A tool tip (file units) and axis reached by a motion record: a row, unless a RAPID came before it.
-  auto reach = [&](const Eigen::Vector3d& tip, const Eigen::Vector3d& axis) {
-    last_tip = tip;
+  auto reach = [&](const Eigen::Vector3d& tip_mm, const Eigen::Vector3d& axis) {
+    last_tip = tip_mm;
     last_axis = axis;
     if (skip_next_goto) {
       skip_next_goto = false;
       return;
     }
     CLPoint pt;
-    pt.p = unit * tip + tool.cl_height() * axis;
+    pt.p = tip_mm + tool.cl_height() * axis;
     pt.n = axis;
     pt.normal_known = false;  // the axis stands in: a flat or bull end keeps this cutter location
     pt.feed = feed;
@@ -143,10 +143,10 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, word) : parse_number(a[i], name, at, word);
       const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, word + " i,j,k");
       if (word == "FROM") {  // the start position: where GODLTA counts from, not a cut
-        last_tip = Eigen::Vector3d(v[0], v[1], v[2]);
+        last_tip = unit * Eigen::Vector3d(v[0], v[1], v[2]);
         last_axis = axis;
       } else {
-        reach({v[0], v[1], v[2]}, axis);
+        reach(unit * Eigen::Vector3d(v[0], v[1], v[2]), axis);
       }
     } else if (word == "GODLTA") {
       // GODLTA/dx,dy,dz (from the last position), /dx,dy,dz,i,j,k (and a new axis) or /d (along the axis).
@@ -157,7 +157,7 @@ ToolPath read_toolpath_apt(const fs::path& file, const Tool& tool) {
       for (size_t i = 0; i < a.size(); ++i) v[i] = i < 3 ? parse_coordinate(a[i], name, at, "GODLTA") : parse_number(a[i], name, at, "GODLTA");
       const Eigen::Vector3d axis = unit_vector({v[3], v[4], v[5]}, name, at, "GODLTA i,j,k");
       const Eigen::Vector3d delta = a.size() == 1 ? Eigen::Vector3d(v[0] * last_axis) : Eigen::Vector3d(v[0], v[1], v[2]);
-      reach(*last_tip + delta, axis);
+      reach(*last_tip + unit * delta, axis);
     } else if (word == "CIRCLE" || word == "CYCLE" || word == "MOVARC" || word == "GOFWD" || word == "GOLFT" ||
                word == "GORGT" || word == "GOBACK" || word == "GOUP" || word == "GODOWN" || word == "GO") {
       // Motion these records define (an arc to the next GOTO, a drilling cycle at each GOTO, a move along

@@ -110,6 +110,11 @@ TEST(PathIO, AptIncrementalMovesAndMotionNotFollowed) {
   EXPECT_NEAR((p.rows[1].p - Eigen::Vector3d(10, 0, 3)).norm(), 0, 1e-12);
   EXPECT_NEAR((p.rows[2].p - Eigen::Vector3d(10, 10, 3)).norm(), 0, 1e-12);
   EXPECT_NEAR((p.rows[3].p - Eigen::Vector3d(10, 10, 8)).norm(), 0, 1e-12);
+  // The last position is kept in mm: a UNITS change between a GOTO and a GODLTA moves by the new units only.
+  tf::test::write_text(dir / "u.cl", "GOTO/1,0,0\nUNITS/INCHES\nGODLTA/0,0,1\n");
+  const auto u = tf::read_toolpath_apt(dir / "u.cl", ball3());
+  ASSERT_EQ(u.rows.size(), 2u);
+  EXPECT_NEAR((u.rows[1].p - Eigen::Vector3d(1, 0, 25.4 + 3)).norm(), 0, 1e-12);
   for (const auto& [text, line, field] :
        {std::tuple<std::string, int, std::string>{"GODLTA/1,0,0\nGOTO/1,2,3\n", 1, "GODLTA"},
         {"GOTO/5,0,0,0,0,1\nINDIRV/0,1,0\nCIRCLE/0,0,0,0,0,1,5\nGOTO/0,5,0,0,0,1\n", 3, "CIRCLE"},

@@ -57,19 +57,21 @@ TEST(FeedSchedule, RewriteTouchesOnlyFeedWords) {
 TEST(FeedSchedule, RewriteReplacesParameterAndExpressionFeeds) {
   const std::string text =
       "G21 G90 G94\n#1=1000\n#<feed>=800\nG0 X-10 Y0 Z8\nG1 X10 F#1\nG1 X20 F[#1 / 2]\nG1 X30 F #<feed>\n"
-      "G1 X40 F##2\nG1 X50 FABS[-700]\nG1 X[FIX[60.5]] F ATAN[1]/[1] (F9)\nG1 X70 F#[1]\nG1 X80 F#<_f> Y0\nM30\n";
+      "G1 X40 F##2\nG1 X50 FABS[-700]\nG1 X[FIX[60.5]] F ATAN[1]/[1] (F9)\nG1 X70 F#[1]\nG1 X80 F#<_f> Y0\n"
+      "G1 X90 F#ABS[1]\nM30\n";
   const std::string with_params = "#2=1\n#<_f>=500\n" + text;
   const Program p = parse_gcode(with_params, "t.ngc", MachineSpec{});
-  ASSERT_EQ(p.blocks.size(), 9u);
+  ASSERT_EQ(p.blocks.size(), 10u);
   FeedSchedule fs;
-  fs.feed = {0.0, 300.0, 310.0, 320.0, 330.0, 340.0, 350.0, 360.0, 370.0};
+  fs.feed = {0.0, 300.0, 310.0, 320.0, 330.0, 340.0, 350.0, 360.0, 370.0, 380.0};
   const std::string out = rewrite_feeds(with_params, p, fs);
   EXPECT_EQ(out,
             "#2=1\n#<_f>=500\nG21 G90 G94\n#1=1000\n#<feed>=800\nG0 X-10 Y0 Z8\nG1 X10 F300\nG1 X20 F310\n"
-            "G1 X30 F320\nG1 X40 F330\nG1 X50 F340\nG1 X[FIX[60.5]] F350 (F9)\nG1 X70 F360\nG1 X80 Y0 F370\nM30\n");
+            "G1 X30 F320\nG1 X40 F330\nG1 X50 F340\nG1 X[FIX[60.5]] F350 (F9)\nG1 X70 F360\nG1 X80 Y0 F370\n"
+            "G1 X90 F380\nM30\n");
   const Program q = parse_gcode(out, "t.ngc", MachineSpec{});
-  ASSERT_EQ(q.blocks.size(), 9u);
-  for (size_t i = 1; i < 9; ++i) EXPECT_DOUBLE_EQ(q.blocks[i].feed, fs.feed[i]) << i;
+  ASSERT_EQ(q.blocks.size(), 10u);
+  for (size_t i = 1; i < 10; ++i) EXPECT_DOUBLE_EQ(q.blocks[i].feed, fs.feed[i]) << i;
   EXPECT_DOUBLE_EQ(q.blocks[6].target.x, 60.0);
 }
 

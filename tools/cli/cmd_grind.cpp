@@ -30,9 +30,9 @@ void add_grind_command(CLI::App& app) {
     check_outputs_apart({{"-o", args.out}, {"--sections", args.svg}}, {args.scene, scene.program});
     // Longer than the blank, the sections are its two ends and nothing between (black-box testing: a tip cut
     // came out at half its volume, without a word).
-    if (args.sections.spacing > scene.blank.length)
-      throw InputError("", 0, "--spacing", "is longer than the blank (" + fixed(scene.blank.length, 3) +
-                                               " mm): the sections would be its two ends only");
+    if (args.sections.spacing >= scene.blank.length * (1.0 - 1e-9))
+      throw InputError("", 0, "--spacing", "is as long as the blank (" + fixed(scene.blank.length, 3) +
+                                               " mm) or longer: the sections would be its two ends only");
     if (scene.blank.length / args.sections.spacing > 1e6)
       throw InputError("", 0, "--spacing", "more than a million sections: use a larger spacing");
     const double need = grind::minimum_section_bytes(scene, args.sections), have = available_memory_bytes();

@@ -101,8 +101,8 @@ void run_verify(const VerifyArgs& a) {
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
   if (a.air_feed_option->count() == 0) so.air_feed = machine.max_feed;
-  else if (!(so.air_feed > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
   if (scheduling) {
+    if (!(so.air_feed > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
     check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
   }

@@ -210,7 +210,7 @@ BlockResult Simulator::simulate_block(const Block& b, const Joints& from, int in
   for (auto& a : accum_) a.reset();
   tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t k) { process_tile(tasks_[k], rapid, accum_.local()); });
   collect_pending();
-  if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, br, rep);
+  if (engagement) measure_block_engagement(tools_.tool(b.tool), pose_at, b.motion == Motion::ArcCW || b.motion == Motion::ArcCCW, br, rep);
 
   BlockTotals tot = merged_totals();
   if (!rapid) add_ordered_depths(b, pose_at, turn, tot.depth);
@@ -279,7 +279,8 @@ void Simulator::select_tiles() {
 // tool meets at the block's end), and only where the block removed material next to the tool's end pose:
 // there the cut deferred its changes, so the measurement reads the stock itself. A block that removed
 // nothing there engaged nothing and costs nothing here.
-void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep) {
+void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at, bool arc, BlockResult& br,
+                                         VerifyReport& rep) {
   Eigen::AlignedBox3d removed;
   removed.setEmpty();
   for (const Accum& a : accum_)
@@ -295,10 +296,11 @@ void Simulator::measure_block_engagement(const Tool& tool, const PoseAt& pose_at
     }
   if (removed.isEmpty()) return;
   const auto t0 = std::chrono::steady_clock::now();
-  // The velocity at the block's end: a step short enough that the chord is the tangent (a quarter of a
-  // sub-step, an arc's swept in one, had turned an arc's feed direction by an eighth of its sweep, and its
-  // engagement with it: black-box testing), long enough that a point's motion stays far above rounding.
-  const double back = 1e-4;
+  // The velocity at the block's end, over the last quarter of a sub-step: long enough that a point's motion
+  // stays far above the poses' rounding on short blocks. An arc is swept in one step, and a quarter of it had
+  // turned its feed direction by an eighth of its sweep, and its engagement with it (black-box testing): an
+  // arc's step is 1e-4 of it, where the chord is the tangent within 0.005 % of the sweep.
+  const double back = arc ? 1e-4 : 1.0 / (4.0 * std::max(1, sweep_.substeps));
   br.engagement = opt_.engagement(tool, stock_, pose_at(1.0 - back), pose_at(1.0),
                                   Eigen::AlignedBox3d(removed.min() + lattice_.origin, removed.max() + lattice_.origin));
   rep.engagement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -236,7 +236,7 @@ class Simulator {
   BlockResult simulate_block(const Block& b, const Joints& from, int index, bool continuing, VerifyReport& rep);
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
-  void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, BlockResult& br, VerifyReport& rep);
+  void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, bool arc, BlockResult& br, VerifyReport& rep);
   void engagement_reads(const Tool& tool, const ToolPose& end);
   void attach_pending();
   void collect_pending();

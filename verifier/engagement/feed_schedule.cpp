@@ -128,8 +128,7 @@ size_t value_end(const std::string& code, size_t k) {
       const size_t close = code.find('>', m);
       return close == npos ? code.size() : close + 1;
     }
-    if (m < code.size() && code[m] == '[') return std::min(bracket_end(code, m), code.size());
-    return number_end(code, m);
+    return value_end(code, m);  // #1, #[...], #ABS[...]: the parameter's number is itself a value
   }
   if (std::isalpha(static_cast<unsigned char>(code[k]))) {
     size_t m = k;

@@ -25,9 +25,9 @@ bool edges_cross(const Paths& paths) {
     }
   std::sort(edges.begin(), edges.end(), [](const Edge& l, const Edge& r) { return l.x0 < r.x0; });
   auto orient = [](const IntPoint& a, const IntPoint& b, const IntPoint& c) {
-    // Exact: coordinates differ by less than 2^31 nm, so each product fits long double's 64-bit mantissa.
-    const long double v = static_cast<long double>(b.X - a.X) * static_cast<long double>(c.Y - a.Y) -
-                          static_cast<long double>(b.Y - a.Y) * static_cast<long double>(c.X - a.X);
+    // Exact in 128-bit integers: a product of two coordinate differences (below 2^62 nm) cannot overflow.
+    __extension__ typedef __int128 Wide;
+    const Wide v = static_cast<Wide>(b.X - a.X) * (c.Y - a.Y) - static_cast<Wide>(b.Y - a.Y) * (c.X - a.X);
     return v > 0 ? 1 : v < 0 ? -1 : 0;
   };
   auto between = [](const IntPoint& a, const IntPoint& b, const IntPoint& q) {  // q on the open segment, collinear
@@ -55,9 +55,7 @@ Paths tidy_contours(Paths paths, double clean) {
   // A contour narrower than `clean` on average (twice its area over its perimeter) goes too: a sliver of
   // air or material 0.4 um wide that one section holds and its neighbours do not had the tiling stair-step
   // the whole slab on both sides of it (the end mill at --step 0.15, 39 slabs).
-  auto cleaned = [clean](const Paths& in) {
-    Paths out;
-    ClipperLib::CleanPolygons(in, out, clean);
+  auto without_slivers = [clean](Paths out) {
     out.erase(std::remove_if(out.begin(), out.end(),
                              [clean](const Path& p) {
                                if (p.size() < 3) return true;
@@ -71,11 +69,16 @@ Paths tidy_contours(Paths paths, double clean) {
               out.end());
     return out;
   };
+  auto cleaned = [&](const Paths& in) {
+    Paths out;
+    ClipperLib::CleanPolygons(in, out, clean);
+    return without_slivers(std::move(out));
+  };
   if (Paths c = cleaned(paths); !edges_cross(c)) return c;
   Paths united;
   ClipperLib::SimplifyPolygons(paths, united, ClipperLib::pftNonZero);
   if (Paths c = cleaned(united); !edges_cross(c)) return c;
-  return united;
+  return without_slivers(std::move(united));
 }
 
 }  // namespace tf::grind::detail
