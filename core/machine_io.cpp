@@ -1,6 +1,11 @@
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include "tiltfield/core/internal/json_fields.hpp"
+#include "tiltfield/core/io.hpp"
 #include "tiltfield/core/machine.hpp"
 
 namespace tf {
@@ -34,6 +39,46 @@ bool MachineSpec::has_axis(char letter) const {
   return rotary_axes().find(letter) != std::string::npos;
 }
 
+namespace {
+
+// A code that switches tool-centre-point control, written on a line of its own: words of a letter and a
+// number (M428, G43.4 H1, G68.2 P1), no comment, line break or motion. The post wrote it as given ("M428 (x"
+// left a comment open, "M428\nG0 Z-100" put a rapid into the program, black-box testing).
+std::string tcp_code(const nlohmann::json& j, const std::string& file, const std::string& field) {
+  const std::string code = string(j, file, field);
+  for (char c : code)
+    if (c != ' ' && c != '\t' && !std::isalnum(static_cast<unsigned char>(c)) && c != '.')
+      throw InputError(file, 0, field, "holds a character that is no part of a word (comments and line breaks are not allowed)");
+  std::istringstream words(code);
+  std::string w;
+  while (words >> w) {
+    const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(w[0])));
+    bool number = w.size() > 1;
+    for (size_t i = 1; i < w.size(); ++i)
+      number &= std::isdigit(static_cast<unsigned char>(w[i])) || w[i] == '.';
+    if (std::string("GMHDPQL").find(letter) == std::string::npos || !number)
+      throw InputError(file, 0, field, "'" + w + "' is no word of a switch code (give words such as M428 or G43.4 H1)");
+    if (letter == 'G') {
+      const double g = std::atof(w.c_str() + 1);
+      if (g < 4 || (g >= 33 && g < 39) || (g >= 73 && g < 90))
+        throw InputError(file, 0, field, "'" + w + "' is a motion code, not a switch");
+    }
+  }
+  return code;  // empty: none
+}
+
+// A point of the machine's, mm, within 1 km as every coordinate: a tilt_offset of 1e308 had failed the post
+// with "cannot linearise the move" (exit 1, black-box testing).
+Eigen::Vector3d machine_point(const nlohmann::json& j, const std::string& file, const std::string& field) {
+  const Eigen::Vector3d p = vec3(j, file, field);
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(p[k]) <= kMaxCoordinate))
+      throw InputError(file, 0, field + "[" + std::to_string(k) + "]", "is beyond 1 km: a wrong unit?");
+  return p;
+}
+
+}  // namespace
+
 MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file, const std::string& prefix) {
   require_object(j, file, prefix.empty() ? "(top level)" : prefix);
   only_keys(j,
@@ -56,9 +101,9 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
     throw InputError(file, 0, join(prefix, "kinematics"),
                      "unknown kinematics '" + k +
                          "' (use xyz, table-table-ac, table-table-bc, head-table-bc or head-head-ac)");
-  if (j.contains("pivot")) m.pivot = vec3(j["pivot"], file, join(prefix, "pivot"));
-  if (j.contains("tilt_offset")) m.tilt_offset = vec3(j["tilt_offset"], file, join(prefix, "tilt_offset"));
-  if (j.contains("table_center")) m.table_center = vec3(j["table_center"], file, join(prefix, "table_center"));
+  if (j.contains("pivot")) m.pivot = machine_point(j["pivot"], file, join(prefix, "pivot"));
+  if (j.contains("tilt_offset")) m.tilt_offset = machine_point(j["tilt_offset"], file, join(prefix, "tilt_offset"));
+  if (j.contains("table_center")) m.table_center = machine_point(j["table_center"], file, join(prefix, "table_center"));
   m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
   // Measured up from the spindle nose to the head's rotation centre: below the nose it would turn the head
   // about a point in the tool (a negative length had been taken as given, black-box testing).
@@ -91,8 +136,8 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
     else if (s == "M128") m.tcp_style = TcpStyle::M128;
     else throw InputError(file, 0, join(prefix, "tcp_style"), "must be 'G43.4' or 'M128'");
   }
-  if (j.contains("tcp_on_code")) m.tcp_on_code = string(j["tcp_on_code"], file, join(prefix, "tcp_on_code"));
-  if (j.contains("tcp_off_code")) m.tcp_off_code = string(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
+  if (j.contains("tcp_on_code")) m.tcp_on_code = tcp_code(j["tcp_on_code"], file, join(prefix, "tcp_on_code"));
+  if (j.contains("tcp_off_code")) m.tcp_off_code = tcp_code(j["tcp_off_code"], file, join(prefix, "tcp_off_code"));
   if (m.tcp_on_code.empty() != m.tcp_off_code.empty())
     throw InputError(file, 0, join(prefix, m.tcp_on_code.empty() ? "tcp_on_code" : "tcp_off_code"),
                      "tcp_on_code and tcp_off_code come together (a program must switch TCP off again)");

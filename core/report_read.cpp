@@ -69,6 +69,8 @@ Collision read_collision(const json& o, const std::string& file, const std::stri
   Collision c;
   c.block = whole_number(o, "block", file, prefix);
   c.line = whole_number(o, "line", file, prefix);
+  if (c.block < 0) throw InputError(file, 0, jf::join(prefix, "block"), "must be a whole number >= 0");
+  if (c.line < 0) throw InputError(file, 0, jf::join(prefix, "line"), "must be a whole number >= 0");
   c.component = named(o, "component", {ToolComponent::Ball, ToolComponent::Flute, ToolComponent::Shank, ToolComponent::Holder},
                       file, prefix);
   c.with = named(o, "with", {HitWith::Stock, HitWith::Check, HitWith::Fixture}, file, prefix);

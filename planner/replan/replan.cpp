@@ -155,8 +155,11 @@ double distance_to_polyline(const ToolPath& path, const Eigen::Vector3d& q) {
 
 double collision_distance_to_path(const ToolPath& path, const Tool& tool, const Collision& c) {
   const double cl = tool.cl_height();
-  return std::min(distance_to_polyline(path, c.start.tip + cl * c.start.axis.normalized()),
-                  distance_to_polyline(path, c.end.tip + cl * c.end.axis.normalized()));
+  const double d0 = distance_to_polyline(path, c.start.tip + cl * c.start.axis.normalized());
+  const double d1 = distance_to_polyline(path, c.end.tip + cl * c.end.axis.normalized());
+  // A move along the tool axis (the post's plunge or retract) has one end off the path; any other feed block
+  // of the path's program has both on it (one end 1 m off had been re-planned, black-box testing).
+  return along_tool_axis(c) ? std::min(d0, d1) : std::max(d0, d1);
 }
 
 std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions) {

@@ -72,10 +72,10 @@ TEST(ReplanCli, OrientedRowsOfAnotherPathExitTwoNamingTheRow) {
 // A verification report of one holder collision with `with` on the block from row 100 to 101 of the
 // scene's vertical rows, moved by `shift`.
 std::string holder_report(const tf::Scene& scene, const Eigen::Vector3d& shift, const std::string& with = "stock",
-                          const std::string& depth = "0.4") {
+                          const std::string& depth = "0.4", const Eigen::Vector3d& end_shift = Eigen::Vector3d::Zero()) {
   const double cl = scene.tool.cl_height();
   const Eigen::Vector3d a = scene.path.rows[100].p - cl * Eigen::Vector3d::UnitZ() + shift;
-  const Eigen::Vector3d b = scene.path.rows[101].p - cl * Eigen::Vector3d::UnitZ() + shift;
+  const Eigen::Vector3d b = scene.path.rows[101].p - cl * Eigen::Vector3d::UnitZ() + shift + end_shift;
   const auto v = [](const Eigen::Vector3d& x) {
     std::ostringstream o;
     o << '[' << x.x() << ',' << x.y() << ',' << x.z() << ']';
@@ -104,6 +104,12 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   EXPECT_NE(far.out.find("collisions[0]"), std::string::npos) << far.out;
   EXPECT_NE(far.out.find("block 7 (line 19) lies 40 mm"), std::string::npos) << far.out;
   EXPECT_EQ(std::count(far.out.begin(), far.out.end(), '\n'), 1) << far.out;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+  // One end 1 m off the path, the other on it, and not along the tool axis (black-box testing: re-planned).
+  tf::test::write_text(dir / "v.json", holder_report(scene, Eigen::Vector3d::Zero(), "stock", "0.4", Eigen::Vector3d(1000, 0, 0)));
+  const auto one_end = tf::test::run_command(command);
+  EXPECT_EQ(one_end.exit_code, 2) << one_end.out;
+  EXPECT_NE(one_end.out.find("block 7 (line 19) lies 9"), std::string::npos) << one_end.out;  // from the path's nearest point
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 
   tf::test::write_text(dir / "v.json", report(Eigen::Vector3d(0, 0, 0.005)));
@@ -142,6 +148,13 @@ TEST(ReplanCli, AnUnreadableStockMeshAndANegativeDepthExitTwo) {
   EXPECT_EQ(negative.exit_code, 2) << negative.out;
   EXPECT_NE(negative.out.find("collisions[0].depth_mm"), std::string::npos) << negative.out;
   EXPECT_EQ(std::count(negative.out.begin(), negative.out.end(), '\n'), 1) << negative.out;
+  // A negative block (black-box testing: accepted).
+  std::string report = holder_report(scene, Eigen::Vector3d::Zero(), "check");
+  report.replace(report.find("\"block\": 7"), std::string("\"block\": 7").size(), "\"block\": -1");
+  tf::test::write_text(dir / "v.json", report);
+  const auto block = tf::test::run_command(command);
+  EXPECT_EQ(block.exit_code, 2) << block.out;
+  EXPECT_NE(block.out.find("collisions[0].block"), std::string::npos) << block.out;
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 }  // namespace

@@ -330,6 +330,25 @@ TEST(Volume, MoreThanFourTurnsOfACTableCutTheWholeRing) {
   EXPECT_NEAR(a.report.removed_volume_mm3, b.report.removed_volume_mm3, 0.005 * b.report.removed_volume_mm3);
 }
 
+// A move of the rotaries alone under G94 takes D / F minutes with D = sqrt(dA^2 + dC^2) degrees, as
+// RS274/NGC and LinuxCNC time it; their sum had made A30 C40 at F50 take 1.4 minutes for 1.0 (black-box
+// testing), and its MRR read low by as much.
+TEST(Volume, ARotaryOnlyMoveIsTimedByItsEuclideanTurn) {
+  const Scene s = test::box_scene({-20, -20, 0}, {20, 20, 10}, test::ball_tool(3, 12, 3, 50, {}));
+  const ForwardFn table_ac = [](const Joints& j) {
+    const Eigen::Matrix3d part = (Eigen::AngleAxisd(-j.c * kPi / 180.0, Eigen::Vector3d::UnitZ()) *
+                                  Eigen::AngleAxisd(-j.a * kPi / 180.0, Eigen::Vector3d::UnitX()))
+                                     .toRotationMatrix();
+    return ToolPose{part * Eigen::Vector3d(j.x, j.y, j.z), part * Eigen::Vector3d::UnitZ()};
+  };
+  const Program p = test::Moves().rapid({0, 0, 30, 0, 0, 0}).line({.a = 30, .c = 40}, 50).program();
+  VerifyOptions o;
+  o.resolution = 0.5;
+  const VerifyResult r = verify_program(s, p, table_ac, o);
+  ASSERT_EQ(r.report.per_block.size(), 2u);
+  EXPECT_NEAR(r.report.per_block[1].minutes, 1.0, 1e-12);
+}
+
 // A rotating 5-axis feed, then a rapid straight back up the tool's axis: the rapid's cutting parts start
 // inside the pose the feed ended at, where nothing is left; a sub-step held at its middle axis left a
 // sliver there (up to the sweep's bound) that the rapid reported as a collision (found in review).
