@@ -1,11 +1,9 @@
 #include <cctype>
-#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 #include "tiltfield/core/internal/json_fields.hpp"
-#include "tiltfield/core/io.hpp"
 #include "tiltfield/core/machine.hpp"
 
 namespace tf {
@@ -67,16 +65,6 @@ std::string tcp_code(const nlohmann::json& j, const std::string& file, const std
   return code;  // empty: none
 }
 
-// A point of the machine's, mm, within 1 km as every coordinate: a tilt_offset of 1e308 had failed the post
-// with "cannot linearise the move" (exit 1, black-box testing).
-Eigen::Vector3d machine_point(const nlohmann::json& j, const std::string& file, const std::string& field) {
-  const Eigen::Vector3d p = vec3(j, file, field);
-  for (int k = 0; k < 3; ++k)
-    if (!(std::abs(p[k]) <= kMaxCoordinate))
-      throw InputError(file, 0, field + "[" + std::to_string(k) + "]", "is beyond 1 km: a wrong unit?");
-  return p;
-}
-
 }  // namespace
 
 MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file, const std::string& prefix) {
@@ -101,9 +89,9 @@ MachineSpec parse_machine_json(const nlohmann::json& j, const std::string& file,
     throw InputError(file, 0, join(prefix, "kinematics"),
                      "unknown kinematics '" + k +
                          "' (use xyz, table-table-ac, table-table-bc, head-table-bc or head-head-ac)");
-  if (j.contains("pivot")) m.pivot = machine_point(j["pivot"], file, join(prefix, "pivot"));
-  if (j.contains("tilt_offset")) m.tilt_offset = machine_point(j["tilt_offset"], file, join(prefix, "tilt_offset"));
-  if (j.contains("table_center")) m.table_center = machine_point(j["table_center"], file, join(prefix, "table_center"));
+  if (j.contains("pivot")) m.pivot = point_within_km(j["pivot"], file, join(prefix, "pivot"));
+  if (j.contains("tilt_offset")) m.tilt_offset = point_within_km(j["tilt_offset"], file, join(prefix, "tilt_offset"));
+  if (j.contains("table_center")) m.table_center = point_within_km(j["table_center"], file, join(prefix, "table_center"));
   m.head_pivot_length = number_or(j, "head_pivot_length", 0.0, file, prefix);
   // Measured up from the spindle nose to the head's rotation centre: below the nose it would turn the head
   // about a point in the tool (a negative length had been taken as given, black-box testing).

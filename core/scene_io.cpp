@@ -61,19 +61,6 @@ fs::path resolve(Scene& s, const json& j, const std::string& field) {
   return p;
 }
 
-// A stock's coordinate or size, mm, within 1 km as the path's: a box 1e300 high had stopped verify with
-// "fixed(): non-finite number", one 1e20 high was simulated on a lattice too coarse to remove anything
-// (black-box testing).
-double stock_length(double v, const std::string& file, const std::string& field) {
-  if (!(std::abs(v) <= kMaxCoordinate)) throw InputError(file, 0, field, "is beyond 1 km: a wrong unit?");
-  return v;
-}
-Eigen::Vector3d stock_point(const json& j, const std::string& file, const std::string& field) {
-  const Eigen::Vector3d p = vec3(j, file, field);
-  for (int k = 0; k < 3; ++k) stock_length(p[k], file, field + "[" + std::to_string(k) + "]");
-  return p;
-}
-
 Stock parse_stock(Scene& s, const json& j) {
   const std::string file = s.file.string();
   require_object(j, file, "stock");
@@ -93,8 +80,8 @@ Stock parse_stock(Scene& s, const json& j) {
     only_keys(b, {"min", "max"}, file, "stock.box");
     if (!b.contains("min")) throw InputError(file, 0, "stock.box.min", "missing");
     if (!b.contains("max")) throw InputError(file, 0, "stock.box.max", "missing");
-    st.box.min = stock_point(b["min"], file, "stock.box.min");
-    st.box.max = stock_point(b["max"], file, "stock.box.max");
+    st.box.min = point_within_km(b["min"], file, "stock.box.min");
+    st.box.max = point_within_km(b["max"], file, "stock.box.max");
     if ((st.box.max - st.box.min).minCoeff() <= 0.0)
       throw InputError(file, 0, "stock.box", "max must be greater than min on every axis");
   } else if (j.contains("cylinder")) {
@@ -104,12 +91,12 @@ Stock parse_stock(Scene& s, const json& j) {
     require_object(c, file, cp);
     only_keys(c, {"base", "axis", "radius", "height"}, file, cp);
     if (!c.contains("base")) throw InputError(file, 0, cp + ".base", "missing");
-    st.cylinder.base = stock_point(c["base"], file, cp + ".base");
+    st.cylinder.base = point_within_km(c["base"], file, cp + ".base");
     const Eigen::Vector3d a = c.contains("axis") ? vec3(c["axis"], file, cp + ".axis") : Eigen::Vector3d::UnitZ();
     if (a.norm() < 1e-12) throw InputError(file, 0, cp + ".axis", "zero-length axis");
     st.cylinder.axis = a.normalized();
-    st.cylinder.radius = stock_length(positive(required_number(c, "radius", file, cp), file, cp + ".radius"), file, cp + ".radius");
-    st.cylinder.height = stock_length(positive(required_number(c, "height", file, cp), file, cp + ".height"), file, cp + ".height");
+    st.cylinder.radius = within_km(positive(required_number(c, "radius", file, cp), file, cp + ".radius"), file, cp + ".radius");
+    st.cylinder.height = within_km(positive(required_number(c, "height", file, cp), file, cp + ".height"), file, cp + ".height");
   } else {
     throw InputError(file, 0, "stock", "must have exactly one of 'mesh', 'box' or 'cylinder'");
   }

@@ -26,6 +26,11 @@ GlobalOptions& global_options();
 // A progress callback that draws a bar on stderr when stderr is a terminal and --quiet is off.
 Progress terminal_progress();
 
+// The air feed of a feed schedule: the machine's max_feed unless `option` (--air-feed) is given, and then
+// `value`, which must be positive (the library's 0, "keep the programmed feed", is no value to give here;
+// -1, 0 and nan had fallen back to the default without a word, black-box testing).
+double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed);
+
 // One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
 void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);
 

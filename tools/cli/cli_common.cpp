@@ -20,6 +20,12 @@ GlobalOptions& global_options() {
   return options;
 }
 
+double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed) {
+  if (option.count() == 0) return machine_max_feed;
+  if (!(value > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
+  return value;
+}
+
 void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, const FeedSchedule& fs) {
   if (global_options().quiet) return;
   std::cerr << who << ": feeds scheduled for " << fixed(o.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "

@@ -100,9 +100,8 @@ void run_verify(const VerifyArgs& a) {
   const bool scheduling = a.schedule_option && a.schedule_option->count() > 0;
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
-  if (a.air_feed_option->count() == 0) so.air_feed = machine.max_feed;
   if (scheduling) {
-    if (!(so.air_feed > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
+    so.air_feed = scheduled_air_feed(*a.air_feed_option, so.air_feed, machine.max_feed);
     check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
   }

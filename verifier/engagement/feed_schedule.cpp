@@ -155,7 +155,8 @@ std::pair<size_t, size_t> find_f_word(const std::string& code, size_t from) {
     if (next < code.size() && std::isalpha(static_cast<unsigned char>(code[next]))) {
       size_t m = next;
       while (m < code.size() && std::isalpha(static_cast<unsigned char>(code[m]))) ++m;
-      if (skip_blanks(code, m) < code.size() && code[skip_blanks(code, m)] == '[' && m - next == 2) {
+      const size_t open = skip_blanks(code, m);
+      if (open < code.size() && code[open] == '[' && m - next == 2) {
         const char a = static_cast<char>(std::toupper(static_cast<unsigned char>(code[next])));
         const char b = static_cast<char>(std::toupper(static_cast<unsigned char>(code[next + 1])));
         if ((a == 'I' && b == 'X') || (a == 'U' && b == 'P')) {

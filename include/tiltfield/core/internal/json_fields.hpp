@@ -89,6 +89,18 @@ inline Eigen::Vector3d vec3(const json& j, const std::string& file, const std::s
   return {number(j[0], file, field + "[0]"), number(j[1], file, field + "[1]"), number(j[2], file, field + "[2]")};
 }
 
+// A length or coordinate, mm, within kMaxCoordinate (1 km) as a path's: beyond it a stock or machine point
+// had stopped a command with an internal message or a wrong result (black-box testing).
+inline double within_km(double v, const std::string& file, const std::string& field) {
+  if (!(std::abs(v) <= kMaxCoordinate)) throw InputError(file, 0, field, "is beyond 1 km: a wrong unit?");
+  return v;
+}
+inline Eigen::Vector3d point_within_km(const json& j, const std::string& file, const std::string& field) {
+  const Eigen::Vector3d p = vec3(j, file, field);
+  for (int k = 0; k < 3; ++k) within_km(p[k], file, field + "[" + std::to_string(k) + "]");
+  return p;
+}
+
 // The parser keeps the last of two equal keys in an object, so a scene with "radius" twice would silently
 // use one of them; this callback refuses the second, naming the key's path.
 class DuplicateKeys {
