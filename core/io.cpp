@@ -162,6 +162,10 @@ CsvTable read_csv(const fs::path& file) {
     if (tl.find('\0') != std::string::npos) throw InputError(file.string(), n, "", "binary data in a CSV file");
     auto cells = split(tl);
     if (t.header.empty()) {
+      // A column named twice is ambiguous (which one holds the feed?): the readers took the first.
+      for (size_t i = 0; i < cells.size(); ++i)
+        if (!cells[i].empty() && std::find(cells.begin(), cells.begin() + long(i), cells[i]) != cells.begin() + long(i))
+          throw InputError(file.string(), n, cells[i], "the column appears twice in the header");
       t.header = cells;
       continue;
     }

@@ -90,7 +90,13 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
   FeedMode mode = FeedMode::PerMinute;
   std::string last_feed;
   bool first = true;
-  for (const Block& b : program.blocks) {
+  for (size_t i = 0; i < program.blocks.size(); ++i) {
+    const Block& b = program.blocks[i];
+    // The start's second block moves over the first point with the rotaries where the program found them
+    // (assumed at the start's, 0; not written, which may lie outside a C axis' limits): the turn follows.
+    const bool over_start = i == 1 && b.target.x == program.start.x && b.target.y == program.start.y &&
+                            b.target.z == program.start.z && b.target.a == program.start.a &&
+                            b.target.b == program.start.b && b.target.c == program.start.c;
     const double v[6] = {b.target.x - job.work_offset[0], b.target.y - job.work_offset[1],
                          b.target.z - job.work_offset[2], b.target.a - job.work_offset[3],
                          b.target.b - job.work_offset[4], b.target.c - job.work_offset[5]};
@@ -98,6 +104,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
     for (int k = 0; k < 6; ++k) {
       if (k >= 3 && rot.find(letters[k]) == std::string::npos) continue;
       if (first && k != 2) continue;  // the first move only lifts Z: the other axes' positions are unknown
+      if (over_start && k >= 3) continue;
       const std::string w = fixed(v[k], 4);
       if (w == last[k]) continue;
       last[k] = w;

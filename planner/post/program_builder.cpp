@@ -13,7 +13,9 @@ void Builder::start(const ToolPose& pose, const Joints& j, double feed) {
   const Transit t = transit(pose, j);
   prog_.start = t.high;
   prog_.start.a = prog_.start.b = prog_.start.c = 0.0;
-  rapid(prog_.start);
+  check_lowered_turn(prog_.start, t.high, t.high);
+  rapid(prog_.start);  // written as Z alone: the other axes' positions are not known yet
+  rapid(prog_.start);  // over the first point with the rotaries at 0, so that the turn is made where checked
   rapid(t.high);
   if (t.via) rapid(*t.via);
   rapid(t.retract);
@@ -52,6 +54,7 @@ void Builder::reposition(const ToolPose& from_pose, const Joints& from, const To
   turned.b = b.high.b;
   turned.c = b.high.c;
   check_turn(a.high, turned);
+  check_lowered_turn(a.high, turned, b.high);
   rapid(turned);
   rapid(b.high);
   if (b.via) rapid(*b.via);
@@ -83,8 +86,17 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
 }
 
 Joints Builder::target(const ToolPose& pose, const Joints& j) const {
-  if (!tcp_) return j;
   Joints t = j;
+  if (!tcp_) {
+    // The rotaries as written (4 decimals, gcode_writer), and X Y Z that put the tip where it belongs at
+    // them: on a head pivot of 10 m half of the last decimal had moved the tip 0.009 mm (black-box testing).
+    const auto& off = job_.work_offset;
+    const auto written = [](double v, double o) { return std::round((v - o) * 1e4) / 1e4 + o; };
+    t.a = written(j.a, off[3]);
+    t.b = written(j.b, off[4]);
+    t.c = written(j.c, off[5]);
+    return joints_for_tip([this](const Joints& q) { return kin_.forward(q); }, t, pose.tip);
+  }
   t.x = pose.tip.x();
   t.y = pose.tip.y();
   t.z = pose.tip.z();
@@ -104,6 +116,26 @@ void Builder::check_turn(const Joints& from, const Joints& to) const {
                      fixed(from.z, 3) + " under tool-centre-point control takes the machine outside its limits (" +
                      outside_limits(machine_joints(j)) + ")");
   }
+}
+
+void Builder::check_lowered_turn(const Joints& from, const Joints& turned, const Joints& over) const {
+  if (clearing_height_ <= zsafe_ || !check_.active()) return;
+  const double margin = 0.5 * job_.machine.safe_z;
+  const double turn_deg = std::max({std::abs(turned.a - from.a), std::abs(turned.b - from.b), std::abs(turned.c - from.c)});
+  const auto pose_at = [&](double s) {
+    Joints j = from;
+    j.a += s * (turned.a - from.a), j.b += s * (turned.b - from.b), j.c += s * (turned.c - from.c);
+    return kin_.forward(j);
+  };
+  const ToolPose at_turned = kin_.forward(turned);
+  const bool turn_ok = check_.turn_clear(pose_at, turn_deg * M_PI / 180.0, margin);
+  if (turn_ok && check_.translation_clear(at_turned, kin_.forward(over).tip - at_turned.tip, margin)) return;
+  std::string turn = "A " + fixed(from.a, 3) + " B " + fixed(from.b, 3) + " C " + fixed(from.c, 3) + " to A " +
+                     fixed(turned.a, 3) + " B " + fixed(turned.b, 3) + " C " + fixed(turned.c, 3);
+  throw JobError("the transit height is lowered to Z's limit " + fixed(zsafe_, 3) + " (every turn of the rotaries clears at Z " +
+                 fixed(clearing_height_, 3) + "): " + (turn_ok ? "the move after turning " : "turning ") + turn +
+                 " at X " + fixed(from.x, 3) + " Y " + fixed(from.y, 3) + " comes within " + fixed(margin, 3) +
+                 " mm (half of safe_z) of the stock, fixtures or check surfaces; raise Z's limit in the machine file");
 }
 
 bool Builder::rapids_clear(const std::vector<Joints>& corners, const Eigen::Vector3d& axis) const {

@@ -24,7 +24,8 @@ class Builder {
     const auto zl = job.machine.limits.find('Z');
     if (!tcp_ && zl != job.machine.limits.end() && zsafe_ > zl->second.max) {
       prog_.warnings.push_back("the transit height Z " + fixed(zsafe_, 3) + " that clears every turn of the rotaries is above Z's limit " +
-                               fixed(zl->second.max, 3) + "; using the limit");
+                               fixed(zl->second.max, 3) + "; using the limit, each turn there and the move after it checked");
+      clearing_height_ = zsafe_;
       zsafe_ = zl->second.max;
     }
   }
@@ -55,6 +56,8 @@ class Builder {
   // A cutting block from (p0, j0) to (p1, j1) at `feed` mm/min along the tip path.
   void cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1, double feed);
 
+  // The programmed joints of a row's pose solved as j: under TCP the tip with j's rotaries; otherwise
+  // the rotaries rounded as written and the X Y Z that put the tip at pose.tip at them.
   Joints target(const ToolPose& pose, const Joints& j) const;
 
  private:
@@ -89,6 +92,12 @@ class Builder {
   // ends decide; under TCP the linear axes follow the part round and can leave their limits between inside
   // ends, so the turn is checked every degree (the transit tests had skipped the limits under TCP).
   void check_turn(const Joints& from, const Joints& to) const;
+
+  // Under a transit height lowered to Z's limit (joint dialect), which no longer clears every turn: the
+  // turn from `from` to `turned` there and the move on to `over` (rotaries fixed: a translation) must keep
+  // half of safe_z from the obstacles, or the job fails naming the turn. Without obstacles nothing is
+  // checked (the warning stays).
+  void check_lowered_turn(const Joints& from, const Joints& turned, const Joints& over) const;
 
   // Whether the rapids through `corners` (rotaries fixed, so each is a translation of the tool in the
   // part frame) stay within the limits and keep half of safe_z from the obstacles. Half: the corners
@@ -141,6 +150,7 @@ class Builder {
   Eigen::AlignedBox3d bounds_;
   const TransitChecker& check_;
   double zsafe_ = 0.0;
+  double clearing_height_ = 0.0;  // the transit height that clears every turn, where zsafe_ is lower (else 0)
   int tries_warned_ = 0;
   Program prog_;
 };

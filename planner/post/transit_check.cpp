@@ -107,4 +107,23 @@ bool TransitChecker::translation_clear(const ToolPose& pose, const Eigen::Vector
   return false;
 }
 
+bool TransitChecker::turn_clear(const std::function<ToolPose(double)>& pose_at, double turn_rad, double margin) const {
+  const double top = capsules_.back().h1, widest = capsules_.back().radius;
+  // The body's points move at most about (top + widest + the tip's distance from the turn's centre) x
+  // the angle over the whole turn; steps of a tenth of the margin keep D small beside it.
+  const ToolPose first = pose_at(0.0), last = pose_at(1.0);
+  const double span = (first.tip - last.tip).norm() + (first.tip + top * first.axis - last.tip - top * last.axis).norm() +
+                      turn_rad * (top + widest);
+  const int steps = static_cast<int>(std::clamp(std::ceil(span / std::max(0.1 * margin, kMinStepMm)), 1.0, 4096.0));
+  ToolPose prev = first;
+  for (int k = 1; k <= steps; ++k) {
+    const ToolPose pose = pose_at(double(k) / steps);
+    const double d = std::max((pose.tip - prev.tip).norm(), (pose.tip + top * pose.axis - prev.tip - top * prev.axis).norm()) +
+                     turn_rad / steps * widest;
+    if (clearance(prev, margin + d + 1.0) < margin + d || clearance(pose, margin + d + 1.0) < margin + d) return false;
+    prev = pose;
+  }
+  return true;
+}
+
 }  // namespace tf::post_detail

@@ -9,6 +9,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -59,6 +60,13 @@ class TransitChecker {
   // come within the margin, so the positions checked are at most that far apart; a position closer than
   // margin + kMinStepMm fails (so the steps never shrink below it).
   bool translation_clear(const ToolPose& pose, const Eigen::Vector3d& move, double margin) const;
+
+  // Whether the body keeps `margin` through a turn of the rotaries, given as its poses at s in [0, 1]
+  // (`pose_at`) and the largest angle in rad that any rotary turns. Checked at poses whose body points
+  // are at most a step D apart, D bounded by the axis segment's ends' chords plus the angle times the
+  // widest capsule's radius; each pose must clear by margin + D, which also covers the arcs' bulge
+  // beyond their chords between two poses. At most 4 096 poses: a turn that needs more fails.
+  bool turn_clear(const std::function<ToolPose(double)>& pose_at, double turn_rad, double margin) const;
 
   static constexpr double kMinStepMm = 0.01;
 

@@ -192,6 +192,10 @@ TEST(PathIO, AbsurdCoordinatesAndUnknownColumnsNameTheField) {
   const std::string header = "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm";
   expect_refused("o.csv", header + "\n0,0,1e100,0,0,1,0,0,1\n", 2, "z", true);
   expect_refused("o.csv", header + ",speed\n0,0,0,0,0,1,0,0,1,5\n", 1, "speed", true);
+  // A column named twice is refused by its name (the first had been read, the second ignored: black-box
+  // testing); the line is the header's, after a comment.
+  expect_refused("o.csv", header + ",feed,feed\n0,0,0,0,0,1,0,0,1,100,0\n", 1, "feed", true);
+  expect_refused("p.csv", "# cut 1\nx,y,z,nx,ny,nz,x\n0,0,0,0,0,1,5\n", 2, "x", false);
   tf::test::write_text(dir / "ok.csv", header + ",feed\n999999,0,0,0,0,1,0,0,1,500\n");
   EXPECT_EQ(tf::read_oriented_csv(dir / "ok.csv").rows.size(), 1u);
 }

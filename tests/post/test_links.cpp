@@ -5,6 +5,7 @@
 
 #include "links_fixture.hpp"
 #include "post_fixture.hpp"
+#include "tiltfield/core/error.hpp"
 #include "tiltfield/core/machine.hpp"
 #include "transit_check.hpp"
 
@@ -161,3 +162,34 @@ TEST(Links, StockInsideTestAndCapsuleClearance) {
 }
 
 }  // namespace
+
+// A tilting table whose Z limit lies below the transit height that clears every turn: the post lowers
+// the transit height to the limit and checks each turn there and the move after it (black-box testing:
+// the table turned the stock through the tool, and the program was written). The passes on the plate
+// need the table tilted 40 deg; the same rapids are checked independently, sampled every 0.5 mm or
+// degree, against the stock's boxes.
+TEST(Links, ALoweredTransitHeightChecksItsTurns) {
+  tf::PostJob job = boss_job("table-table-ac");
+  const double s = std::sin(40.0 * M_PI / 180.0), c = std::cos(40.0 * M_PI / 180.0);
+  tf::OrientedPath path = two_passes();
+  for (tf::OrientedRow& r : path.rows) r.axis = Eigen::Vector3d(0, -s, c);
+  const tf::Kinematics kin(job.machine, job.tool.length);
+  // Below Z 120 the turn to A -40 at the transit height comes within half of safe_z of the boss: refused.
+  for (const double z_limit : {100.0, 110.0}) {
+    job.machine.limits['Z'] = {-500.0, z_limit};
+    try {
+      (void)tf::post_program(path, job, tf::PostOptions{});
+      ADD_FAILURE() << "Z limit " << z_limit << ": posted";
+    } catch (const tf::JobError& e) {
+      EXPECT_NE(std::string(e.what()).find("turning A 0 B 0 C 0 to A -40"), std::string::npos) << e.what();
+    }
+  }
+  for (const double z_limit : {120.0, 140.0, 180.0}) {
+    job.machine.limits['Z'] = {-500.0, z_limit};
+    const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+    ASSERT_FALSE(prog.warnings.empty());
+    EXPECT_NE(prog.warnings.front().find("each turn there and the move after it checked"), std::string::npos);
+    EXPECT_GT(check_rapids(prog, kin, job.tool, boss_stock_boxes()).min_clearance, 0.5 * job.machine.safe_z - 0.5)
+        << "Z limit " << z_limit;
+  }
+}

@@ -78,7 +78,8 @@ TEST(Post, ImpellerLikePathStaysWithinToleranceOnEveryMachine) {
       const Eigen::Vector3d a = tf::row_tip(path.rows[row - 1], job.tool), b = tf::row_tip(path.rows[row], job.tool);
       EXPECT_LT(distance_to_segment(p.tip, a, b), 1e-6) << name << " row " << row;
       if ((p.tip - b).norm() < 1e-9) {
-        EXPECT_LT(angle_deg(p.axis, path.rows[row].axis), 1e-6) << name << " row " << row;
+        // The rotaries as written (4 decimals): within 0.00005 deg each, the tip exact at them.
+        EXPECT_LT(angle_deg(p.axis, path.rows[row].axis), 1e-4) << name << " row " << row;
         ++row;
       }
       // Rotary steps stay small: no configuration jumps inside the cut.

@@ -23,6 +23,20 @@ ToolPose forward_xyz(const Joints& j) { return {Eigen::Vector3d(j.x, j.y, j.z), 
 
 namespace sim {
 
+namespace {
+
+// The axes a reference return left unknown: where the block goes in them (Block::from_reference).
+Joints from_reference(const Block& b, Joints from) {
+  double* const start[6] = {&from.x, &from.y, &from.z, &from.a, &from.b, &from.c};
+  const double target[6] = {b.target.x, b.target.y, b.target.z, b.target.a, b.target.b, b.target.c};
+  for (int a = 0; a < 6; ++a)
+    if (b.from_reference & (1u << a)) *start[a] = target[a];
+  return from;
+}
+
+}  // namespace
+
+
 Simulator::Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options)
     : scene_(scene), program_(program), opt_(options), lattice_(make_lattice(scene, options.resolution)),
       stock_(make_stock(scene.stock, lattice_)), tools_(scene, forward, options.sweep) {
@@ -70,7 +84,8 @@ VerifyResult Simulator::run() {
   for (size_t bi = 0; bi < nb; ++bi) {
     const Block& b = program_.blocks[bi];
     // The block starts where the previous one left this tool (so its end pose's material is gone).
-    bool continuing = bi > 0 && program_.blocks[bi - 1].tool == b.tool;
+    bool continuing = bi > 0 && program_.blocks[bi - 1].tool == b.tool && b.from_reference == 0;
+    from = block_start(bi, from);
     if (b.tcp != prev_tcp) {
       continuing = false;
       if (b.tcp) {
@@ -85,6 +100,7 @@ VerifyResult Simulator::run() {
       }
       prev_tcp = b.tcp;
     }
+    from = from_reference(b, from);
     if (scene_.machine) {
       const double nose = program_.xyz_nose_programmed && !b.tcp ? tools_.tool(b.tool).length : 0.0;
       check_axis_limits(*scene_.machine, b, from, static_cast<int>(bi) + 1, tools_.forward(b.tool), rep, nose);
@@ -124,6 +140,22 @@ VerifyResult Simulator::run() {
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   report(opt_.progress, "verify", 1.0);
   return {std::move(rep), std::move(stock_), std::move(last_block_)};
+}
+
+Joints Simulator::block_start(size_t bi, Joints from) const {
+  if (bi == 0) return from;
+  const Block& prev = program_.blocks[bi - 1];
+  const Block& b = program_.blocks[bi];
+  if (prev.tool != b.tool && program_.length_offsets && (prev.tcp || program_.xyz_nose_programmed)) {
+    // The tips of tool-length-offset targets: M6 moves nothing, so the nose stays and the tip moves.
+    const Eigen::Vector3d axis = tools_.forward(prev.tool)(from).axis;
+    const Eigen::Vector3d tip =
+        Eigen::Vector3d(from.x, from.y, from.z) + (tools_.tool(prev.tool).length - tools_.tool(b.tool).length) * axis;
+    from.x = tip.x();
+    from.y = tip.y();
+    from.z = tip.z();
+  }
+  return from;
 }
 
 Lattice Simulator::make_lattice(const Scene& scene, double h) {

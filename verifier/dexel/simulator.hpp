@@ -234,6 +234,9 @@ class Simulator {
   static Lattice make_lattice(const Scene& scene, double h);
   PartSpan part_span(const SweptPart& p, int d) const;
   BlockResult simulate_block(const Block& b, const Joints& from, int index, bool continuing, VerifyReport& rep);
+  // Where block bi starts, given where the block before it ended (`from`), across a tool change
+  // (Program::length_offsets).
+  Joints block_start(size_t bi, Joints from) const;
   PoseAt block_pose(const Block& b, const Joints& from) const;
   void select_tiles();
   void measure_block_engagement(const Tool& tool, const PoseAt& pose_at, bool arc, BlockResult& br, VerifyReport& rep);

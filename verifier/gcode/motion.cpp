@@ -220,6 +220,8 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   if (centre) b.arc_center = *centre + Eigen::Vector3d(off[0], off[1], off[2]);
   b.dwell_s = st_.dwell;
   st_.dwell = 0.0;
+  b.from_reference = from_reference_;
+  from_reference_ = 0;
   program_.blocks.push_back(b);
   axes_.push_back(st_.axes);
   block_tlo_.push_back(st_.tlo);

@@ -177,13 +177,17 @@ void Reader::reference_return(int key, const Values& val, int line) {
   // Z goes home first, straight up (a mill's reference height is at the top of its travel): a rapid to
   // the reference height, taken as the highest Z the program commands (fill_unknown_axes), so that what
   // follows traverses there and not at the next cutting depth.
-  if ((!words || val.has('Z')) && z_known) {
+  const bool z_rises = (!words || val.has('Z')) && z_known;
+  if (z_rises) {
     st_.axes[2] = AxisState::SentHome;
     emit(Motion::Rapid, st_.pos, line);
   }
   for (char c : std::string_view("XYZABC"))
-    if ((!words || val.has(c)) && (axis_index(c) < 3 || machine_.has_axis(c)))
+    if ((!words || val.has(c)) && (axis_index(c) < 3 || machine_.has_axis(c))) {
       st_.axes[axis_index(c)] = AxisState::SentHome;
+      // The next block comes from the reference in this axis, which the scene lacks (Block::from_reference).
+      if (c != 'Z' || !z_rises) from_reference_ = static_cast<unsigned char>(from_reference_ | (1u << axis_index(c)));
+    }
   reference_line_ = line;
   warn(line, code_name('G', key),
        " reference return: the reference position is not in the scene; Z is taken there at the highest Z the"
@@ -246,6 +250,7 @@ void Reader::drop_blocks_sent_home(const std::vector<bool>& drop) {
 void Reader::tool_tip_targets() {
   if (!uses_length_offsets_) return;
   program_.xyz_nose_programmed = machine_.kinematics == KinematicsType::XYZ;
+  program_.length_offsets = true;
   const Kinematics kin(machine_, 0.0);
   for (size_t b = 0; b < program_.blocks.size(); ++b) {
     Block& blk = program_.blocks[b];

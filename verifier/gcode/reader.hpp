@@ -242,6 +242,7 @@ class Reader : private ParameterValues {
   std::vector<Loop> loops_;
   int line_ = 0;  // the line being read (for a parameter's errors)
   bool synchronized_ = false;  // emitting a G33/G33.1 move
+  unsigned char from_reference_ = 0;  // axes sent to the reference since the last block (Block::from_reference)
   double time_share_ = 1.0;    // emitting one of the blocks one G93 F times together (Block::time_share)
   Eigen::Vector2d spline_mirror_ = Eigen::Vector2d::Zero();  // the last G5's -P, -Q as written (LinuxCNC's cycle_i, cycle_j)
 };

@@ -38,6 +38,10 @@ struct Block {
   // Under G93, the share of the minutes of its line's F that this block takes (an arc of P turns: each
   // turn's; otherwise 1): its F is the line's F / time_share.
   double time_share = 1.0;
+  // The axes (bit 0..5: X Y Z A B C) a reference return (G28/G30) sent to the reference position before
+  // this block, which the scene does not know: the block starts at its own target in them, as a program's
+  // first block does (the move from the reference is not simulated).
+  unsigned char from_reference = 0;
 };
 
 struct Program {
@@ -47,6 +51,10 @@ struct Program {
   // A 3-axis program that uses tool length offsets moves the spindle nose: its blocks' targets are the
   // tips, each a gauge length (of the block's tool) below the machine position the controller checks.
   bool xyz_nose_programmed = false;
+  // The program uses tool length offsets (G43, G43.4): where its targets are tips (the blocks above, and
+  // TCP blocks) a tool change leaves the spindle nose where it was, so the new tool's tip starts the
+  // difference of the two gauge lengths along the tool axis from the old one's.
+  bool length_offsets = false;
 };
 
 }  // namespace tf
