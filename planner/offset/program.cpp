@@ -193,7 +193,10 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
     double since_retract = 0;
     // path: a move of the contour (its gap law sets the voltage); lead_out: the last move, after which the
     // generator goes off anyway, so no flush follows it.
-    auto emit = [&](const Segment& s, bool path, bool lead_out = false) {
+    // at_flush: the move ends where emit_split cut it for a flush, which is made whatever the sum of the
+    // lengths says (rounded, it could stay a hair short, and the next piece, shorter than an ulp of its
+    // parameter, never moved on: the program hung, black-box testing).
+    auto emit = [&](const Segment& s, bool path, bool lead_out = false, bool at_flush = false) {
       // The set-point in force is kept while U/g at both ends of the move stays within 0.5 % of nominal.
       auto off_field = [&](double g) { return std::abs(u * o.gap / (o.voltage * g) - 1) > 0.005; };
       if (path && o.voltage_follows_gap && o.gap > 0 && o.voltage > 0 && (off_field(s.g0) || off_field(s.g1))) {
@@ -205,7 +208,7 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
       }
       if (w.segment(s, f)) f.clear();
       since_retract += length(s);
-      if (!lead_out && o.retract_every_mm > 0 && since_retract >= o.retract_every_mm) {
+      if (!lead_out && o.retract_every_mm > 0 && (at_flush || since_retract >= o.retract_every_mm)) {
         since_retract = 0;
         out << "M65" << gen << " (generator off: retract and flush)\n";
         out << "G0 Z" << num(o.z_work + o.retract_height) << "\n";
@@ -225,10 +228,11 @@ void write_ecm_program(std::ostream& out, const std::vector<RunContour>& contour
       const double L = length(s);
       double t = 0;
       while (o.retract_every_mm > 0 && L > 0) {
-        const double left = o.retract_every_mm - since_retract;
+        // At least kMinPieceMm a piece, so that t always moves on.
+        const double left = std::max(o.retract_every_mm - since_retract, kMinPieceMm);
         if ((1 - t) * L <= left + kMinPieceMm) break;
         const double t1 = t + left / L;
-        emit(sub_segment(s, t, t1), path);
+        emit(sub_segment(s, t, t1), path, false, true);
         t = t1;
       }
       Segment rest = t == 0 ? s : sub_segment(s, t, 1.0);

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <functional>
+#include <numbers>
 
 #include "offset_test_util.hpp"
 #include "rs274.hpp"
@@ -255,6 +256,25 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d inf -o " + ngc.string()), 2);
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d '' -o " + ngc.string()), 2);  // read as 0 before
   EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 --z-cut '' -o " + ngc.string()), 2);
+}
+
+// A D shape of one long arc: with a flush every 3, 4 or 5 mm the rounded sum of the pieces stayed a hair
+// below the interval, and the next piece, below an ulp of its parameter, never moved on (the command hung,
+// black-box testing). `timeout` turns a hang into a failure.
+TEST(OffsetProgram, EcmFlushesOnALongArcEnd) {
+  const std::string profile = write_temp("dshape.txt", "START 0 0\n20 0 10 LONG\n0 0 -10\n");
+  const fs::path ngc = fs::path(profile).parent_path() / "dshape.ngc";
+  for (const char* every : {"3", "4", "5"}) {
+    SCOPED_TRACE(every);
+    const std::string cmd = "timeout 60 " + std::string(TILTFIELD_EXE) + " --quiet offset " + profile +
+                            " -d 1 --target ecm --ecm-retract-every " + every + " -o " + ngc.string();
+    ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0);
+    const std::string text = read_text(ngc);
+    size_t flushes = 0;
+    for (size_t k = text.find("retract and flush"); k != std::string::npos; k = text.find("retract and flush", k + 1)) ++flushes;
+    // The path is about pi 9 + 18 mm (the offset inside at 1 mm), leads included a little more.
+    EXPECT_GE(flushes, size_t((std::numbers::pi * 9 + 18) / std::stod(every)) - 1);
+  }
 }
 
 // Electrolyte switches LinuxCNC runs on their own are taken, in either case: M7-M9 and user codes M100-M199.
