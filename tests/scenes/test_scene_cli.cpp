@@ -353,4 +353,40 @@ TEST(SceneCli, UserMachineFileIsCopiedIntoTheScene) {
   EXPECT_NE(bad.err.find("none.json"), std::string::npos);
 }
 
+// A preview named as a file of the scene (scene.json, the block's STL, path.csv, also through ".."), or as
+// the output folder itself, is refused before anything is written; one inside the folder -o creates is
+// written (black-box testing: the first replaced scene.json with the picture and exited 0, the folder
+// was refused only after the whole scene had been written, and a new folder's preview was refused).
+TEST(SceneCli, APreviewNeverReplacesAFileOfTheScene) {
+  TempDir d("preview_names");
+  fs::create_directories(d.path / "a");
+  // "-o OUT --preview PREVIEW" with both inside the scratch folder (built by appending: GCC 12 warns
+  // falsely on a literal + a string here).
+  const auto args_for = [&](const std::string& out, const std::string& preview) {
+    std::string a = "-o '";
+    a += d.path.string();
+    a += '/';
+    a += out;
+    a += "' --preview '";
+    a += d.path.string();
+    a += '/';
+    a += preview;
+    a += '\'';
+    return a;
+  };
+  for (const std::string& args : {args_for("a", "a/scene.json"), args_for("a", "a/block.stl"), args_for("b", "b"),
+                                  args_for("c", "./c/../c/path.csv"), args_for("e", "e/")}) {
+    SCOPED_TRACE(args);
+    const RunResult r = run_tiltfield(std::string("scene block ").append(args), d.path);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--preview"), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(d.path / "a"));
+  for (const char* folder : {"b", "c", "e"}) EXPECT_FALSE(fs::exists(d.path / folder)) << folder;
+  const RunResult ok = run_tiltfield(std::string("--quiet scene block ").append(args_for("d/", "d/preview.svg")), d.path);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(d.path / "d" / "preview.svg"));
+  EXPECT_NO_THROW(tf::load_scene(d.path / "d" / "scene.json"));
+}
+
 }  // namespace

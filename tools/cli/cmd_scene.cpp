@@ -13,6 +13,7 @@
 namespace tf::cli {
 namespace {
 namespace sc = tf::scenes;
+namespace fs = std::filesystem;
 
 struct Common {
   std::string dir, preview, machine;
@@ -24,9 +25,26 @@ void add_common(CLI::App* cmd, Common& c) {
   cmd->add_option("--machine", c.machine, "machine JSON to copy into the scene instead of the built-in one");
 }
 
-void finish(const sc::SceneBundle& scene, const Common& c, const std::string& summary) {
-  // Before the scene is written: a preview that cannot be written had left a whole scene behind.
+// Before the scene is written: a preview that cannot be written had left a whole scene behind, and one
+// named as a file of the scene replaced it with the picture (black-box testing).
+void check_preview(const sc::SceneBundle& scene, const Common& c) {
+  if (c.preview.empty()) return;
+  std::error_code ec;
+  const auto normal = [&ec](const std::string& p) {
+    fs::path q = fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+    return q.filename().empty() ? q.parent_path() : q;  // "dir/" names dir
+  };
+  const fs::path dir = normal(c.dir), preview = normal(c.preview);
+  if (preview == dir) throw InputError(c.preview, 0, "--preview", "is the output folder (-o), not a file name");
+  for (const std::string& name : sc::scene_folder_files(scene))
+    if (preview == dir / name)
+      throw InputError(c.preview, 0, "--preview", "is the scene's own " + name + " in the output folder: give the picture its own name");
+  if (preview.parent_path() == dir && !fs::exists(dir, ec)) return;  // inside the folder -o creates
   check_output_file("--preview", c.preview);
+}
+
+void finish(const sc::SceneBundle& scene, const Common& c, const std::string& summary) {
+  check_preview(scene, c);
   const auto file = sc::write_scene_folder(scene, c.dir);
   if (!c.preview.empty()) sc::write_scene_preview(scene, c.preview);
   if (!global_options().quiet) std::cout << file.string() << ": " << summary << "\n";

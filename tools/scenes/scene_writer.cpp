@@ -73,6 +73,15 @@ void require_step(double step, double tool_radius, const std::string& scene) {
                      " mm for this tool (4 radii, at least 1 mm): rows farther apart are linked by rapids, not cut");
 }
 
+std::vector<std::string> scene_folder_files(const SceneBundle& s) {
+  std::vector<std::string> files{s.design.file};
+  for (const auto& c : s.check_surfaces) files.push_back(c.file);
+  for (const auto& f : s.fixtures) files.push_back(f.file);
+  if (s.stock_mesh) files.push_back(s.stock_mesh->file);
+  files.insert(files.end(), {"path.csv", "machine.json", "scene.json"});
+  return files;
+}
+
 fs::path write_scene_folder(const SceneBundle& s, const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);

@@ -62,6 +62,9 @@ nlohmann::json machine_json(const std::string& builtin_name, const std::filesyst
 // written. Returns the path of scene.json.
 std::filesystem::path write_scene_folder(const SceneBundle& scene, const std::filesystem::path& dir);
 
+// The names of the files write_scene_folder writes into its folder, scene.json last.
+std::vector<std::string> scene_folder_files(const SceneBundle& scene);
+
 // Throws InputError("scene NAME", 0, option, what) when `ok` is false: one line naming the option.
 void require_option(bool ok, const std::string& scene, const std::string& option, const std::string& what);
 
