@@ -77,7 +77,9 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
   j["gouges"] = nlohmann::ordered_json::array();
   for (const Gouge& g : r.gouges)
     j["gouges"].push_back({{"block", g.block}, {"line", g.line}, {"depth_mm", num(g.depth_mm, 4)}});
-  j["max_gouge_mm"] = num(r.max_gouge_mm, 4);
+  if (r.design_checked) j["max_gouge_mm"] = num(r.max_gouge_mm, 4);
+  else j["max_gouge_mm"] = nullptr;
+  j["design_checked"] = r.design_checked;
   j["resolution_mm"] = num(r.resolution_mm, 6);
   j["rays"] = r.rays;
   j["seconds"] = num(r.seconds, 3);
@@ -90,10 +92,13 @@ void write_verify_json(const VerifyReport& r, const std::filesystem::path& file)
   j["holder_tolerance_mm"] = num(r.holder_tolerance_mm, 6);
   j["gouge_tolerance_mm"] = num(r.gouge_tolerance_mm, 6);
   j["collision_tolerance_mm"] = num(r.collision_tolerance_mm, 6);
-  j["excess"] = {{"samples", r.excess.samples},
-                 {"mean_mm", num(r.excess.mean_mm, 4)},
-                 {"p95_mm", num(r.excess.p95_mm, 4)},
-                 {"max_mm", num(r.excess.max_mm, 4)}};
+  if (r.design_checked)
+    j["excess"] = {{"samples", r.excess.samples},
+                   {"mean_mm", num(r.excess.mean_mm, 4)},
+                   {"p95_mm", num(r.excess.p95_mm, 4)},
+                   {"max_mm", num(r.excess.max_mm, 4)}};
+  else
+    j["excess"] = nullptr;
   double program_minutes = 0.0;
   for (const BlockResult& b : r.per_block) program_minutes += b.minutes + b.dwell_minutes;
   j["program_minutes"] = num(program_minutes, 4);

@@ -107,7 +107,8 @@ void read_figures(const json& j, const std::string& file, VerifyReport& r) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   r.blocks = j.contains("blocks") ? whole_number(j, "blocks", file, "") : 0;
   r.removed_volume_mm3 = jf::number_or(j, "removed_volume_mm3", nan, file, "");
-  r.max_gouge_mm = jf::number_or(j, "max_gouge_mm", nan, file, "");
+  if (j.contains("design_checked")) r.design_checked = boolean(j, "design_checked", file, "");
+  r.max_gouge_mm = j.contains("max_gouge_mm") && j["max_gouge_mm"].is_null() ? nan : jf::number_or(j, "max_gouge_mm", nan, file, "");
   r.resolution_mm = jf::number_or(j, "resolution_mm", nan, file, "");
   r.seconds = jf::number_or(j, "seconds", nan, file, "");
   r.rays = count_or_zero(j, "rays", file);
@@ -122,7 +123,7 @@ void read_figures(const json& j, const std::string& file, VerifyReport& r) {
   r.collision_tolerance_mm = jf::number_or(j, "collision_tolerance_mm", nan, file, "");
   r.memory_bytes = static_cast<size_t>(jf::number_or(j, "memory_mb", 0.0, file, "") * 1048576.0);
   if (j.contains("stopped_at_first_collision")) r.stopped_early = boolean(j, "stopped_at_first_collision", file, "");
-  if (j.contains("excess")) {
+  if (j.contains("excess") && !j["excess"].is_null()) {
     const json& e = j["excess"];
     jf::require_object(e, file, "excess");
     r.excess.samples = count_or_zero(e, "samples", file);

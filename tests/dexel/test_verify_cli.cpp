@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -405,8 +406,15 @@ TEST_F(VerifyCli, SceneWithoutDesignSaysNoGougesWereComputed) {
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j["blocks"], 4);
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 100.0);
+  // Not computed is not zero: null figures and design_checked false (zeros had read as checked and none
+  // found, black-box testing); the file reads back with the figures unknown.
   EXPECT_TRUE(j["gouges"].empty());
-  EXPECT_EQ(j["excess"]["samples"], 0);
+  EXPECT_FALSE(j["design_checked"].get<bool>());
+  EXPECT_TRUE(j["max_gouge_mm"].is_null());
+  EXPECT_TRUE(j["excess"].is_null());
+  const VerifyReport back = read_verify_json(dir / "v.json");
+  EXPECT_FALSE(back.design_checked);
+  EXPECT_TRUE(std::isnan(back.max_gouge_mm));
   bool said = false;
   for (const auto& w : j["warnings"]) said |= w.get<std::string>().find("no design surface") != std::string::npos;
   EXPECT_TRUE(said) << j["warnings"].dump();

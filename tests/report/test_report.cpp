@@ -43,6 +43,11 @@ TEST(Report, PageHasSummaryPlotsTablesAndViewerData) {
   EXPECT_NE(html.find("3 collisions left"), std::string::npos);
   EXPECT_NE(html.find("found 14, fixed 11"), std::string::npos);
   EXPECT_NE(html.find("123\u2009457"), std::string::npos) << "removed volume with thousands separator";
+  {  // A finishing pass on a small part: its volume in four decimals, not "0" (black-box testing).
+    auto small = synthetic_job();
+    small->inputs.summary.removed_volume_mm3 = 0.0158;
+    EXPECT_NE(render_html_report(small->inputs).find(">0.0158<"), std::string::npos);
+  }
   // Six plots, all with lines: nothing in the synthetic job is missing.
   EXPECT_EQ(count(html, "<svg class=\"plot\""), 6);
   EXPECT_EQ(count(html, "<text class=\"empty\""), 0);

@@ -131,7 +131,7 @@ void run_verify(const VerifyArgs& a) {
     const std::string gouges = scene.design.n_faces() == 0
                                    ? "gouges not computed (no design)"
                                    : std::to_string(r.gouges.size()) + " gouges (max " + fixed(r.max_gouge_mm, 3) + " mm)";
-    std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, 1) << " mm3, "
+    std::cerr << "verify: " << r.blocks << " blocks, removed " << fixed(r.removed_volume_mm3, r.removed_volume_mm3 >= 100.0 ? 1 : 4) << " mm3, "
               << r.collisions.size() << " collisions, " << gouges << ", " << fixed(r.seconds, 2) << " s\n";
     if (r.stock_mesh)
       std::cerr << "stock mesh: " << r.stock_mesh->vertices << " vertices, " << r.stock_mesh->faces << " faces, "

@@ -344,7 +344,7 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
       << "\n";
   o
     << "  gouges       " << s.gouges_final << " (max " << fixed(s.max_gouge_mm, 3) << " mm)\n"
-    << "  removed      " << fixed(s.removed_volume_mm3, 1) << " mm3\n"
+    << "  removed      " << fixed(s.removed_volume_mm3, s.removed_volume_mm3 >= 100.0 ? 1 : 4) << " mm3\n"
     << "  time (s)     plan " << fixed(s.seconds.plan, 2) << ", post " << fixed(s.seconds.post, 2) << ", verify "
     << fixed(s.seconds.verify, 2) << ", replan " << fixed(s.seconds.replan, 2) << ", stock mesh " << fixed(s.seconds.mesh, 2) << ", report " << fixed(s.seconds.report, 2)
     << "\n";

@@ -76,8 +76,10 @@ VerifyResult Simulator::run() {
   rep.stock_volume_start_mm3 = stock_.volume();
   rep.warnings = program_.warnings;
   // emplace_back: push_back of the literal trips a GCC 12 array-bounds false positive.
-  if (scene_.design.n_faces() == 0)
+  if (scene_.design.n_faces() == 0) {
+    rep.design_checked = false;
     rep.warnings.emplace_back("no design surface: gouges and excess material were not computed");
+  }
   Joints from = program_.start;
   bool prev_tcp = program_.blocks.empty() ? false : program_.blocks.front().tcp;
   const size_t nb = program_.blocks.size();

@@ -120,6 +120,9 @@ struct StockMeshStats {
 
 struct VerifyReport {
   int blocks = 0;
+  // False where the scene has no design surface: no gouges, max_gouge_mm or excess were computed (VERIFY.json
+  // writes them as null, not as zeros that read as checked).
+  bool design_checked = true;
   double removed_volume_mm3 = 0.0;
   double stock_volume_start_mm3 = 0.0, stock_volume_end_mm3 = 0.0;
   std::vector<Collision> collisions;
