@@ -201,11 +201,18 @@ void read_element(Cursor& cur, const Element& e, const std::string& name, std::v
         if (static_cast<int>(i) == zi) p.z() = v;
         continue;
       }
-      const std::vector<int> idx = read_index_list(cur, pr, e, item, V.size(), name);
-      if (is_face && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
-        if (idx.size() < 3) throw InputError(name, 0, "face[" + std::to_string(item) + "]", "fewer than 3 vertices");
-        for (size_t j = 1; j + 1 < idx.size(); ++j) T.emplace_back(idx[0], idx[j], idx[j + 1]);
+      if (!is_face || (pr.name != "vertex_indices" && pr.name != "vertex_index")) {
+        // Another list (a vertex's texture list, a face's flags): read past, whatever its values
+        // (they had been checked as vertex indices: black-box testing).
+        const double n = cur.scalar(pr.count_type, e.name.c_str());
+        if (n < 0 || n > 1e6 || n != static_cast<double>(static_cast<long>(n)))
+          throw InputError(name, 0, e.name + "[" + std::to_string(item) + "]." + pr.name, "bad list length");
+        for (long k = 0; k < static_cast<long>(n); ++k) cur.scalar(pr.type, e.name.c_str());
+        continue;
       }
+      const std::vector<int> idx = read_index_list(cur, pr, e, item, V.size(), name);
+      if (idx.size() < 3) throw InputError(name, 0, "face[" + std::to_string(item) + "]", "fewer than 3 vertices");
+      for (size_t j = 1; j + 1 < idx.size(); ++j) T.emplace_back(idx[0], idx[j], idx[j + 1]);
     }
     if (is_vertex) {
       if (!p.allFinite()) throw InputError(name, 0, "vertex[" + std::to_string(item) + "]", "non-finite coordinate");

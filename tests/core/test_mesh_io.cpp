@@ -66,6 +66,20 @@ TEST(MeshIO, AsciiStlIsRead) {
   EXPECT_FALSE(tf::is_closed(m));
 }
 
+// A list property other than the faces' vertex indices (here on the vertices, and flags on the faces) is
+// read past: its values had been checked as vertex indices (black-box testing).
+TEST(MeshIO, PlyListsOtherThanTheFacesIndicesAreSkipped) {
+  tf::test::TempDir dir;
+  tf::test::write_text(dir / "l.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                       "property list uchar float junk\nelement face 1\nproperty list uchar int flags\n"
+                       "property list uchar int vertex_indices\nend_header\n0 0 0 2 1 1\n1 0 0 0\n0 1 0 1 5\n"
+                       "2 7 9 3 0 1 2\n");
+  const tf::Mesh m = tf::load_mesh(dir / "l.ply");
+  ASSERT_EQ(m.n_faces(), 1u);
+  EXPECT_EQ(m.point(tf::Mesh::VertexHandle(1)), tf::Mesh::Point(1, 0, 0));
+}
+
 TEST(MeshIO, CylinderStockIsClosedWithTheRightVolume) {
   tf::Stock s;
   s.kind = tf::Stock::Kind::Cylinder;
