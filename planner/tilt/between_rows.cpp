@@ -37,17 +37,24 @@ double margin_bound(double m0, double m1, double L) {
 struct SegmentProof {
   const PlanContext& ctx;
   double tolerance;
+  double floor = 0.0;  // the margin every pose must keep, less the tolerance (below 0 beside failing rows)
   double worst = std::numeric_limits<double>::infinity();  // lowest exact margin met below -tolerance
+  int worst_set = -1;                                       // its obstacle set (-1: none, or not measured)
 
   // Per piece, the smallest margin over every obstacle set at `pose`; queries stop at `cap` above the
   // required clearance (a margin beyond it proves the piece anyway).
-  std::vector<double> margins(const Pose& pose, double cap) const {
+  // `lowest_set`: where given, the obstacle set of the lowest margin of all pieces.
+  std::vector<double> margins(const Pose& pose, double cap, int* lowest_set = nullptr) const {
     std::vector<double> m(ctx.pieces.size(), std::numeric_limits<double>::infinity());
-    for (const ObstacleSet& set : ctx.obstacles) {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t s = 0; s < ctx.obstacles.size(); ++s) {
+      const ObstacleSet& set = ctx.obstacles[s];
       if (set.bvh.empty()) continue;
       for (size_t p = 0; p < ctx.pieces.size(); ++p) {
         const double limit = set.required[p] + cap;
-        m[p] = std::min(m[p], piece_distance(set.bvh, ctx.pieces[p], pose, limit) - set.required[p]);
+        const double v = piece_distance(set.bvh, ctx.pieces[p], pose, limit) - set.required[p];
+        m[p] = std::min(m[p], v);
+        if (lowest_set && v < lowest) lowest = v, *lowest_set = static_cast<int>(s);
       }
     }
     return m;
@@ -60,21 +67,22 @@ struct SegmentProof {
     for (size_t p = 0; p < ctx.pieces.size(); ++p) {
       const double l = dc + ctx.reach[p] * theta;
       max_l = std::max(max_l, l);
-      proven &= margin_bound(m0[p], m1[p], l) >= -tolerance;
+      proven &= margin_bound(m0[p], m1[p], l) >= floor - tolerance;
     }
     if (proven) return true;
     if (max_l <= 2 * tolerance || depth >= kMaxDepth) {
-      worst = std::min(worst, -tolerance);
+      worst = std::min(worst, floor - tolerance);
       return false;
     }
     const Pose mid{0.5 * (p0.c + p1.c), slerp_axis(p0.axis, p1.axis, 0.5).normalized()};
-    const std::vector<double> mm = margins(mid, max_l);
+    int set = -1;
+    const std::vector<double> mm = margins(mid, max_l, &set);
     // The stated bound is the clearance less the tolerance at every pose between rows: an exact pose
     // within it is not a failure (black-box testing: a pose 0.0036 mm short failed the plan under the
     // documented 0.01 mm).
     const double low = *std::min_element(mm.begin(), mm.end());
-    if (low < -tolerance) {
-      worst = std::min(worst, low);
+    if (low < floor - tolerance) {
+      if (low < worst) worst = low, worst_set = set;
       return false;
     }
     return prove(p0, m0, mid, mm, depth + 1) && prove(mid, mm, p1, m1, depth + 1);
@@ -101,7 +109,7 @@ SegmentCheck check_segment(const PlanContext& ctx, size_t i, const Vector3d& a0,
   if (c0.margin < 0 || c1.margin < 0) return {};  // the rows themselves are corrected first
   SegmentProof proof{ctx, tol};
   const bool ok = proof.prove(p0, proof.margins(p0, max_l), p1, proof.margins(p1, max_l), 0);
-  return ok ? SegmentCheck{} : SegmentCheck{true, -proof.worst};
+  return ok ? SegmentCheck{} : SegmentCheck{true, -proof.worst, proof.worst_set};
 }
 
 std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vector<Vector3d>& axes,
@@ -111,6 +119,22 @@ std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vect
   tbb::parallel_for(size_t{0}, out.size(),
                     [&](size_t i) { out[i] = check_segment(ctx, i, axes[i], axes[i + 1], clear[i], clear[i + 1]); });
   return out;
+}
+
+void check_segments_beside_failing_rows(const PlanContext& ctx, const std::vector<Vector3d>& axes,
+                                        const std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
+  tbb::parallel_for(size_t{0}, segments.size(), [&](size_t i) {
+    const BodyClearance &c0 = clear[i], &c1 = clear[i + 1];
+    if (segments[i].failed || (c0.margin >= 0 && c1.margin >= 0) || ctx.linked(i, axes[i], axes[i + 1])) return;
+    const Pose p0 = ctx.pose(i, axes[i]), p1 = ctx.pose(i + 1, axes[i + 1]);
+    const double dc = (p1.c - p0.c).norm(), theta = turn_angle(axes[i], axes[i + 1]);
+    double max_l = 0;
+    for (double r : ctx.reach) max_l = std::max(max_l, dc + r * theta);
+    SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm, std::min(c0.margin, c1.margin)};
+    if (margin_bound(c0.margin, c1.margin, max_l) >= proof.floor - proof.tolerance) return;
+    if (!proof.prove(p0, proof.margins(p0, max_l), p1, proof.margins(p1, max_l), 0))
+      segments[i] = {true, -proof.worst, proof.worst_set};
+  });
 }
 
 }  // namespace tf

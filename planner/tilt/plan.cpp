@@ -360,11 +360,14 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
       if (clear[i].nearest_set >= 0) result.metrics.min_clearance_obstacle = set_name(clear[i].nearest_set);
     }
     const bool motion = i < segments.size() && segments[i].failed;
-    if (clear[i].margin < 0 || unreachable[i] || motion) {
-      const bool row_clear = clear[i].margin >= 0;
+    const bool row_clear = clear[i].margin >= 0;
+    const std::string motion_set = motion ? set_name(segments[i].set >= 0 ? segments[i].set : clear[i].margin_set) : "";
+    if (!row_clear || unreachable[i] || motion)
       result.uncleared.push_back({i, o.clearance_mm, row_clear && motion ? -segments[i].deficit : clear[i].margin,
-                                  set_name(clear[i].margin_set), unreachable[i] != 0, row_clear && motion});
-    }
+                                  row_clear && motion ? motion_set : set_name(clear[i].margin_set), unreachable[i] != 0,
+                                  row_clear && motion});
+    // A row below its clearance whose motion to the next comes lower still: both are listed.
+    if (!row_clear && motion) result.uncleared.push_back({i, o.clearance_mm, -segments[i].deficit, motion_set, false, true});
     result.metrics.segments_below_safety += motion ? 1 : 0;
   }
   result.metrics.rows = n;
@@ -450,6 +453,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   stage("end_form");
   note_axis_limits(ctx, machine, result.notes);
   stage("between_rows");
+  check_segments_beside_failing_rows(ctx, axes, clear, segments);
   write_result(ctx, axes, clear, segments, result);
   result.metrics.seconds = stage.total_seconds();
   report(progress, "plan", 1.0);

@@ -88,6 +88,7 @@ double body_reach(const BodyPiece& piece);
 struct SegmentCheck {
   bool failed = false;
   double deficit = 0;  // how far below its clearance the motion was found to come, mm (> 0 when failed)
+  int set = -1;        // the obstacle set it came lowest to (-1: not measured)
 };
 // The motion between rows i and i + 1 with axes a0, a1 and the rows' clearances c0, c1. Motions whose
 // end rows are themselves below their clearance are not checked (those rows are corrected first).
@@ -96,6 +97,12 @@ SegmentCheck check_segment(const PlanContext& ctx, size_t i, const Eigen::Vector
 // Every motion between consecutive rows, in parallel (n - 1 results).
 std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes,
                                          const std::vector<BodyClearance>& clear);
+// For the result: the motions beside rows left below their clearance, which check_segments leaves to the
+// rows' corrections, fail where a pose between comes lower than the lower of their two rows by more than
+// the tolerance (deficit: how far below its clearance that pose is), so that a crash on the way is
+// reported, not only the rows' own shortfall.
+void check_segments_beside_failing_rows(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes,
+                                        const std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments);
 
 // Exact clearances of all rows, in parallel.
 std::vector<BodyClearance> all_clearances(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes);

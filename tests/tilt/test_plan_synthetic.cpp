@@ -2,6 +2,9 @@
 // (vertical) tool's holder would hit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <array>
 #include <map>
 #include <numbers>
@@ -283,6 +286,42 @@ TEST(PlanSynthetic, FlatAndBullEndsKeepTheirContactWhenTilted) {
       const test::FclCheck fcl = test::fcl_check(result.path, s.tool, s.meshes(), s.basics);
       EXPECT_GT(fcl.min_margin, -0.01);
     }
+}
+
+// A post (check surface) beside two passes and a clamp (fixture) the rows cannot clear: the rows beside
+// the clamp stay below their clearance, and where the axis turns 52 deg from one such row to the next the
+// holder sweeps through the post. Motions beside failing rows had not been checked at all: the plan
+// listed the row's 0.4 mm short of the clamp and hid the crash (black-box testing). Every motion that
+// FCL finds deep in the post (sampled at 20 poses) must now be listed as a motion.
+TEST(PlanSynthetic, AMotionBesideAFailingRowIsCheckedToo) {
+  const Mesh post = test::box_mesh({40, 22, -1}, {46, 28, 30}, 2.0);
+  const Mesh clamp = test::box_mesh({70, 0, -1}, {80, 10, 28}, 2.0);
+  Tool tool = test::test_tool();
+  tool.shank_radius = 2.5;
+  tool.length = 25;
+  tool.holder = {{6.0, 10.0}, {15.0, 30.0}};
+  PlannerBasics basics;
+  basics.fixture_clearance = 2.0;
+  ToolPath path = test::polyline_path({{10, 17, 3}, {90, 17, 3}}, 0.5, {0, 0, 1});
+  const ToolPath back = test::polyline_path({{90, 13, 3}, {10, 13, 3}}, 0.5, {0, 0, 1});
+  path.rows.insert(path.rows.end(), back.rows.begin(), back.rows.end());
+  const MachineSpec machine =
+      read_machine_json(std::filesystem::path(TILTFIELD_SOURCE_DIR) / "scenes" / "machines" / "table-table-ac.json");
+  const PlanResult r =
+      plan_path(path, tool, {{&post}, {&clamp}, {}}, basics, 1500, derive_plan_options(tool, basics, 1500), &machine);
+  ASSERT_FALSE(r.uncleared.empty());
+  size_t crashes = 0;
+  for (size_t i = 0; i + 1 < r.path.rows.size(); ++i) {
+    OrientedPath motion;
+    motion.rows = {r.path.rows[i], r.path.rows[i + 1]};
+    const test::FclCheck fcl = test::fcl_check(test::densify(motion, 20), tool, {&post}, basics);
+    if (fcl.min_margin > -0.5) continue;
+    ++crashes;
+    const bool listed = std::any_of(r.uncleared.begin(), r.uncleared.end(),
+                                    [&](const UnclearedRow& u) { return u.row == i && u.between_rows; });
+    EXPECT_TRUE(listed) << "motion " << i << " -> " << i + 1 << ", FCL margin " << fcl.min_margin;
+  }
+  std::printf("motions into the post: %zu, listed motions: %zu\n", crashes, r.metrics.segments_below_safety);
 }
 
 }  // namespace tf
