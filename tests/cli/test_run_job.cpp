@@ -27,6 +27,7 @@ TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   EXPECT_GT(s.collisions_first, 0u) << tf::format_summary(s, scene);
   EXPECT_EQ(s.collisions_final, 0u) << tf::format_summary(s, scene);
   EXPECT_GE(s.rounds, 1);
+  EXPECT_EQ(s.collisions_new, 0u) << tf::format_summary(s, scene);
   for (const char* f : {"oriented.csv", "program.ngc", "verify.json", "blocks.csv", "stock.ply"})
     EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
 
@@ -39,6 +40,23 @@ TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   // Next to the post the axis leans away from it (toward -y).
   const auto& mid = final_path.rows[120];  // x = 20, beside the post
   EXPECT_LT(mid.axis.y(), -0.02) << mid.axis.transpose();
+}
+
+// Collisions the re-planned axes brought are counted apart: 33 gone and 15 new read "18 fixed" with the
+// reason "re-planning did not reduce the collisions" (black-box testing).
+TEST(RunJob, TheSummaryCountsCollisionsTheReplanningBroughtApart) {
+  tf::test::TempDir dir;
+  const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
+  tf::JobSummary s;
+  s.collisions_first = 33;
+  s.collisions_final = 15;
+  s.collisions_new = 15;
+  s.rounds = 2;
+  const std::string text = tf::format_summary(s, scene);
+  EXPECT_NE(text.find("33 found, 33 fixed in 2 re-plan round(s)"), std::string::npos) << text;
+  EXPECT_NE(text.find("15 new, 15 left"), std::string::npos) << text;
+  s.collisions_new = 5;
+  EXPECT_NE(tf::format_summary(s, scene).find("33 found, 23 fixed"), std::string::npos);
 }
 
 // The scene's path rows with a vertical axis, each moved by `shift`.

@@ -25,6 +25,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The first program's collisions that are gone: those left less the ones the re-planned axes brought.
+size_t collisions_fixed(const JobSummary& s) {
+  const size_t old_left = s.collisions_final - std::min(s.collisions_new, s.collisions_final);
+  return s.collisions_first - std::min(s.collisions_first, old_left);
+}
+
 // One posted and verified state of the path.
 struct Round {
   OrientedPath path;
@@ -46,8 +52,8 @@ void write_job_report(const Scene& scene, const OrientedPath& first_plan, const 
   set_verification(in, final_round.program, report, &stock_mesh, scene.design);
   in.summary.title = scene.file.parent_path().filename().string();
   in.summary.collisions_found = static_cast<int>(summary.collisions_first);
-  in.summary.collisions_fixed =
-      static_cast<int>(summary.collisions_first - std::min(summary.collisions_first, summary.collisions_final));
+  in.summary.collisions_fixed = static_cast<int>(collisions_fixed(summary));
+  in.summary.collisions_new = static_cast<int>(summary.collisions_new);
   in.summary.min_clearance_mm = std::isfinite(summary.min_clearance_mm) ? summary.min_clearance_mm : -1.0;
   in.summary.removed_volume_mm3 = report.removed_volume_mm3;
   in.summary.max_gouge_mm = report.max_gouge_mm;
@@ -166,6 +172,8 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
   return replanned;
 }
 
+constexpr const char* kNotReduced = "re-planning did not reduce the collisions";
+
 // Why a collision is left: the replan library's reason (`unfixable`), else the rows no axis could clear,
 // else the rounds.
 std::string left_reason(const RowSpan& rows, const std::string& unfixable, const std::vector<size_t>& uncleared,
@@ -178,11 +186,14 @@ std::string left_reason(const RowSpan& rows, const std::string& unfixable, const
            "the clearance there";
   if (summary.rounds >= options.max_rounds)
     return "not fixed within " + std::to_string(options.max_rounds) + " re-plan round(s) (--rounds)";
-  return "re-planning did not reduce the collisions";
+  return kNotReduced;
 }
 
+// `first`: the rows of the first program's collisions. A collision left on rows none of them touched came
+// with the re-planned axes (black-box testing: 33 collisions gone and 15 new ones were "18 fixed", their
+// reason "re-planning did not reduce the collisions").
 void explain_left(const Scene& scene, const Round& current, const std::vector<size_t>& uncleared,
-                  const JobOptions& options, JobSummary& summary) {
+                  const std::vector<RowSpan>& first, const JobOptions& options, JobSummary& summary) {
   const std::vector<Collision>& left = current.verified.report.collisions;
   const std::vector<RowSpan> spans = collision_spans(scene.path, scene.tool, left);
   const std::vector<std::string> unfixable = unfixable_reasons(left, spans);
@@ -190,7 +201,15 @@ void explain_left(const Scene& scene, const Round& current, const std::vector<si
     const Collision& c = left[k];
     std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
     if (c.rapid) kind += " (rapid)";
-    const std::string reason = left_reason(spans[k], unfixable[k], uncleared, summary, options);
+    std::string reason = left_reason(spans[k], unfixable[k], uncleared, summary, options);
+    const bool brought = std::none_of(first.begin(), first.end(), [&](const RowSpan& f) {
+      return f.first <= spans[k].second && spans[k].first <= f.second;
+    });
+    if (brought && summary.rounds > 0) {
+      ++summary.collisions_new;
+      if (reason == kNotReduced) reason = "came with the re-planned axes (the round was kept: fewer collisions in all)";
+      else reason = "came with the re-planned axes: " + reason;
+    }
     const auto [first, last] = spans[k];
     auto it = std::find_if(summary.left.begin(), summary.left.end(),
                            [&](const LeftCollisions& l) { return l.kind == kind && l.reason == reason; });
@@ -312,11 +331,12 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
     stop_unposted(planned.result, options, e.what());
   }
   summary.collisions_first = current.verified.report.collisions.size();
+  const std::vector<RowSpan> first_spans = collision_spans(scene.path, scene.tool, current.verified.report.collisions);
   std::vector<size_t> uncleared;
   const std::vector<reporting::RowWindow> replanned =
       replan_rounds(scene, planned.options, post_and_verify, options, current, summary, uncleared);
   summarise_final_round(current, summary);
-  explain_left(scene, current, uncleared, options, summary);
+  explain_left(scene, current, uncleared, first_spans, options, summary);
   write_outputs(scene, planned.result.path, current, replanned, options, summary);
   return summary;
 }
@@ -334,8 +354,9 @@ std::string format_summary(const JobSummary& s, const Scene& scene) {
       << s.end_turned_rows << " rows turned after the stages; " << s.end_dipping_rows << " rows still dip (max " << fixed(s.max_end_dip_mm, 3) << " mm)\n";
   o
     << "  program      " << s.blocks << " blocks\n"
-    << "  collisions   " << s.collisions_first << " found, " << (s.collisions_first - std::min(s.collisions_first, s.collisions_final))
-    << " fixed in " << s.rounds << " re-plan round(s) (" << s.rows_replanned << " rows), " << s.collisions_final << " left\n";
+    << "  collisions   " << s.collisions_first << " found, " << collisions_fixed(s) << " fixed in " << s.rounds
+    << " re-plan round(s) (" << s.rows_replanned << " rows), "
+    << (s.collisions_new > 0 ? std::to_string(s.collisions_new) + " new, " : std::string()) << s.collisions_final << " left\n";
   for (const auto& l : s.left)
     o << "  left         " << l.count << " " << l.kind << ", rows " << l.first_row << "-" << l.last_row << ": " << l.reason
       << "\n";

@@ -45,6 +45,7 @@ struct JobSummary {
   size_t blocks = 0;
   size_t collisions_first = 0;  // in the first verification
   size_t collisions_final = 0;  // in the last one
+  size_t collisions_new = 0;    // of those, on rows no collision of the first touched: brought by re-planning
   size_t gouges_final = 0;
   double max_gouge_mm = 0;
   int rounds = 0;                // re-plan rounds done

@@ -100,6 +100,7 @@ std::vector<Card> cards(const ReportInputs& in) {
   out.push_back({"Program blocks", blocks ? std::to_string(blocks) : "\u2013", "", "", ""});
   const int left = int(in.collisions.size());
   std::string detail = "found " + known(s.collisions_found) + ", fixed " + known(s.collisions_fixed);
+  if (s.collisions_new > 0) detail += ", " + std::to_string(s.collisions_new) + " new from re-planning";
   out.push_back({"Collisions left", std::to_string(left), "", detail, left ? "bad" : "good"});
   double max_gouge = s.max_gouge_mm;
   for (const auto& g : in.gouges) max_gouge = std::max(max_gouge, g.depth_mm);

@@ -51,6 +51,7 @@ struct Summary {
   std::string note;         // one free line under the title (e.g. what is missing from this run)
   int collisions_found = -1;  // by the first verification
   int collisions_fixed = -1;  // by the re-planning
+  int collisions_new = -1;    // brought by the re-planning (rows the first program's collisions did not touch)
   double min_clearance_mm = -1.0;
   double removed_volume_mm3 = -1.0;
   double max_gouge_mm = -1.0;
