@@ -73,7 +73,8 @@ struct PlanContext {
   // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;
   // True when every piece keeps its required clearance plus `extra` from every set (early exit, cheap
-  // when far); the ball centred on the cutter location only its clearance plus min(extra, ball_extra).
+  // when far); the ball centred on the cutter location, and a ball cutter's flutes (which start on its
+  // equator), only their clearance plus min(extra, ball_extra).
   bool clears(size_t row, const Eigen::Vector3d& axis, double extra, ClearanceHints* hints = nullptr,
               double ball_extra = std::numeric_limits<double>::infinity()) const;
   // The largest clearance any piece must keep from any set, mm.

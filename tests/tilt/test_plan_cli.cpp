@@ -136,5 +136,23 @@ TEST(PlanCli, AnUnreachableRowWithoutObstaclesIsInPlanJson) {
   EXPECT_TRUE(j.at("uncleared")[0].at("unreachable").get<bool>());
 }
 
+// A pocket whose overhanging wall leaves the axis a band a few degrees wide, the ball 0.41 mm from the
+// wall: the flutes, parallel to the wall in that band, had been asked for the whole correction margin,
+// which no axis gives them, and the plan flipped the lead by 73 deg between two rows 0.5 mm apart and
+// failed the motion (black-box testing). Every row and motion clears, and the axis turns smoothly.
+TEST(PlanCli, FlutesBesideAnOverhangAreAskedNoMoreThanTheBall) {
+  const fs::path dir = fs::path(TILTFIELD_BINARY_DIR) / "test_plan_cli" / "overhang";
+  fs::remove_all(dir);
+  ASSERT_EQ(run("scene pocket --overhang 35 --passes 5 --tool-radius 2 --length 40 --width 30 --wall-height 30 "
+                "--ball-clearance 0.4 -o " + dir.string()),
+            0);
+  const fs::path json = dir / "plan.json";
+  ASSERT_EQ(run("plan " + (dir / "scene.json").string() + " -o " + (dir / "o.csv").string() + " --json " + json.string()), 0);
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("segments_below_safety").get<int>(), 0);
+  EXPECT_LT(j.at("max_step_deg").get<double>(), 10.0);
+}
+
 }  // namespace
 }  // namespace tf
