@@ -229,6 +229,14 @@ TEST(OutputNames, QuietAfterTheSubCommandToo) {
   EXPECT_NE(r.out.find("--loud"), std::string::npos) << r.out;
 }
 
+// A misspelt command is named, with the commands there are (CLI11 said "A subcommand is required").
+TEST(OutputNames, AnUnknownCommandIsNamed) {
+  const auto r = tf::test::run_command(std::string(TILTFIELD_EXE) + " -q verfiy scene.json p.ngc");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("unknown command 'verfiy'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("verify"), std::string::npos) << r.out;
+}
+
 // An empty value is refused naming its option: CLI11 reads it as 0, which an option without a range of
 // its own had taken (`--gouge-tolerance ""` ran with 0; black-box testing).
 TEST(OutputNames, AnEmptyValueExitsTwoNamingTheOption) {

@@ -1,4 +1,5 @@
 // tiltfield: 5-axis tool-axis planning, posting and verification. See README.md.
+#include <algorithm>
 #include <iostream>
 #include <new>
 #include <string>
@@ -35,6 +36,20 @@ int main(int argc, char** argv) {
       std::cerr << "tiltfield: field '" << field << "': empty value\n";
       return 2;
     }
+  }
+  // The first word that is not an option must name a command: CLI11 says only "A subcommand is
+  // required" of a misspelt one (black-box testing).
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.empty() || a[0] == '-') continue;
+    const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
+    if (std::none_of(commands.begin(), commands.end(), [&](const CLI::App* c) { return c->check_name(a); })) {
+      std::string names;
+      for (const CLI::App* c : commands) names += (names.empty() ? "" : ", ") + c->get_name();
+      std::cerr << "tiltfield: unknown command '" << a << "' (commands: " << names << ")\n";
+      return 2;
+    }
+    break;
   }
   try {
     app.parse(argc, argv);
