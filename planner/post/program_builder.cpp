@@ -119,9 +119,10 @@ void Builder::check_turn(const Joints& from, const Joints& to) const {
 }
 
 void Builder::check_lowered_turn(const Joints& from, const Joints& turned, const Joints& over) const {
-  if (clearing_height_ <= zsafe_ || !check_.active()) return;
+  if (!clearing_height_ || !check_.active()) return;
   const double margin = 0.5 * job_.machine.safe_z;
-  const double turn_deg = std::max({std::abs(turned.a - from.a), std::abs(turned.b - from.b), std::abs(turned.c - from.c)});
+  // The body turns by at most the sum of the rotaries' turns (the largest alone falls short when two turn).
+  const double turn_deg = std::abs(turned.a - from.a) + std::abs(turned.b - from.b) + std::abs(turned.c - from.c);
   const auto pose_at = [&](double s) {
     Joints j = from;
     j.a += s * (turned.a - from.a), j.b += s * (turned.b - from.b), j.c += s * (turned.c - from.c);
@@ -133,7 +134,7 @@ void Builder::check_lowered_turn(const Joints& from, const Joints& turned, const
   std::string turn = "A " + fixed(from.a, 3) + " B " + fixed(from.b, 3) + " C " + fixed(from.c, 3) + " to A " +
                      fixed(turned.a, 3) + " B " + fixed(turned.b, 3) + " C " + fixed(turned.c, 3);
   throw JobError("the transit height is lowered to Z's limit " + fixed(zsafe_, 3) + " (every turn of the rotaries clears at Z " +
-                 fixed(clearing_height_, 3) + "): " + (turn_ok ? "the move after turning " : "turning ") + turn +
+                 fixed(*clearing_height_, 3) + "): " + (turn_ok ? "the move after turning " : "turning ") + turn +
                  " at X " + fixed(from.x, 3) + " Y " + fixed(from.y, 3) + " comes within " + fixed(margin, 3) +
                  " mm (half of safe_z) of the stock, fixtures or check surfaces; raise Z's limit in the machine file");
 }

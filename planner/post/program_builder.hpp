@@ -24,7 +24,9 @@ class Builder {
     const auto zl = job.machine.limits.find('Z');
     if (!tcp_ && zl != job.machine.limits.end() && zsafe_ > zl->second.max) {
       prog_.warnings.push_back("the transit height Z " + fixed(zsafe_, 3) + " that clears every turn of the rotaries is above Z's limit " +
-                               fixed(zl->second.max, 3) + "; using the limit, each turn there and the move after it checked");
+                               fixed(zl->second.max, 3) + "; using the limit" +
+                               (check_.active() ? ", each turn there and the move after it checked"
+                                                : " (no stock, fixtures or check surfaces to check the turns against)"));
       clearing_height_ = zsafe_;
       zsafe_ = zl->second.max;
     }
@@ -32,7 +34,7 @@ class Builder {
 
   Program& program() { return prog_; }
 
-  // Safe start: up to the transit height, turn the rotaries, over the first point, down its axis.
+  // Safe start: up to the transit height, over the first point, turn the rotaries, down its axis.
   void start(const ToolPose& pose, const Joints& j, double feed);
 
   // Back along the axis to the retract point and up to the transit height.
@@ -150,7 +152,7 @@ class Builder {
   Eigen::AlignedBox3d bounds_;
   const TransitChecker& check_;
   double zsafe_ = 0.0;
-  double clearing_height_ = 0.0;  // the transit height that clears every turn, where zsafe_ is lower (else 0)
+  std::optional<double> clearing_height_;  // the transit height that clears every turn, where zsafe_ is lower
   int tries_warned_ = 0;
   Program prog_;
 };

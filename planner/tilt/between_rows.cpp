@@ -130,10 +130,12 @@ void check_segments_beside_failing_rows(const PlanContext& ctx, const std::vecto
     const double dc = (p1.c - p0.c).norm(), theta = turn_angle(axes[i], axes[i + 1]);
     double max_l = 0;
     for (double r : ctx.reach) max_l = std::max(max_l, dc + r * theta);
-    SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm, std::min(c0.margin, c1.margin)};
-    if (margin_bound(c0.margin, c1.margin, max_l) >= proof.floor - proof.tolerance) return;
-    if (!proof.prove(p0, proof.margins(p0, max_l), p1, proof.margins(p1, max_l), 0))
-      segments[i] = {true, -proof.worst, proof.worst_set};
+    // The floor in the poses' own measure (unsigned distances: a row inside a solid reads its depth in
+    // clearance() but 0 here).
+    SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm};
+    const std::vector<double> m0 = proof.margins(p0, max_l), m1 = proof.margins(p1, max_l);
+    proof.floor = std::min(*std::min_element(m0.begin(), m0.end()), *std::min_element(m1.begin(), m1.end()));
+    if (!proof.prove(p0, m0, p1, m1, 0)) segments[i] = {true, -proof.worst, proof.worst_set};
   });
 }
 

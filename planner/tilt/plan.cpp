@@ -452,8 +452,8 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   settle_end_form(ctx, !fixed_axis, axes, clear, segments, result);
   stage("end_form");
   note_axis_limits(ctx, machine, result.notes);
-  stage("between_rows");
   check_segments_beside_failing_rows(ctx, axes, clear, segments);
+  stage("between_rows");
   write_result(ctx, axes, clear, segments, result);
   result.metrics.seconds = stage.total_seconds();
   report(progress, "plan", 1.0);

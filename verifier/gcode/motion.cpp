@@ -220,7 +220,10 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   if (centre) b.arc_center = *centre + Eigen::Vector3d(off[0], off[1], off[2]);
   b.dwell_s = st_.dwell;
   st_.dwell = 0.0;
-  b.from_reference = from_reference_;
+  // An arc's centre was found from where the reader held the tool, and a TCP block's X Y Z are a tip,
+  // not the machine axes sent home: both start where the reader has them (from their own end, an arc
+  // would be swept as a full circle).
+  b.from_reference = (m == Motion::Rapid || m == Motion::Linear) && !st_.tcp ? from_reference_ : 0;
   from_reference_ = 0;
   program_.blocks.push_back(b);
   axes_.push_back(st_.axes);
