@@ -460,6 +460,13 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   return result;
 }
 
+size_t uncleared_row_count(const std::vector<UnclearedRow>& uncleared) {
+  std::vector<size_t> rows;
+  for (const UnclearedRow& u : uncleared) rows.push_back(u.row);
+  std::sort(rows.begin(), rows.end());
+  return static_cast<size_t>(std::unique(rows.begin(), rows.end()) - rows.begin());
+}
+
 PlanObstacles scene_obstacles(const Scene& scene) {
   PlanObstacles o;
   if (scene.design.n_faces() > 0) o.design.push_back(&scene.design);

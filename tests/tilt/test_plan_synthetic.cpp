@@ -8,6 +8,7 @@
 #include <array>
 #include <map>
 #include <numbers>
+#include <set>
 
 #include "synthetic.hpp"
 #include "tiltfield/core/local_frame.hpp"
@@ -322,6 +323,11 @@ TEST(PlanSynthetic, AMotionBesideAFailingRowIsCheckedToo) {
     EXPECT_TRUE(listed) << "motion " << i << " -> " << i + 1 << ", FCL margin " << fcl.min_margin;
   }
   EXPECT_GT(crashes, 0u) << "the scene no longer has the crash the test is about";
+  // A row listed with its motion counts once among the rows not cleared.
+  std::set<size_t> rows;
+  for (const UnclearedRow& u : r.uncleared) rows.insert(u.row);
+  EXPECT_EQ(uncleared_row_count(r.uncleared), rows.size());
+  EXPECT_LT(rows.size(), r.uncleared.size());
   std::printf("motions into the post: %zu, listed motions: %zu\n", crashes, r.metrics.segments_below_safety);
 }
 

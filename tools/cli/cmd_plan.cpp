@@ -79,7 +79,7 @@ void add_plan_command(CLI::App& app) {
     }
     if (!result.uncleared.empty()) {
       std::ostringstream msg;
-      msg << result.uncleared.size() << " row(s) could not be cleared (row: clearance mm):";
+      msg << uncleared_row_count(result.uncleared) << " row(s) could not be cleared (row: clearance mm):";
       for (size_t k = 0; k < result.uncleared.size() && k < 10; ++k) {
         const UnclearedRow& u = result.uncleared[k];
         msg << (k ? "," : "") << " " << u.row << ": ";

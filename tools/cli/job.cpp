@@ -77,7 +77,7 @@ Planned plan_stage(const Scene& scene, const JobOptions& options, JobSummary& su
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
   PlanResult planned = plan(scene, plan_options, options.progress);
   summary.nominal_colliding_rows = planned.metrics.rows_nominal_colliding;
-  summary.uncleared_rows = planned.uncleared.size();
+  summary.uncleared_rows = uncleared_row_count(planned.uncleared);
   summary.end_lead_rows = planned.metrics.rows_lead_raised;
   summary.end_turned_rows = planned.metrics.rows_end_turned;
   summary.end_dipping_rows = planned.metrics.rows_end_dipping;

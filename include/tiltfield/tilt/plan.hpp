@@ -127,8 +127,12 @@ struct UnclearedRow {
   double margin_mm = 0;    // clearance minus the required clearance of the offending component
   std::string obstacle;    // the set of that component's margin: "check_surfaces" | "fixtures" (or empty)
   bool unreachable = false;  // the machine has no joint solution for the axis (rotary limits)
-  bool between_rows = false; // the row is clear but the motion to the next row is not
+  bool between_rows = false; // the motion to the next row is not clear (the row itself has an entry of
+                             // its own where it is not clear either)
 };
+
+// How many rows `uncleared` names: a row listed with its motion as well counts once.
+size_t uncleared_row_count(const std::vector<UnclearedRow>& uncleared);
 
 struct PlanResult {
   OrientedPath path;
