@@ -109,8 +109,8 @@ bool TransitChecker::translation_clear(const ToolPose& pose, const Eigen::Vector
 
 bool TransitChecker::turn_clear(const std::function<ToolPose(double)>& pose_at, double turn_rad, double margin) const {
   const double top = capsules_.back().h1, widest = capsules_.back().radius;
-  // The body's points move at most about (top + widest + the tip's distance from the turn's centre) x
-  // the angle over the whole turn; steps of a tenth of the margin keep D small beside it.
+  // Over the whole turn no point of the body moves farther than the chords of the axis segment's ends
+  // plus the angle times the widest radius; steps of a tenth of the margin of that keep D small beside it.
   const ToolPose first = pose_at(0.0), last = pose_at(1.0);
   const double span = (first.tip - last.tip).norm() + (first.tip + top * first.axis - last.tip - top * last.axis).norm() +
                       turn_rad * (top + widest);
