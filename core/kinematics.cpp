@@ -192,12 +192,12 @@ bool Kinematics::within_limits(const Joints& j) const {
 
 std::vector<AxisOutside> axes_outside_limits(const MachineSpec& machine, const Joints& j, double slack) {
   std::vector<AxisOutside> out;
-  const double v[6] = {j.x, j.y, j.z, j.a, j.b, j.c};
   for (int k = 0; k < 6; ++k) {
     const char axis = "XYZABC"[k];
     const auto it = machine.limits.find(axis);
-    if (it != machine.limits.end() && (v[k] < it->second.min - slack || v[k] > it->second.max + slack))
-      out.push_back({axis, v[k], it->second});
+    const double v = j.axis(k);
+    if (it != machine.limits.end() && (v < it->second.min - slack || v > it->second.max + slack))
+      out.push_back({axis, v, it->second});
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
 #include "tiltfield/post/post.hpp"
+#include "post_internal.hpp"
 
 namespace tf {
 namespace {
@@ -71,7 +72,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
   if (offset) {
     std::string w = "axis words relative to G54 (the scene's work offset";
     for (int k = 0; k < 6; ++k)
-      if (job.work_offset[size_t(k)] != 0.0) w += std::string(" ") + "XYZABC"[k] + fixed(job.work_offset[size_t(k)], 4);
+      if (job.work_offset[size_t(k)] != 0.0) w += std::string(" ") + "XYZABC"[k] + fixed(job.work_offset[size_t(k)], post_detail::kAxisDecimals);
     out << comment(w + ")") << "\n";
   }
   out << "T" << options.tool_number << " M6\n";
@@ -105,7 +106,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
       if (k >= 3 && rot.find(letters[k]) == std::string::npos) continue;
       if (first && k != 2) continue;  // the first move only lifts Z: the other axes' positions are unknown
       if (over_start && k >= 3) continue;
-      const std::string w = fixed(v[k], 4);
+      const std::string w = fixed(v[k], post_detail::kAxisDecimals);
       if (w == last[k]) continue;
       last[k] = w;
       words += ' ';

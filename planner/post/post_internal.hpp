@@ -33,6 +33,14 @@ double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 // Why `pose` has no joint solution on this machine, in plain words (for PostRowError).
 std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, const PostOptions& options);
 
+// Axis words are written with this many decimals (gcode_writer); the controller moves to the value rounded
+// there, so blocks are timed and the tip solved at that value (program_builder).
+inline constexpr int kAxisDecimals = 4;
+inline constexpr double kAxisScale = 1e4;  // 10^kAxisDecimals
+inline constexpr double kAxisUnit = 1.0 / kAxisScale;
+// `value` as written: rounded to kAxisDecimals in the frame of the work offset `origin`.
+inline double as_written(double value, double origin) { return std::round((value - origin) * kAxisScale) / kAxisScale + origin; }
+
 // Sampling a block can miss a little of the true maximum between samples: the linearisation accepts a
 // block only below this share of the tolerances.
 inline constexpr double kLinearizeSafety = 0.95;

@@ -74,11 +74,10 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
     b.feed = feed;
   } else {
     // Inverse time: the tip at the feed, unless an axis would exceed its top speed. The controller times
-    // the axes' moves as written, each end rounded to 4 decimals (gcode_writer): a block of 0.0002 mm
-    // could read 50 % longer, and its F had driven X 58 % over max_feed (found by black-box testing).
-    constexpr double kWritten = 1e-4;
-    const double minutes = std::max({d_tip / feed, (d_xyz + std::sqrt(3.0) * kWritten) / job_.machine.max_feed,
-                                     (d_rot + kWritten) / job_.machine.max_rotary_feed});
+    // the axes' moves as written, each end rounded (kAxisDecimals): a block of 0.0002 mm could read 50 %
+    // longer, and its F had driven X 58 % over max_feed (found by black-box testing).
+    const double minutes = std::max({d_tip / feed, (d_xyz + std::sqrt(3.0) * kAxisUnit) / job_.machine.max_feed,
+                                     (d_rot + kAxisUnit) / job_.machine.max_rotary_feed});
     b.feed_mode = FeedMode::InverseTime;
     b.feed = 1.0 / minutes;
   }
@@ -88,13 +87,12 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
 Joints Builder::target(const ToolPose& pose, const Joints& j) const {
   Joints t = j;
   if (!tcp_) {
-    // The rotaries as written (4 decimals, gcode_writer), and X Y Z that put the tip where it belongs at
-    // them: on a head pivot of 10 m half of the last decimal had moved the tip 0.009 mm (black-box testing).
+    // The rotaries as written, and X Y Z that put the tip where it belongs at them: on a head pivot of
+    // 10 m half of the last decimal had moved the tip 0.009 mm (black-box testing).
     const auto& off = job_.work_offset;
-    const auto written = [](double v, double o) { return std::round((v - o) * 1e4) / 1e4 + o; };
-    t.a = written(j.a, off[3]);
-    t.b = written(j.b, off[4]);
-    t.c = written(j.c, off[5]);
+    t.a = as_written(j.a, off[3]);
+    t.b = as_written(j.b, off[4]);
+    t.c = as_written(j.c, off[5]);
     return joints_for_tip([this](const Joints& q) { return kin_.forward(q); }, t, pose.tip);
   }
   t.x = pose.tip.x();

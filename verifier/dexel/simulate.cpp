@@ -27,10 +27,8 @@ namespace {
 
 // The axes a reference return left unknown: where the block goes in them (Block::from_reference).
 Joints from_reference(const Block& b, Joints from) {
-  double* const start[6] = {&from.x, &from.y, &from.z, &from.a, &from.b, &from.c};
-  const double target[6] = {b.target.x, b.target.y, b.target.z, b.target.a, b.target.b, b.target.c};
   for (int a = 0; a < 6; ++a)
-    if (b.from_reference & (1u << a)) *start[a] = target[a];
+    if (b.from_reference & (1u << a)) from.axis(a) = b.target.axis(a);
   return from;
 }
 

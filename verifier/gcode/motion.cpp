@@ -178,7 +178,7 @@ void Reader::assume_position(int axis) {
   const double machine = st_.pos[size_t(axis)] + offset()[size_t(axis)];
   for (size_t k = 0; k < program_.blocks.size(); ++k) {
     if (axes_[k][size_t(axis)] != AxisState::NotYet) continue;
-    axis_value(program_.blocks[k].target, axis) = machine;
+    program_.blocks[k].target.axis(axis) = machine;
     axes_[k][size_t(axis)] = AxisState::Set;
   }
   st_.axes[size_t(axis)] = AxisState::Set;

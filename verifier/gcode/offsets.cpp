@@ -138,7 +138,7 @@ bool Reader::convert_position_for_tcp(bool on) {
   const Kinematics kin(machine_, gauge);
   const Axes off = offset();
   Joints j;
-  for (int a = 0; a < 6; ++a) axis_value(j, a) = st_.pos[size_t(a)] + off[size_t(a)];
+  for (int a = 0; a < 6; ++a) j.axis(a) = st_.pos[size_t(a)] + off[size_t(a)];
   // The tip of a TCP target P: P + work offset + G92 (off less the length offset along Z), moved by
   // offset - gauge along the axis where the program uses length offsets (tool_tip_targets).
   const Eigen::Vector3d axis = kin.forward(j).axis;
@@ -215,7 +215,7 @@ void Reader::fill_unknown_axes() {
       size_t e = b;
       while (e < blocks.size() && axes_[e][size_t(a)] != AxisState::Set) ++e;
       for (size_t k = b; k < e; ++k) {
-        if (e < blocks.size()) axis_value(blocks[k].target, a) = axis_value(blocks[e].target, a);
+        if (e < blocks.size()) blocks[k].target.axis(a) = blocks[e].target.axis(a);
         else if (axes_[k][size_t(a)] == AxisState::SentHome) drop[k] = true;
       }
       b = e;

@@ -53,10 +53,8 @@ Reader::Reader(const std::string& file, const MachineSpec& machine, const GcodeO
   }
   st_.tool = st_.pending_tool = options.start_tool;
   if (options.start) {
-    const Joints& s = *options.start;
-    const Axes machine_axes{s.x, s.y, s.z, s.a, s.b, s.c};
     const Axes off = offset();
-    for (int a = 0; a < 6; ++a) st_.pos[a] = machine_axes[a] - off[a];
+    for (int a = 0; a < 6; ++a) st_.pos[size_t(a)] = options.start->axis(a) - off[size_t(a)];
     st_.axes.fill(AxisState::Set);
   }
 }

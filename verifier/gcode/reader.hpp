@@ -28,11 +28,6 @@ namespace tf::gcode {
 using Axes = std::array<double, 6>;  // X Y Z (mm) A B C (deg)
 
 inline int axis_index(char c) { return static_cast<int>(std::string_view("XYZABC").find(c)); }
-// Axis a (axis_index's order) of a joint position.
-inline double& axis_value(Joints& j, int a) {
-  double* v[6] = {&j.x, &j.y, &j.z, &j.a, &j.b, &j.c};
-  return *v[a];
-}
 
 // G54 ... G59.3 (keys 540 ... 593) -> 0 ... 8; -1 for another key.
 inline int work_offset_index(int key) {

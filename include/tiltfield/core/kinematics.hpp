@@ -41,6 +41,12 @@ struct Joints {
   double x = 0, y = 0, z = 0;  // mm
   double a = 0, b = 0, c = 0;  // deg
   double rotary(char letter) const { return letter == 'A' ? a : letter == 'B' ? b : c; }
+  // Axis i in the order X Y Z A B C (i in 0..5).
+  double& axis(int i) {
+    double* const v[6] = {&x, &y, &z, &a, &b, &c};
+    return *v[i];
+  }
+  double axis(int i) const { return const_cast<Joints*>(this)->axis(i); }
 };
 
 struct ToolPose {
