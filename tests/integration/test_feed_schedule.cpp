@@ -251,6 +251,28 @@ TEST_F(ScheduleCli, InverseTimeProgram) {
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);
 }
 
+// A G20 program's F words are inch/min: the new feeds are written in them (black-box testing: F166.66, a
+// feed in mm/min, had been written into an inch program, 25 times the limit read back).
+TEST_F(ScheduleCli, InchProgramTakesItsFeedsInInches) {
+  // kSlot in inches: the same cuts, F600 mm/min as F23.622.
+  write_text(dir / "p.ngc", "G20 G90 G94\nG0 X-0.393701 Y0 Z0.314961\nG1 X1.181102 F23.622047\nG1 X1.968504\n"
+                            "G1 Y0.19685 X3.543307\nG1 Z0.590551\nG1 X-0.393701 Y0.393701\nM30\n");
+  const double before = max_mrr((dir / "p.ngc").string());
+  EXPECT_NEAR(before, 12000.0, 120.0);
+  const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                               " --schedule-feed 6000 -o " + (dir / "p2.ngc").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const double after = max_mrr((dir / "p2.ngc").string());
+  EXPECT_LE(after, 6000.0 + 0.005);
+  EXPECT_GE(after, 6000.0 * 0.99);
+  const Program p1 = parse_gcode(read_text(dir / "p.ngc"), "p.ngc", MachineSpec{});
+  const Program p2 = parse_gcode(read_text(dir / "p2.ngc"), "p2.ngc", MachineSpec{});
+  ASSERT_EQ(p2.blocks.size(), p1.blocks.size());
+  for (size_t i = 1; i <= 3; ++i) EXPECT_LE(p2.blocks[i].feed, p1.blocks[i].feed + 1e-9) << "block " << i + 1;
+  EXPECT_NEAR(p2.blocks.back().feed, 5000.0, 0.01);  // the air move: the machine's max feed, 196.8503 in/min
+  EXPECT_NE(read_text(dir / "p2.ngc").find("F196.8503"), std::string::npos) << read_text(dir / "p2.ngc");
+}
+
 // A spline's one F covers all its chords: the rewritten F keeps every chord under the limit.
 TEST_F(ScheduleCli, SplineKeepsEveryChordUnderTheLimit) {
   write_text(dir / "p.ngc", "G21 G90 G17\nG0 X-10 Y0 Z8\nG5.1 X60 Y12 I35 J-25 F240\nG1 Z15\nM30\n");

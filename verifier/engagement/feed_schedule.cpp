@@ -10,6 +10,22 @@
 #include "tiltfield/core/io.hpp"
 
 namespace tf {
+namespace {
+
+// How an F word is written: G93 in 1/min with 4 decimals; G94 in mm/min with 2, or under G20 in inch/min
+// with 4 (0.0001 in/min is 0.00254 mm/min). `unit`: mm/min (or 1/min) per written unit.
+struct WrittenFeed {
+  int decimals;
+  double scale;  // 10^decimals
+  double unit;
+};
+WrittenFeed written_feed(bool inverse_time, bool inch) {
+  if (inverse_time) return {4, 1e4, 1.0};
+  return inch ? WrittenFeed{4, 1e4, 25.4} : WrittenFeed{2, 1e2, 1.0};
+}
+WrittenFeed written_feed(const Block& b) { return written_feed(b.feed_mode == FeedMode::InverseTime, b.inch); }
+
+}  // namespace
 
 void check_feed_schedule_options(const FeedScheduleOptions& o, const std::string& limit_option) {
   if (!(o.max_mrr > 0.0) || !std::isfinite(o.max_mrr))
@@ -55,11 +71,11 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
         }
       }
     }
-    // Rounded down to the precision the feed is written with, so the written feed keeps the limit.
-    const int decimals = b.feed_mode == FeedMode::InverseTime ? 4 : 2;
-    const double scale = std::pow(10.0, decimals);
-    const double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) * scale) / scale;
-    if (fixed(f, decimals) == fixed(b.feed, decimals)) continue;
+    // Rounded down to the precision the feed is written with, in the program's units, so the written
+    // feed keeps the limit.
+    const WrittenFeed w = written_feed(b);
+    const double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) / w.unit * w.scale) / w.scale * w.unit;
+    if (fixed(f / w.unit, w.decimals) == fixed(b.feed / w.unit, w.decimals)) continue;
     if (b.fixed_feed) {
       if (f < b.feed)
         s.warnings.push_back("block " + std::to_string(r.block) + " (line " + std::to_string(r.line) + "): " +
@@ -76,12 +92,16 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
   if (fixed_blocks > 0)
     s.warnings.push_back(std::to_string(fixed_blocks) + " feed blocks (G33/G33.1, or subroutine files') are not rescheduled; a " +
                          "subroutine file's block without its own F runs at the F in force, which the rewritten lines before its call set");
-  // A line run under both G93 and G94 (a subroutine's) takes no one F: it keeps its own.
-  std::map<int, int> modes;  // line -> bit 1 G94, bit 2 G93
+  // A line run under both G93 and G94, or both G20 and G21 (a subroutine's), takes no one F: it keeps its own.
+  std::map<int, int> modes;  // line -> bit 1 G94, bit 2 G93, bit 4 G94 under G20
   for (const Block& b : program.blocks)
-    if (b.motion != Motion::Rapid && b.line > 0) modes[b.line] |= b.feed_mode == FeedMode::InverseTime ? 2 : 1;
+    if (b.motion != Motion::Rapid && b.line > 0)
+      modes[b.line] |= b.feed_mode == FeedMode::InverseTime ? 2 : b.inch ? 4 : 1;
   for (const auto& [line, m] : modes)
-    if (m == 3) s.warnings.push_back("line " + std::to_string(line) + " runs under both G93 and G94: its F is left as it is");
+    if (m == 3 || m == 6 || m == 7)
+      s.warnings.push_back("line " + std::to_string(line) + " runs under both G93 and G94: its F is left as it is");
+    else if (m == 5)
+      s.warnings.push_back("line " + std::to_string(line) + " runs under both G20 and G21: its F is left as it is");
   return s;
 }
 
@@ -218,7 +238,7 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
   // both G93 and G94 (a subroutine's), which is left as it is (schedule_feeds warns).
   struct Line {
     double feed = 0.0;
-    bool inverse_time = false, mixed = false;
+    bool inverse_time = false, inch = false, mixed = false;
   };
   std::map<int, Line> per_line;
   for (size_t i = 0; i < program.blocks.size() && i < schedule.feed.size(); ++i) {
@@ -226,10 +246,11 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
     if (b.motion == Motion::Rapid || b.fixed_feed || b.line <= 0 || !(schedule.feed[i] > 0.0)) continue;
     const bool inverse_time = b.feed_mode == FeedMode::InverseTime;
     const double f = inverse_time ? schedule.feed[i] * b.time_share : schedule.feed[i];
-    auto [it, fresh] = per_line.try_emplace(b.line, Line{f, inverse_time});
+    const bool inch = b.inch && !inverse_time;
+    auto [it, fresh] = per_line.try_emplace(b.line, Line{f, inverse_time, inch});
     Line& l = it->second;
     if (!fresh) l.feed = std::min(l.feed, f);
-    l.mixed |= l.inverse_time != inverse_time;
+    l.mixed |= l.inverse_time != inverse_time || l.inch != inch;
   }
   std::string out;
   out.reserve(text.size() + 8 * per_line.size());
@@ -243,8 +264,9 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
     if (it == per_line.end() || it->second.mixed) {
       out += line;
     } else {  // rounded down to what is written (+1e-6 of a digit: a share's own rounding costs none)
-      const double scale = it->second.inverse_time ? 1e4 : 1e2;
-      out += rewrite_line(line, fixed(std::floor(it->second.feed * scale + 1e-6) / scale, it->second.inverse_time ? 4 : 2));
+      const Line& l = it->second;
+      const WrittenFeed w = written_feed(l.inverse_time, l.inch);
+      out += rewrite_line(line, fixed(std::floor(l.feed / w.unit * w.scale + 1e-6) / w.scale, w.decimals));
     }
     if (nl == std::string_view::npos) break;
     out += '\n';

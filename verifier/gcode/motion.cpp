@@ -214,6 +214,7 @@ void Reader::emit(Motion m, const Axes& target, int line, const Eigen::Vector3d*
   b.tcp = st_.tcp;
   b.feed_mode = st_.inverse_time ? FeedMode::InverseTime : FeedMode::PerMinute;
   b.feed = st_.feed;
+  b.inch = st_.inch;
   b.spindle_rpm = st_.spindle;
   b.tool = st_.tool;
   b.plane = st_.plane;

@@ -23,6 +23,8 @@ struct Block {
   bool tcp = false;
   FeedMode feed_mode = FeedMode::PerMinute;
   double feed = 0.0;        // mm/min (PerMinute) or 1/min (InverseTime); unused for rapids
+  // G20 was in force: the line's words, its F under G94 included, are in inches (feed above is mm/min).
+  bool inch = false;
   // Arcs (Motion::ArcCW/ArcCCW): centre in the same coordinates as target, and the plane (17, 18, 19).
   Eigen::Vector3d arc_center = Eigen::Vector3d::Zero();
   int plane = 17;
