@@ -27,6 +27,11 @@ bool circle_through_samples(const Vector2d& p, const Vector2d& q, const Vector2d
   return true;
 }
 
+// How far the part of arc s between two of its points `share` of its sweep apart lies from their chord:
+// the mesh is straight between section points (black-box testing: a box's section, four corners on one
+// circle, had been fitted as an arc 28 mm off its sides).
+double sagitta(const Segment& s, double share) { return s.r * (1.0 - std::cos(0.5 * std::abs(s.sweep) * share)); }
+
 bool line_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol) {
   const Segment s = make_line(P[i], P[j]);
   if ((P[j] - P[i]).norm() == 0) return false;
@@ -35,7 +40,8 @@ bool line_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol) {
   return true;
 }
 
-// The arc through P[i], P[(i+j)/2], P[j] when every point between lies within tol of it, in order.
+// The arc through P[i], P[(i+j)/2], P[j] when every point between lies within tol of it, in order, and
+// so does the section's straight piece between each two of them.
 bool arc_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol, Segment* arc) {
   if (j < i + 2) return false;
   const size_t m = (i + j) / 2;
@@ -49,8 +55,10 @@ bool arc_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol, Se
     if (distance(s, P[k], &t) > tol) return false;
     const double tk = parameter_of(s, P[k]);
     if (tk < last - 1e-12 || tk > 1) return false;  // points must run along the arc in order
+    if (sagitta(s, tk - last) > tol) return false;
     last = tk;
   }
+  if (sagitta(s, 1.0 - last) > tol) return false;
   *arc = s;
   return true;
 }

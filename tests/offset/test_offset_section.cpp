@@ -54,6 +54,18 @@ TEST(OffsetSection, SlicesChainsAndFitsLinesAndArcs) {
   }
 }
 
+// A section of four corners (or three) lies on one circle: it is straight between them, so lines, not an
+// arc through them (black-box testing: a box's top section had come out as an arc 28 mm off its sides).
+TEST(OffsetSection, CornersOnOneCircleStayLines) {
+  const std::vector<Eigen::Vector2d> box{{0, 0}, {100, 0}, {100, 60}, {0, 60}};
+  const Profile p = fit_profile(box, 0.01, "box");
+  validate_profile(p);
+  EXPECT_NEAR(signed_area(p.elements), 6000.0, 1e-6);
+  for (const auto& e : p.elements) EXPECT_FALSE(e.is_arc());
+  const std::vector<Eigen::Vector2d> triangle{{0, 0}, {40, 0}, {0, 30}};
+  EXPECT_NEAR(signed_area(fit_profile(triangle, 0.01, "triangle").elements), 600.0, 1e-6);
+}
+
 TEST(OffsetSection, CommandLineWithMesh) {
   const auto stl = std::filesystem::path(write_temp("x", "")).parent_path() / "prism.stl";
   write_mesh(d_prism(10), stl);
