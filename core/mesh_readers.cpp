@@ -37,6 +37,13 @@ std::string slurp(const fs::path& file) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// A text mesh's contents without the UTF-8 byte order mark an editor may put first (an OBJ's first vertex
+// had been skipped as an unknown keyword, every face then naming the wrong vertices: black-box testing).
+std::string text_without_bom(std::string data) {
+  if (without_utf8_bom(data).size() != data.size()) data.erase(0, 3);
+  return data;
+}
+
 // Welds exactly equal coordinates (STL repeats every vertex per facet).
 struct Welder {
   std::map<std::array<double, 3>, int> index;
@@ -125,13 +132,14 @@ Mesh read_stl(const fs::path& file) {
     std::memcpy(&n, data.data() + 80, 4);
     if (data.size() == 84 + 50 * static_cast<size_t>(n)) return read_binary_stl(data, name);
   }
-  if (data.compare(0, 5, "solid") != 0 && data.find("facet") == std::string::npos)
+  const std::string text = text_without_bom(data);
+  if (text.compare(0, 5, "solid") != 0 && text.find("facet") == std::string::npos)
     throw InputError(name, 0, "", "neither a binary STL (size does not match the facet count) nor an ASCII STL");
-  return read_ascii_stl(data, name);
+  return read_ascii_stl(text, name);
 }
 
 Mesh read_obj(const fs::path& file) {
-  const std::string data = slurp(file);
+  const std::string data = text_without_bom(slurp(file));
   const std::string name = file.string();
   std::istringstream in(data);
   std::string line;
@@ -161,7 +169,7 @@ Mesh read_obj(const fs::path& file) {
 }
 
 Mesh read_off(const fs::path& file) {
-  const std::string data = slurp(file);
+  const std::string data = text_without_bom(slurp(file));
   const std::string name = file.string();
   // Tokenise with line numbers, dropping comments.
   std::vector<std::pair<std::string, int>> tok;

@@ -226,7 +226,9 @@ void read_element(Cursor& cur, const Element& e, const std::string& name, std::v
 Mesh read_ply(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), 0, "", "cannot open mesh file");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A text header may start with a UTF-8 byte order mark, as the other readers accept.
+  if (without_utf8_bom(data).size() != data.size()) data.erase(0, 3);
   const std::string name = file.string();
   const Header hd = read_header(data, name);
   Cursor cur(data, hd.body, hd.format, name);

@@ -57,6 +57,7 @@ fs::path resolve(Scene& s, const json& j, const std::string& field) {
   // scene's files it was (black-box testing).
   std::error_code ec;
   if (!fs::exists(p, ec)) throw InputError(s.file.string(), 0, field, "the file '" + p.string() + "' does not exist");
+  if (fs::is_directory(p, ec)) throw InputError(s.file.string(), 0, field, "'" + p.string() + "' is a directory, not a file");
   s.files.push_back(p);
   return p;
 }

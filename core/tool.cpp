@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/core/io.hpp"
 
 namespace tf {
 
@@ -207,8 +208,11 @@ std::vector<ToolSample> Tool::sample_surface(double spacing) const {
 }
 
 void validate_tool(const Tool& tool, const std::string& file, const std::string& prefix) {
+  // At most 1 km, as a path's coordinates: a radius of 1e9 had been taken and verified a facing pass as a
+  // third of its volume (black-box testing).
   auto positive = [&](double v, const std::string& field) {
-    if (!std::isfinite(v) || v <= 0.0) throw InputError(file, 0, prefix + "." + field, "must be a positive number of mm");
+    if (!std::isfinite(v) || v <= 0.0 || v > kMaxCoordinate)
+      throw InputError(file, 0, prefix + "." + field, "must be a positive number of mm, at most 1 km (1000000)");
   };
   positive(tool.radius(), "radius");
   if (const auto* b = std::get_if<BullCutter>(&tool.cutter)) {

@@ -115,6 +115,12 @@ std::vector<BadScene> bad_scenes() {
       {"design wrong type", [](json& j) { j["design"] = 3; }, "", "", "scene.json", "'design'"},
       {"check not array", [](json& j) { j["check_surfaces"] = "wall.stl"; }, "", "", "scene.json", "check_surfaces"},
       {"negative radius", [](json& j) { j["tool"]["radius"] = -3; }, "", "", "scene.json", "tool.radius"},
+      // Beyond 1 km, as a path's coordinates (black-box testing: R 1e9 verified a facing pass as a third).
+      {"radius beyond 1 km", [](json& j) { j["tool"]["radius"] = 1e9; }, "", "", "scene.json", "tool.radius"},
+      {"holder beyond 1 km", [](json& j) { j["tool"]["holder"][0]["radius"] = 2e6; }, "", "", "scene.json",
+       "tool.holder[0].radius"},
+      // A folder named as a mesh (black-box testing: "./.: unknown mesh format ''", no scene, no field).
+      {"design a folder", [](json& j) { j["design"] = "."; }, "", "", "scene.json", "field 'design'"},
       {"radius string", [](json& j) { j["tool"]["radius"] = "3"; }, "", "", "scene.json", "tool.radius"},
       {"unknown tool type", [](json& j) { j["tool"]["type"] = "drill"; }, "", "", "scene.json", "tool.type"},
       {"bull without corner", [](json& j) { j["tool"]["type"] = "bull"; }, "", "", "scene.json", "tool.corner_radius"},

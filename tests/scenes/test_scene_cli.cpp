@@ -287,6 +287,19 @@ TEST(SceneCli, BlockLoadsBackAsAThreeAxisFacingScene) {
   EXPECT_GT(xmax, 64.0);
 }
 
+// One pass down the middle of a two-blade channel lies farther from the blades than any bound on the
+// search: its clearance is measured, not infinite (black-box testing: "fixed(): non-finite number").
+TEST(SceneCli, OnePassInAWideChannelReportsItsClearance) {
+  TempDir d("wide_channel");
+  const RunResult r = run_tiltfield("scene impeller --blades 2 --passes 1 -o '" + (d.path / "imp").string() + "'", d.path);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NO_THROW(tf::load_scene(d.path / "imp" / "scene.json"));
+  std::ifstream in(d.path / "imp" / "scene.json");
+  const double clearance = nlohmann::json::parse(in)["generator"]["facts"]["min_ball_clearance_mm"].get<double>();
+  EXPECT_GT(clearance, 10.0);
+  EXPECT_LT(clearance, 1000.0);
+}
+
 TEST(SceneCli, BadOptionsExitTwoWithOneLineNamingTheOption) {
   TempDir d("bad_options");
   struct Case {

@@ -201,7 +201,9 @@ ClearanceCheck push_edges_in(const Channel& ch, const ZigzagRows& rows, ChannelE
   std::vector<double> push_lo(kKnots, 0.0), push_hi(kKnots, 0.0);
   for (size_t i = 0; i < rows.path.rows.size(); ++i) {
     const Eigen::Vector3d& p = rows.path.rows[i].p;
-    const double d = ch.blades.closest(p, o.tool_radius + 10.0).distance - o.tool_radius;
+    // Unbounded: a pass down the middle of a wide channel (two blades, one pass) is farther than any
+    // bound from the blades, and its clearance had been infinite (black-box testing).
+    const double d = ch.blades.closest(p).distance - o.tool_radius;
     check.min_clearance = std::min(check.min_clearance, d);
     if (d >= o.ball_clearance) continue;
     check.clear = false;
