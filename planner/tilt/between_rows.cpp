@@ -131,10 +131,12 @@ void check_segments_beside_failing_rows(const PlanContext& ctx, const std::vecto
     double max_l = 0;
     for (double r : ctx.reach) max_l = std::max(max_l, dc + r * theta);
     // The floor in the poses' own measure (unsigned distances: a row inside a solid reads its depth in
-    // clearance() but 0 here).
+    // clearance() but its distance to the solid's faces here), and never above the clearance: a motion
+    // between two rows buried in a solid had been listed as failing with a positive margin, nearer the
+    // faces than its rows but clear of them (black-box testing).
     SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm};
     const std::vector<double> m0 = proof.margins(p0, max_l), m1 = proof.margins(p1, max_l);
-    proof.floor = std::min(*std::min_element(m0.begin(), m0.end()), *std::min_element(m1.begin(), m1.end()));
+    proof.floor = std::min({0.0, *std::min_element(m0.begin(), m0.end()), *std::min_element(m1.begin(), m1.end())});
     if (!proof.prove(p0, m0, p1, m1, 0)) segments[i] = {true, -proof.worst, proof.worst_set};
   });
 }

@@ -13,6 +13,7 @@
 #include "synthetic.hpp"
 #include "tiltfield/core/local_frame.hpp"
 #include "tiltfield/core/machine.hpp"
+#include "tiltfield/core/scene.hpp"
 #include "tiltfield/tilt/plan.hpp"
 
 namespace tf {
@@ -329,6 +330,26 @@ TEST(PlanSynthetic, AMotionBesideAFailingRowIsCheckedToo) {
   EXPECT_EQ(uncleared_row_count(r.uncleared), rows.size());
   EXPECT_LT(rows.size(), r.uncleared.size());
   std::printf("motions into the post: %zu, listed motions: %zu\n", crashes, r.metrics.segments_below_safety);
+}
+
+// A path buried in a closed solid: every row is listed at its depth, and no motion between them (nearer
+// the solid's faces than its rows but clear of them) is listed with a positive margin (black-box testing:
+// 80 motions "0.25 short" with margin +0.25).
+TEST(PlanSynthetic, MotionsBetweenRowsBuriedInASolidAreNotListed) {
+  Stock solid;  // a closed, outward box (box_mesh's faces are not joined)
+  solid.kind = Stock::Kind::Box;
+  solid.box = {Eigen::Vector3d(-50, -50, -50), Eigen::Vector3d(100, 50, 200)};
+  const Mesh block = stock_to_mesh(solid);
+  const Tool tool = test::test_tool();
+  PlannerBasics basics;
+  const ToolPath path = test::polyline_path({{0, 0, 3}, {40, 0, 3}}, 0.5, {0, 0, 1});
+  const PlanResult r = plan_path(path, tool, {{&block}, {}, {}}, basics, 1000, derive_plan_options(tool, basics, 1000));
+  EXPECT_EQ(r.metrics.rows_below_safety, path.rows.size());
+  EXPECT_EQ(r.metrics.segments_below_safety, 0u);
+  for (const UnclearedRow& u : r.uncleared) {
+    EXPECT_FALSE(u.between_rows) << "row " << u.row;
+    EXPECT_LT(u.margin_mm, 0.0) << "row " << u.row;
+  }
 }
 
 }  // namespace tf
