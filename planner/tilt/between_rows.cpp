@@ -121,23 +121,29 @@ std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vect
   return out;
 }
 
+SegmentCheck check_segment_beside_failing_rows(const PlanContext& ctx, size_t i, const Vector3d& a0, const Vector3d& a1,
+                                               const BodyClearance& c0, const BodyClearance& c1) {
+  if ((c0.margin >= 0 && c1.margin >= 0) || ctx.linked(i, a0, a1)) return {};
+  const Pose p0 = ctx.pose(i, a0), p1 = ctx.pose(i + 1, a1);
+  const double dc = (p1.c - p0.c).norm(), theta = turn_angle(a0, a1);
+  double max_l = 0;
+  for (double r : ctx.reach) max_l = std::max(max_l, dc + r * theta);
+  // The floor in the poses' own measure (unsigned distances: a row inside a solid reads its depth in
+  // clearance() but its distance to the solid's faces here), and never above the clearance: a motion
+  // between two rows buried in a solid had been listed as failing with a positive margin, nearer the
+  // faces than its rows but clear of them (black-box testing).
+  SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm};
+  const std::vector<double> m0 = proof.margins(p0, max_l), m1 = proof.margins(p1, max_l);
+  proof.floor = std::min({0.0, *std::min_element(m0.begin(), m0.end()), *std::min_element(m1.begin(), m1.end())});
+  if (proof.prove(p0, m0, p1, m1, 0)) return {};
+  return {true, -proof.worst, proof.worst_set};
+}
+
 void check_segments_beside_failing_rows(const PlanContext& ctx, const std::vector<Vector3d>& axes,
                                         const std::vector<BodyClearance>& clear, std::vector<SegmentCheck>& segments) {
   tbb::parallel_for(size_t{0}, segments.size(), [&](size_t i) {
-    const BodyClearance &c0 = clear[i], &c1 = clear[i + 1];
-    if (segments[i].failed || (c0.margin >= 0 && c1.margin >= 0) || ctx.linked(i, axes[i], axes[i + 1])) return;
-    const Pose p0 = ctx.pose(i, axes[i]), p1 = ctx.pose(i + 1, axes[i + 1]);
-    const double dc = (p1.c - p0.c).norm(), theta = turn_angle(axes[i], axes[i + 1]);
-    double max_l = 0;
-    for (double r : ctx.reach) max_l = std::max(max_l, dc + r * theta);
-    // The floor in the poses' own measure (unsigned distances: a row inside a solid reads its depth in
-    // clearance() but its distance to the solid's faces here), and never above the clearance: a motion
-    // between two rows buried in a solid had been listed as failing with a positive margin, nearer the
-    // faces than its rows but clear of them (black-box testing).
-    SegmentProof proof{ctx, ctx.options.between_rows_tolerance_mm};
-    const std::vector<double> m0 = proof.margins(p0, max_l), m1 = proof.margins(p1, max_l);
-    proof.floor = std::min({0.0, *std::min_element(m0.begin(), m0.end()), *std::min_element(m1.begin(), m1.end())});
-    if (!proof.prove(p0, m0, p1, m1, 0)) segments[i] = {true, -proof.worst, proof.worst_set};
+    if (!segments[i].failed)
+      segments[i] = check_segment_beside_failing_rows(ctx, i, axes[i], axes[i + 1], clear[i], clear[i + 1]);
   });
 }
 

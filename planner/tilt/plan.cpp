@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <stdexcept>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -458,6 +459,29 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   result.metrics.seconds = stage.total_seconds();
   report(progress, "plan", 1.0);
   return result;
+}
+
+std::vector<MotionClearance> motion_clearances(const ToolPath& path, const OrientedPath& oriented,
+                                               const std::vector<size_t>& rows, const Tool& tool,
+                                               const PlannerBasics& basics, const PlanObstacles& obstacles,
+                                               const PlanOptions& options) {
+  if (oriented.rows.size() != path.rows.size()) throw std::invalid_argument("motion_clearances: row counts differ");
+  PlanContext ctx;
+  set_up_rows(ctx, path, tool, basics, 0.0, options);
+  set_up_body(ctx, tool, basics, nullptr);
+  PlanMetrics metrics;
+  set_up_obstacles(ctx, obstacles, metrics);
+  std::vector<MotionClearance> out(rows.size());
+  tbb::parallel_for(size_t{0}, rows.size(), [&](size_t k) {
+    const size_t i = rows[k];
+    if (i + 1 >= path.rows.size()) return;
+    const Vector3d a0 = oriented.rows[i].axis.normalized(), a1 = oriented.rows[i + 1].axis.normalized();
+    const BodyClearance c0 = ctx.clearance(i, a0), c1 = ctx.clearance(i + 1, a1);
+    SegmentCheck s = check_segment(ctx, i, a0, a1, c0, c1);
+    if (!s.failed) s = check_segment_beside_failing_rows(ctx, i, a0, a1, c0, c1);
+    if (s.failed) out[k] = {false, -s.deficit};
+  });
+  return out;
 }
 
 size_t uncleared_row_count(const std::vector<UnclearedRow>& uncleared) {

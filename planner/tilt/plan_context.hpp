@@ -95,6 +95,10 @@ struct SegmentCheck {
 // end rows are themselves below their clearance are not checked (those rows are corrected first).
 SegmentCheck check_segment(const PlanContext& ctx, size_t i, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
                            const BodyClearance& c0, const BodyClearance& c1);
+// The same beside a row below its clearance (either end): the motion must not come lower than the lower
+// of its rows (nor below the clearance, in the poses' unsigned measure). {} when both rows are clear.
+SegmentCheck check_segment_beside_failing_rows(const PlanContext& ctx, size_t i, const Eigen::Vector3d& a0,
+                                               const Eigen::Vector3d& a1, const BodyClearance& c0, const BodyClearance& c1);
 // Every motion between consecutive rows, in parallel (n - 1 results).
 std::vector<SegmentCheck> check_segments(const PlanContext& ctx, const std::vector<Eigen::Vector3d>& axes,
                                          const std::vector<BodyClearance>& clear);

@@ -79,13 +79,27 @@ void run_replan(const ReplanArgs& a) {
     // No window (every collision one no axis fixes): no clearance to give (it had thrown on infinity).
     const std::string clearance =
         r.windows.empty() || !std::isfinite(r.min_clearance_mm) ? "no window re-planned"
-        : clearance_measured(r.min_clearance_mm) ? "min clearance in the windows " + fixed(r.min_clearance_mm, 3) + " mm"
+        : clearance_measured(r.min_clearance_mm) ? "min clearance at the windows' rows " + fixed(r.min_clearance_mm, 3) + " mm"
                                                  : "no check surface or fixture near the windows";
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
               << " rows changed, " << clearance << "\n";
   }
   if (!r.unreachable.empty()) fail_on_rows(r.unreachable, "have no joint solution on the machine");
-  if (!r.uncleared.empty()) fail_on_rows(r.uncleared, "still below their clearance");
+  // The rows below their clearance and the motions between rows that come below it, in one line.
+  std::string failed;
+  if (!r.uncleared.empty()) {
+    failed = std::to_string(r.uncleared.size()) + " re-planned row(s) still below their clearance (rows:";
+    for (size_t k = 0; k < r.uncleared.size() && k < 10; ++k) failed += " " + std::to_string(r.uncleared[k]);
+    failed += r.uncleared.size() > 10 ? " ...)" : ")";
+  }
+  if (!r.uncleared_motions.empty()) {
+    failed += (failed.empty() ? "" : "; ") + std::to_string(r.uncleared_motions.size()) +
+              " re-planned motion(s) between rows come below their clearance (from row: margin mm):";
+    for (size_t k = 0; k < r.uncleared_motions.size() && k < 10; ++k)
+      failed += " " + std::to_string(r.uncleared_motions[k].first) + ": " + fixed(r.uncleared_motions[k].second, 3);
+    if (r.uncleared_motions.size() > 10) failed += " ...";
+  }
+  if (!failed.empty()) throw JobError(failed);
 }
 }  // namespace
 

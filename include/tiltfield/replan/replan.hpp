@@ -79,6 +79,9 @@ struct ReplanResult {
   size_t rows_below_safety = 0;  // rows of the windows still below their clearance afterwards
   double min_clearance_mm = 0;   // over the windows' rows, to check surfaces and fixtures (kNoObstacleClearance: none)
   std::vector<size_t> uncleared; // those rows
+  // Motions (from row i to row i + 1, i listed) within the windows or across their ends that come below
+  // their clearance where their rows do not (motion_clearances), with the lowest margin found, mm.
+  std::vector<std::pair<size_t, double>> uncleared_motions;
   std::vector<size_t> unreachable;  // rows of the windows without a joint solution on the scene's machine
 };
 

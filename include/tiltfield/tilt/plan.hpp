@@ -166,6 +166,22 @@ struct RowClearance {
 std::vector<RowClearance> row_clearances(const OrientedPath& path, const std::vector<size_t>& rows, const Tool& tool,
                                         const PlannerBasics& basics, const PlanObstacles& obstacles);
 
+// The motions between consecutive rows of an oriented path (the cutter location along the chord, the axis
+// along the great circle), proven as the planner proves its own to PlanOptions::between_rows_tolerance_mm:
+// for each i in `rows`, the motion from row i to row i + 1 of `oriented` over the points and normals of
+// `path` (the same rows). Beside a row below its clearance the motion must not come lower than the lower
+// of its rows; a motion whose tips lie farther apart than the link gap (the post's transit) is not
+// checked. Out, in the same order: whether it keeps the clearance and, where not, the lowest margin
+// found, mm (< 0).
+struct MotionClearance {
+  bool clear = true;
+  double margin_mm = 0;
+};
+std::vector<MotionClearance> motion_clearances(const ToolPath& path, const OrientedPath& oriented,
+                                               const std::vector<size_t>& rows, const Tool& tool,
+                                               const PlannerBasics& basics, const PlanObstacles& obstacles,
+                                               const PlanOptions& options);
+
 // Metrics that only depend on the axes (step, deg/mm, RMS second difference); the rest left as is.
 void axis_metrics(const OrientedPath& path, PlanMetrics& metrics);
 
