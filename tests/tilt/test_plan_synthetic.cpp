@@ -332,6 +332,23 @@ TEST(PlanSynthetic, AMotionBesideAFailingRowIsCheckedToo) {
   std::printf("motions into the post: %zu, listed motions: %zu\n", crashes, r.metrics.segments_below_safety);
 }
 
+// A channel between two tall walls, too narrow for the holder upright: the rows clear leaning back past the
+// walls' start or forward past their end, with one flip between. Every row clears (a 58-degree lead does,
+// by FCL) and only the flip's motion is listed (black-box testing: the cone search's result, which left
+// only the flip, was refused as worse than 18 rows 0.3 mm short, whose own flip went unchecked).
+TEST(PlanSynthetic, AChannelIsClearedByLeaningOutOfItWithOneFlip) {
+  const Mesh left = test::box_mesh({-20, 5, 0}, {60, 12, 90}, 100.0), right = test::box_mesh({-20, -12, 0}, {60, -5, 90}, 100.0);
+  const Tool tool = test::test_tool();
+  PlannerBasics basics;
+  const ToolPath path = test::polyline_path({{0, 0, 3}, {40, 0, 3}}, 0.5, {0, 0, 1});
+  const PlanResult r = plan_path(path, tool, {{&left, &right}, {}, {}}, basics, 1000, derive_plan_options(tool, basics, 1000));
+  EXPECT_EQ(r.metrics.rows_below_safety, 0u);
+  EXPECT_LE(r.metrics.segments_below_safety, 1u);
+  for (const UnclearedRow& u : r.uncleared) EXPECT_TRUE(u.between_rows) << "row " << u.row;
+  const test::FclCheck fcl = test::fcl_check(r.path, tool, {&left, &right}, basics);
+  EXPECT_GE(fcl.min_margin, -0.01);
+}
+
 // A path buried in a closed solid: every row is listed at its depth, and no motion between them (nearer
 // the solid's faces than its rows but clear of them) is listed with a positive margin (black-box testing:
 // 80 motions "0.25 short" with margin +0.25).
