@@ -13,9 +13,14 @@ std::vector<LocalFrame> local_frames(const ToolPath& path) {
   Eigen::Vector3d prev_f = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d& nrm = path.rows[i].n;
-    const size_t a = i == 0 ? 0 : i - 1;
-    const size_t b = i + 1 < n ? i + 1 : i;
-    Eigen::Vector3d d = path.rows[b].p - path.rows[a].p;
+    // Neighbours at the row's own point (a repeated row) are passed over: the first row of a path that
+    // repeats it had taken an arbitrary feed direction, its sideways axis read as lead (black-box testing).
+    const auto& p = path.rows;
+    size_t a = i == 0 ? 0 : i - 1;
+    size_t b = i + 1 < n ? i + 1 : i;
+    while (a > 0 && p[a].p == p[i].p) --a;
+    while (b + 1 < n && p[b].p == p[i].p) ++b;
+    Eigen::Vector3d d = p[b].p - p[a].p;
     d -= d.dot(nrm) * nrm;
     Eigen::Vector3d f;
     if (d.norm() > 1e-9) {

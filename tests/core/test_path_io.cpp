@@ -217,4 +217,15 @@ TEST(LocalFrame, LeadTiltRoundTripAndConventions) {
   }
 }
 
+// Repeated rows take the feed direction of the next distinct point (black-box testing: the first row of a
+// path whose every point was repeated took an arbitrary direction, and its sideways axis read as lead).
+TEST(LocalFrame, RepeatedRowsTakeTheFeedOfTheNextDistinctPoint) {
+  tf::ToolPath p;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 2; ++k) p.rows.push_back({{double(i), 0, 0}, {0, 0, 1}});
+  const auto frames = tf::local_frames(p);
+  for (size_t i = 0; i < frames.size(); ++i)
+    EXPECT_NEAR((frames[i].f - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12) << "row " << i;
+}
+
 }  // namespace
