@@ -42,6 +42,39 @@ TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   EXPECT_LT(mid.axis.y(), -0.02) << mid.axis.transpose();
 }
 
+// Two bosses on opposite sides of a straight pass, too close for the holder to pass between upright or
+// leaning: the re-plan leaves a motion between rows in the stock, and the collisions left say so (black-box
+// testing: "re-planning did not reduce the collisions", the motion unsaid).
+TEST(RunJob, ALeftCollisionSaysWhatTheLastReplanCouldNotClear) {
+  tf::test::TempDir dir;
+  tf::write_mesh(tf::test::box({0, 0, 0}, {60, 20, 9}), dir / "design.stl");
+  tf::Mesh stock = tf::test::box({0, 0, 0}, {60, 20, 10});
+  tf::append_mesh(stock, tf::test::box({8, 14, 10}, {18, 19.5, 45}));
+  tf::append_mesh(stock, tf::test::box({38, 0.5, 10}, {48, 6, 45}));
+  tf::write_mesh(stock, dir / "stock.stl");
+  std::string csv = "x,y,z,nx,ny,nz\n";
+  for (int i = 0; i <= 60; ++i) csv += std::to_string(i) + ",10,12,0,0,1\n";
+  tf::test::write_text(dir / "path.csv", csv);
+  fs::copy_file(fs::path(TILTFIELD_SOURCE_DIR) / "scenes/machines/table-table-bc.json", dir / "machine.json");
+  tf::test::write_text(dir / "scene.json", R"({
+    "design": "design.stl", "stock": {"mesh": "stock.stl"}, "machine": "machine.json",
+    "tool": {"type": "ball", "radius": 3, "flute_length": 12, "shank_radius": 3, "length": 30,
+             "holder": [{"radius": 12, "length": 40}]},
+    "path": {"file": "path.csv", "feed": 1000}, "planner": {"safety_distance": 1.0}})");
+  const tf::Scene scene = tf::load_scene(dir / "scene.json");
+  tf::JobOptions options;
+  options.out_dir = dir / "out";
+  options.resolution_mm = 0.25;
+  options.write_report = false;
+  const tf::JobSummary s = tf::run_job(scene, options);
+  ASSERT_GT(s.collisions_final, 0u) << tf::format_summary(s, scene);
+  ASSERT_FALSE(s.replan_shortfall.empty()) << tf::format_summary(s, scene);
+  bool said = false;
+  for (const auto& l : s.left) said |= l.reason.find("the last re-plan left") != std::string::npos ||
+                                      l.reason.find("(at the rows or on the motion between them)") != std::string::npos;
+  EXPECT_TRUE(said) << tf::format_summary(s, scene);
+}
+
 // Collisions the re-planned axes brought are counted apart: 33 gone and 15 new read "18 fixed" with the
 // reason "re-planning did not reduce the collisions" (black-box testing).
 TEST(RunJob, TheSummaryCountsCollisionsTheReplanningBroughtApart) {

@@ -41,6 +41,37 @@ TEST(Volume, BoxAndCylinderStock) {
   EXPECT_NEAR(tc.volume(), kPi * 100 * 20, kPi * 100 * 20 * 0.002);
 }
 
+// Every k-th ray, as they are: the stock's mesh on the coarse lattice closes, its box within a coarse
+// spacing of the true one, with a k-th of the fine mesh's faces squared (the re-planner's obstacle).
+TEST(Volume, CoarsenedStockKeepsItsRaysAndCloses) {
+  Stock box;
+  box.kind = Stock::Kind::Box;
+  box.box = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, 20, 5)};
+  const TriDexel fine = make_stock(box, lattice_for(Eigen::AlignedBox3d(box.box.min, box.box.max), 0.1, 1));
+  const TriDexel coarse = coarsened(fine, 3);
+  EXPECT_DOUBLE_EQ(coarse.lattice().h, 0.3);
+  EXPECT_EQ(coarse.lattice().origin, fine.lattice().origin);
+  for (int iv = 0; iv < coarse.lattice().n[2]; ++iv)  // grid 0: u along y, v along z
+    for (int iu = 0; iu < coarse.lattice().n[1]; ++iu) {
+      const bool inside = 3 * iu < fine.lattice().n[1] && 3 * iv < fine.lattice().n[2];
+      const Dexel& c = coarse.ray(0, iu, iv);
+      ASSERT_EQ(c.size(), inside ? fine.ray(0, 3 * iu, 3 * iv).size() : 0u);
+      if (c.size() > 0) {
+        EXPECT_EQ(c.begin()->lo, fine.ray(0, 3 * iu, 3 * iv).begin()->lo);
+      }
+    }
+  StockMeshOptions mo;
+  mo.colour_by_deviation = false;
+  const Mesh m = reconstruct_stock(coarse, nullptr, mo), mf = reconstruct_stock(fine, nullptr, mo);
+  EXPECT_TRUE(is_closed(m));
+  Eigen::AlignedBox3d bounds;
+  for (auto v : m.vertices()) bounds.extend(to_eigen(m.point(v)));
+  EXPECT_LT((bounds.min() - box.box.min).cwiseAbs().maxCoeff(), 0.3);
+  EXPECT_LT((bounds.max() - box.box.max).cwiseAbs().maxCoeff(), 0.3);
+  EXPECT_LT(m.n_faces() * 6, mf.n_faces());
+  EXPECT_THROW(coarsened(fine, 0), std::invalid_argument);
+}
+
 TEST(Volume, SphereMeshRebuiltFrom147Rays) {
   // The tri-dexel model's headline case (Lee): a sphere R = 10 on 3 x 7 x 7 rays. Rays at -8.57 .. 8.57 (spacing 20/7).
   const Mesh sphere = test::icosphere(10.0, 5);

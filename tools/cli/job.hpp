@@ -52,6 +52,8 @@ struct JobSummary {
   size_t rows_replanned = 0;
   std::vector<LeftCollisions> left;
   std::string replan_not_posted;  // why the last re-planned path could not be posted (the round not kept)
+  // What the last re-plan left below its clearance (rows, motions between rows), or empty.
+  std::string replan_shortfall;
   double removed_volume_mm3 = 0;
   StageSeconds seconds;
   std::vector<std::string> files;  // written, in order

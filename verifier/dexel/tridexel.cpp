@@ -1,9 +1,12 @@
 #include "tiltfield/dexel/tridexel.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <span>
+#include <stdexcept>
 
 #include "mesh_rays.hpp"
 #include "tiltfield/core/error.hpp"
@@ -122,6 +125,24 @@ double TriDexel::volume(int d) const {
 }
 
 double TriDexel::volume() const { return (volume(0) + volume(1) + volume(2)) / 3.0; }
+
+TriDexel coarsened(const TriDexel& fine, int k) {
+  if (k < 1) throw std::invalid_argument("coarsened: the factor must be at least 1");
+  const Lattice& f = fine.lattice();
+  Lattice c = f;
+  c.h = f.h * k;
+  for (int a = 0; a < 3; ++a) c.n[a] = (f.n[a] - 1) / k + 2;
+  TriDexel out(c);
+  tbb::parallel_for(0, 3, [&](int d) {
+    const int u = Lattice::u_axis(d), v = Lattice::v_axis(d);
+    for (int iv = 0; iv < c.n[v] && iv * k < f.n[v]; ++iv)
+      for (int iu = 0; iu < c.n[u] && iu * k < f.n[u]; ++iu) {
+        const Dexel& r = fine.ray(d, iu * k, iv * k);
+        out.ray(d, iu, iv).assign(r.data(), r.size());
+      }
+  });
+  return out;
+}
 
 size_t TriDexel::memory_bytes() const {
   size_t b = 0;

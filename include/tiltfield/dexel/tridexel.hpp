@@ -117,6 +117,12 @@ class TriDexel {
   std::array<std::vector<Dexel>, 3> rays_;
 };
 
+// In: a tri-dexel and a whole factor k >= 1. Out: every k-th ray of each grid (the same origin, spacing
+// k h), the rays exact as they are, with one empty node more on the high side of each axis so that the
+// surface of material reaching the fine lattice's last nodes still closes. What the coarse lattice does
+// not resolve (walls thinner than k h between its rays) may be lost in a mesh made from it.
+TriDexel coarsened(const TriDexel& fine, int k);
+
 // Stock from the scene's box, cylinder or closed mesh, on `lattice`. Meshes are ray cast with Embree 3
 // (winding of the outward-oriented faces, parity when the winding does not close). Throws InputError
 // ("stock", ...) for an empty or open stock mesh.
