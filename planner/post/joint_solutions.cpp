@@ -268,7 +268,10 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
       return false;
     };
     if (!fits(theta) && !fits(-theta)) {
-      s << " needs " << t << " = +-" << fixed(theta, 4) << " deg, outside the " << t << " limits [" << fixed(tl->min, 4)
+      // Within a digit of a limit, as many digits as show it outside (black-box testing: "needs A = +-100"
+      // for limits [-100, 50] was -100.000005).
+      const bool near_limit = std::abs(theta - std::abs(tl->min)) < 1e-4 || std::abs(theta - std::abs(tl->max)) < 1e-4;
+      s << " needs " << t << " = +-" << fixed(theta, near_limit ? 8 : 4) << " deg, outside the " << t << " limits [" << fixed(tl->min, 4)
         << ", " << fixed(tl->max, 4) << "]";
       return "unreachable pose: " + s.str();
     }

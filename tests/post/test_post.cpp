@@ -332,6 +332,15 @@ TEST(Post, UnreachableRowIsNamed) {
     EXPECT_EQ(e.row(), 7u);
     EXPECT_NE(std::string(e.what()).find("A limits"), std::string::npos) << e.what();
   }
+  // Just past a limit, the angle reads past it (black-box testing: "needs A = +-100" for -100.000005).
+  path.rows[7].axis = polar_axis(100.000005, 10.0);
+  try {
+    tf::post_program(path, job, tf::PostOptions{});
+    FAIL() << "no error";
+  } catch (const tf::PostRowError& e) {
+    EXPECT_NE(std::string(e.what()).find("+-100.000005"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("+-100 deg"), std::string::npos) << e.what();
+  }
   // The 3-axis machine refuses a tilted axis.
   job = job_for("xyz");
   try {
