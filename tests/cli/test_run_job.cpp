@@ -16,14 +16,19 @@ namespace {
 namespace fs = std::filesystem;
 using tf::test::write_hidden_post_scene;
 
+// `run` into dir/out at `resolution_mm`, without the HTML report.
+tf::JobSummary run_without_report(const tf::Scene& scene, const tf::test::TempDir& dir, double resolution_mm) {
+  tf::JobOptions options;
+  options.out_dir = dir / "out";
+  options.resolution_mm = resolution_mm;
+  options.write_report = false;
+  return tf::run_job(scene, options);
+}
+
 TEST(RunJob, HiddenStockObstacleIsFoundAndReplannedAway) {
   tf::test::TempDir dir;
   const tf::Scene scene = tf::load_scene(write_hidden_post_scene(dir));
-  tf::JobOptions options;
-  options.out_dir = dir / "out";
-  options.resolution_mm = 0.4;
-  options.write_report = false;
-  const tf::JobSummary s = tf::run_job(scene, options);
+  const tf::JobSummary s = run_without_report(scene, dir, 0.4);
   EXPECT_GT(s.collisions_first, 0u) << tf::format_summary(s, scene);
   EXPECT_EQ(s.collisions_final, 0u) << tf::format_summary(s, scene);
   EXPECT_GE(s.rounds, 1);
@@ -62,11 +67,7 @@ TEST(RunJob, ALeftCollisionSaysWhatTheLastReplanCouldNotClear) {
              "holder": [{"radius": 12, "length": 40}]},
     "path": {"file": "path.csv", "feed": 1000}, "planner": {"safety_distance": 1.0}})");
   const tf::Scene scene = tf::load_scene(dir / "scene.json");
-  tf::JobOptions options;
-  options.out_dir = dir / "out";
-  options.resolution_mm = 0.25;
-  options.write_report = false;
-  const tf::JobSummary s = tf::run_job(scene, options);
+  const tf::JobSummary s = run_without_report(scene, dir, 0.25);
   ASSERT_GT(s.collisions_final, 0u) << tf::format_summary(s, scene);
   ASSERT_FALSE(s.replan_shortfall.empty()) << tf::format_summary(s, scene);
   bool said = false;
