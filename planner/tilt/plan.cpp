@@ -8,10 +8,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <stdexcept>
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <thread>
 
 #include "dynamics.hpp"
@@ -121,6 +121,21 @@ void set_up_obstacles(PlanContext& ctx, const PlanObstacles& obstacles, PlanMetr
   std::vector<Vector3d> cl;
   for (const CLPoint& r : ctx.path->rows) cl.push_back(r.p);
   ctx.inside_solid = points_inside_solids({obstacles.check_surfaces, obstacles.fixtures}, cl);
+}
+
+// Closed meshes whose faces point inward are taken as open sheets (distances only): a path buried in one
+// had planned clear with no word (black-box testing). Named in the notes, with what to do.
+void note_inward_solids(const PlanObstacles& obstacles, std::vector<std::string>& notes) {
+  const std::pair<const char*, const std::vector<const Mesh*>*> sets[] = {{"check_surfaces", &obstacles.check_surfaces},
+                                                                           {"fixtures", &obstacles.fixtures}};
+  for (const auto& [name, meshes] : sets)
+    for (size_t k = 0; k < meshes->size(); ++k) {
+      const Mesh& m = *(*meshes)[k];
+      if (m.n_faces() > 0 && is_closed(m) && signed_volume(m) < 0.0)
+        notes.push_back(std::string(name) + "[" + std::to_string(k) +
+                        "] is closed but its faces point inward: it is taken as an open sheet (distances only, no "
+                        "inside); flip its faces to make it a solid");
+    }
 }
 
 // Rows whose cutter location lies inside a solid obstacle, named in the notes (the first of each set).
@@ -423,6 +438,7 @@ PlanResult plan_path(const ToolPath& path, const Tool& tool, const PlanObstacles
   report(progress, "plan", 0.0);
   set_up_obstacles(ctx, obstacles, result.metrics);
   note_rows_inside_solids(ctx, result.notes);
+  note_inward_solids(obstacles, result.notes);
   set_up_end_form(ctx, obstacles.design);
   const bool fixed_axis = machine && machine->kinematics == KinematicsType::XYZ;
   if (!fixed_axis) result.metrics.rows_lead_raised = lead_nominal_out_of_design(ctx, result.notes);

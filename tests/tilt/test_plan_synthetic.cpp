@@ -367,6 +367,15 @@ TEST(PlanSynthetic, MotionsBetweenRowsBuriedInASolidAreNotListed) {
     EXPECT_FALSE(u.between_rows) << "row " << u.row;
     EXPECT_LT(u.margin_mm, 0.0) << "row " << u.row;
   }
+  // The same solid with its faces turned inward is an open sheet, and the notes say so (black-box testing:
+  // it planned clear with no word).
+  TriangleArrays a = to_arrays(block);
+  a.F.col(1).swap(a.F.col(2));
+  const Mesh inward = mesh_from_arrays(a.V, a.F);
+  const PlanResult inside_out = plan_path(path, tool, {{&inward}, {}, {}}, basics, 1000, derive_plan_options(tool, basics, 1000));
+  EXPECT_TRUE(std::any_of(inside_out.notes.begin(), inside_out.notes.end(), [](const std::string& n) {
+    return n.find("check_surfaces[0] is closed but its faces point inward") != std::string::npos;
+  }));
 }
 
 }  // namespace tf
