@@ -18,9 +18,12 @@ std::vector<LocalFrame> local_frames(const ToolPath& path) {
     const auto& p = path.rows;
     size_t a = i == 0 ? 0 : i - 1;
     size_t b = i + 1 < n ? i + 1 : i;
-    while (a > 0 && p[a].p == p[i].p) --a;
-    while (b + 1 < n && p[b].p == p[i].p) ++b;
     Eigen::Vector3d d = p[b].p - p[a].p;
+    if (d.squaredNorm() == 0.0) {  // (a reversal's turning point keeps the neighbours it has)
+      while (a > 0 && p[a].p == p[i].p) --a;
+      while (b + 1 < n && p[b].p == p[i].p) ++b;
+      d = p[b].p - p[a].p;
+    }
     d -= d.dot(nrm) * nrm;
     Eigen::Vector3d f;
     if (d.norm() > 1e-9) {

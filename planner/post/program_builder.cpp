@@ -74,9 +74,22 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
     b.feed = feed;
     // Under TCP, F is the tip's speed and the controller moves the axes to keep it: a turn about a tip
     // that moves little had asked C for 44 000 deg/min of a machine's 1 800 (black-box testing). The tip
-    // slows so that no axis exceeds its top speed.
-    if (tcp_ && d_rot >= 1e-9 && d_tip >= 1e-9)
-      b.feed = d_tip / std::max({d_tip / feed, d_xyz / job_.machine.max_feed, d_rot / job_.machine.max_rotary_feed});
+    // slows so that no axis exceeds its top speed, timed from the ends as written (each rounded by up to
+    // half a unit); a tip that may not move as written reads F as degrees a minute (a rotary-only move).
+    if (tcp_ && d_rot >= 1e-9) {
+      const double tip = d_tip - std::sqrt(3.0) * kAxisUnit, rot = d_rot + kAxisUnit;
+      if (tip <= 0.0) {
+        b.feed = std::min(feed, job_.machine.max_rotary_feed);
+      } else {
+        const double axes = std::max((d_xyz + std::sqrt(3.0) * kAxisUnit) / job_.machine.max_feed,
+                                     rot / job_.machine.max_rotary_feed);
+        if (tip / feed < axes) {
+          const double capped = tip / axes;
+          // Rounded down to the 2 decimals written (gcode_writer rounds to nearest), where that leaves any.
+          b.feed = std::floor(capped * 100.0) >= 1.0 ? std::floor(capped * 100.0) / 100.0 : capped;
+        }
+      }
+    }
   } else {
     // Inverse time: the tip at the feed, unless an axis would exceed its top speed. The controller times
     // the axes' moves as written, each end rounded (kAxisDecimals): a block of 0.0002 mm could read 50 %

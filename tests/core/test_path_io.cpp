@@ -226,6 +226,12 @@ TEST(LocalFrame, RepeatedRowsTakeTheFeedOfTheNextDistinctPoint) {
   const auto frames = tf::local_frames(p);
   for (size_t i = 0; i < frames.size(); ++i)
     EXPECT_NEAR((frames[i].f - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12) << "row " << i;
+  // A reversal on a repeated point turns there, between the two rows (review): 3 4 5 5 4 3 on X.
+  tf::ToolPath back;
+  for (double x : {3.0, 4.0, 5.0, 5.0, 4.0, 3.0}) back.rows.push_back({{x, 0, 0}, {0, 0, 1}});
+  const auto turned = tf::local_frames(back);
+  EXPECT_NEAR(turned[2].f.x(), 1.0, 1e-12);
+  EXPECT_NEAR(turned[3].f.x(), -1.0, 1e-12);
 }
 
 }  // namespace

@@ -271,6 +271,13 @@ TEST_F(ScheduleCli, InchProgramTakesItsFeedsInInches) {
   for (size_t i = 1; i <= 3; ++i) EXPECT_LE(p2.blocks[i].feed, p1.blocks[i].feed + 1e-9) << "block " << i + 1;
   EXPECT_NEAR(p2.blocks.back().feed, 5000.0, 0.01);  // the air move: the machine's max feed, 196.8503 in/min
   EXPECT_NE(read_text(dir / "p2.ngc").find("F196.8503"), std::string::npos) << read_text(dir / "p2.ngc");
+  // At the minimum feed, 10 mm/min is written as at least 10 (0.3937 in/min would read 9.99998).
+  const auto slow = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                                  " --schedule-feed 1 -o " + (dir / "p3.ngc").string());
+  ASSERT_EQ(slow.exit_code, 0) << slow.out;
+  const std::string text = read_text(dir / "p3.ngc");
+  EXPECT_NE(text.find("F0.3938"), std::string::npos) << text;
+  EXPECT_EQ(text.find("F0.3937"), std::string::npos) << text;
 }
 
 // A spline's one F covers all its chords: the rewritten F keeps every chord under the limit.

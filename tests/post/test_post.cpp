@@ -377,28 +377,6 @@ TEST(Post, JointTextHasInverseTimeAndNoScientificNotation) {
   }
 }
 
-// Under TCP, F is the tip's speed: where the axis turns fast about a tip that moves little, the tip
-// slows so that no rotary exceeds max_rotary_feed (black-box testing: C at 44 000 deg/min of 1 800).
-TEST(Post, TcpFeedKeepsTheRotariesWithinTheirSpeed) {
-  const tf::PostJob job = job_for("table-table-ac");
-  tf::OrientedPath path = impeller_like_path(40);
-  for (size_t i = 20; i < path.rows.size(); ++i) path.rows[i].axis = polar_axis(35.0, 60.0);  // a sharp turn
-  tf::PostOptions opt;
-  opt.dialect = tf::Dialect::Tcp;
-  const tf::Program prog = tf::post_program(path, job, opt);
-  size_t turning = 0;
-  for (size_t k = 1; k < prog.blocks.size(); ++k) {
-    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
-    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
-    const double tip = Eigen::Vector3d(b.target.x - a.target.x, b.target.y - a.target.y, b.target.z - a.target.z).norm();
-    const double rot = std::max({std::abs(b.target.a - a.target.a), std::abs(b.target.b - a.target.b), std::abs(b.target.c - a.target.c)});
-    if (tip < 1e-6 || rot < 1e-6) continue;
-    ++turning;
-    EXPECT_LE(rot / (tip / b.feed), job.machine.max_rotary_feed * (1 + 1e-6)) << "block " << k;
-  }
-  EXPECT_GT(turning, 0u);
-}
-
 TEST(Post, TcpDialectWritesTipsWithTheTcpCode) {
   const tf::PostJob job = job_for("head-head-ac");
   const tf::OrientedPath path = impeller_like_path(40);

@@ -135,13 +135,14 @@ bool any_fixable(const Scene& scene, const std::vector<Collision>& collisions) {
 }
 
 // The in-process stock for the re-planner's obstacle, which keeps only the shank and holder a clearance
-// away: on a lattice up to a quarter of that clearance apart (every k-th ray of the verifier's), which
+// away: on a lattice up to a quarter of that clearance apart, and 1 mm (every k-th ray of the verifier's), which
 // the mesh follows within about its spacing. At the verifier's own spacing the obstacle of a 140 mm
 // block at 0.1 mm had 2.5 M faces and took 15 s a round to make and plan against.
 TriDexel obstacle_lattice(const TriDexel& stock, const PlannerBasics& basics) {
   const double clearance = std::min(basics.shank_clearance.value_or(basics.safety_distance),
                                     basics.holder_clearance.value_or(basics.safety_distance));
-  const int k = std::max(1, static_cast<int>(std::floor(0.25 * clearance / stock.lattice().h)));
+  // At most 1 mm apart whatever the clearance: a boss narrower than the rays' spacing may drop out.
+  const int k = std::max(1, static_cast<int>(std::floor(std::min(0.25 * clearance, 1.0) / stock.lattice().h)));
   return coarsened(stock, k);
 }
 

@@ -74,7 +74,10 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
     // Rounded down to the precision the feed is written with, in the program's units, so the written
     // feed keeps the limit.
     const WrittenFeed w = written_feed(b);
-    const double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) / w.unit * w.scale) / w.scale * w.unit;
+    double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) / w.unit * w.scale) / w.scale * w.unit;
+    // The minimum feed is written at least (10 mm/min rounded down in inches would read 9.99998).
+    if (b.feed_mode != FeedMode::InverseTime && f < o.min_feed && path / t >= o.min_feed * (1 - 1e-12))
+      f = std::ceil(o.min_feed / w.unit * w.scale) / w.scale * w.unit;
     if (fixed(f / w.unit, w.decimals) == fixed(b.feed / w.unit, w.decimals)) continue;
     if (b.fixed_feed) {
       if (f < b.feed)

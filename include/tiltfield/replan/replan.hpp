@@ -80,7 +80,8 @@ struct ReplanResult {
   double min_clearance_mm = 0;   // over the windows' rows, to check surfaces and fixtures (kNoObstacleClearance: none)
   std::vector<size_t> uncleared; // those rows
   // Motions (from row i to row i + 1, i listed) within the windows or across their ends that come below
-  // their clearance where their rows do not (motion_clearances), with the lowest margin found, mm.
+  // their clearance, or beside a row below it lower than that row (motion_clearances), with the lowest
+  // margin found, mm.
   std::vector<std::pair<size_t, double>> uncleared_motions;
   std::vector<size_t> unreachable;  // rows of the windows without a joint solution on the scene's machine
 };

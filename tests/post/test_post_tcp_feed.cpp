@@ -1,0 +1,44 @@
+// Under TCP, F is the tip's speed: the post slows the tip where the axes would exceed their top speed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "post_fixture.hpp"
+
+namespace {
+
+using namespace post_test;
+
+// What the controller reads: the axis words to 4 decimals, F to 2 (or as many as a small feed needs).
+double written(double v, double scale) { return std::round(v * scale) / scale; }
+
+// Where the axis turns fast about a tip that moves little, no rotary exceeds max_rotary_feed, timed as
+// written (black-box testing: C at 44 000 deg/min of a machine's 1 800).
+TEST(PostTcpFeed, TheRotariesKeepTheirTopSpeedAsWritten) {
+  const tf::PostJob job = job_for("table-table-ac");
+  tf::OrientedPath path = impeller_like_path(40);
+  for (size_t i = 20; i < path.rows.size(); ++i) path.rows[i].axis = polar_axis(35.0, 60.0);  // a sharp turn
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Tcp;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  size_t turning = 0;
+  for (size_t k = 1; k < prog.blocks.size(); ++k) {
+    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
+    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
+    const auto w = [](double v) { return written(v, 1e4); };
+    const double tip = Eigen::Vector3d(w(b.target.x) - w(a.target.x), w(b.target.y) - w(a.target.y),
+                                       w(b.target.z) - w(a.target.z)).norm();
+    const double rot = std::max({std::abs(w(b.target.a) - w(a.target.a)), std::abs(w(b.target.b) - w(a.target.b)),
+                                 std::abs(w(b.target.c) - w(a.target.c))});
+    if (rot < 1e-6) continue;
+    ++turning;
+    const double f = b.feed >= 0.01 ? written(b.feed, 1e2) : b.feed;
+    // A block whose tip does not move as written reads F as degrees a minute (a rotary-only move).
+    const double minutes = tip > 0 ? tip / f : rot / f;
+    EXPECT_LE(rot / minutes, job.machine.max_rotary_feed * (1 + 1e-3)) << "block " << k;
+  }
+  EXPECT_GT(turning, 0u);
+}
+
+}  // namespace
