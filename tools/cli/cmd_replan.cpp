@@ -18,13 +18,13 @@ struct ReplanArgs {
   ReplanOptions options;
 };
 
-// The job fails naming the first ten of `rows` (0-based), after the output was written.
-[[noreturn]] void fail_on_rows(const std::vector<size_t>& rows, const std::string& what) {
+// "N re-planned row(s) WHAT (rows: the first ten of `rows`, 0-based)".
+std::string rows_failing(const std::vector<size_t>& rows, const std::string& what) {
   std::ostringstream msg;
   msg << rows.size() << " re-planned row(s) " << what << " (rows:";
   for (size_t k = 0; k < rows.size() && k < 10; ++k) msg << " " << rows[k];
   msg << (rows.size() > 10 ? " ...)" : ")");
-  throw JobError(msg.str());
+  return msg.str();
 }
 
 void run_replan(const ReplanArgs& a) {
@@ -84,14 +84,11 @@ void run_replan(const ReplanArgs& a) {
     std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
               << " rows changed, " << clearance << "\n";
   }
-  if (!r.unreachable.empty()) fail_on_rows(r.unreachable, "have no joint solution on the machine");
-  // The rows below their clearance and the motions between rows that come below it, in one line.
+  // The job fails after the output was written. The rows below their clearance and the motions between
+  // rows that come below it in one line.
+  if (!r.unreachable.empty()) throw JobError(rows_failing(r.unreachable, "have no joint solution on the machine"));
   std::string failed;
-  if (!r.uncleared.empty()) {
-    failed = std::to_string(r.uncleared.size()) + " re-planned row(s) still below their clearance (rows:";
-    for (size_t k = 0; k < r.uncleared.size() && k < 10; ++k) failed += " " + std::to_string(r.uncleared[k]);
-    failed += r.uncleared.size() > 10 ? " ...)" : ")";
-  }
+  if (!r.uncleared.empty()) failed = rows_failing(r.uncleared, "still below their clearance");
   if (!r.uncleared_motions.empty()) {
     failed += (failed.empty() ? "" : "; ") + std::to_string(r.uncleared_motions.size()) +
               " re-planned motion(s) between rows come below their clearance (from row: margin mm):";
