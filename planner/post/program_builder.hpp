@@ -81,6 +81,10 @@ class Builder {
     return kin_.forward(j);
   }
 
+  // The machine's linear axes' peak speed over a TCP cutting block from (p0, j0) to (p1, j1), as a length
+  // per block (mm): the block's time times it is their top speed.
+  double tcp_linear_path(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1) const;
+
   // The machine's joints for programmed ones: under TCP the program holds the tip, and the machine's
   // linear axes are those that put it there at the rotaries (the limits are theirs).
   Joints machine_joints(const Joints& programmed) const {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "post_fixture.hpp"
+#include "tiltfield/core/kinematics.hpp"
 
 namespace {
 
@@ -37,6 +38,51 @@ TEST(PostTcpFeed, TheRotariesKeepTheirTopSpeedAsWritten) {
     // A block whose tip does not move as written reads F as degrees a minute (a rotary-only move).
     const double minutes = tip > 0 ? tip / f : rot / f;
     EXPECT_LE(rot / minutes, job.machine.max_rotary_feed * (1 + 1e-3)) << "block " << k;
+  }
+  EXPECT_GT(turning, 0u);
+}
+
+// Under TCP the linear axes follow the tilting table on arcs: a turn of A by 85 deg in one block (the
+// axis on a great circle) with the tip 130 mm from A's centre drives Y and Z 10 % faster than their
+// ends' chord says. Judged on the interpolation
+// the controller runs (tip and rotaries linear), sampled finely: no instant above max_feed.
+TEST(PostTcpFeed, TheLinearAxesKeepTheirTopSpeedAlongTheirArcs) {
+  const tf::PostJob job = job_for("table-table-ac");
+  tf::OrientedPath path;
+  for (int i = 0; i < 8; ++i) {
+    tf::OrientedRow row;
+    row.p = {0.2 * i, 150.0, 20.0};
+    row.axis = i < 4 ? polar_axis(40.0, -90.0) : polar_axis(45.0, 90.0);  // A turns between rows 3 and 4
+    path.rows.push_back(row);
+  }
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Tcp;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  const tf::Kinematics kin(job.machine, job.tool.length);
+  const auto forward = [&](const tf::Joints& q) { return kin.forward(q); };
+  size_t turning = 0;
+  for (size_t k = 1; k < prog.blocks.size(); ++k) {
+    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
+    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
+    const double rot = std::max({std::abs(b.target.a - a.target.a), std::abs(b.target.c - a.target.c)});
+    const Eigen::Vector3d tip0(a.target.x, a.target.y, a.target.z), tip1(b.target.x, b.target.y, b.target.z);
+    if (rot < 1.0 || (tip1 - tip0).norm() < 1e-3) continue;
+    ++turning;
+    const double minutes = (tip1 - tip0).norm() / b.feed;
+    const int n = 2000;
+    double fastest = 0.0;
+    Eigen::Vector3d prev;
+    for (int i = 0; i <= n; ++i) {
+      const double s = double(i) / n;
+      tf::Joints q = a.target;
+      q.a += s * (b.target.a - a.target.a), q.c += s * (b.target.c - a.target.c);
+      const tf::Joints m = tf::joints_for_tip(forward, q, tip0 + s * (tip1 - tip0));
+      const Eigen::Vector3d xyz(m.x, m.y, m.z);
+      if (i > 0) fastest = std::max(fastest, (xyz - prev).norm() * n / minutes);
+      prev = xyz;
+    }
+    EXPECT_LE(fastest, job.machine.max_feed * (1 + 1e-3)) << "block " << k << " turning " << rot << " deg";
+    EXPECT_GE(fastest, job.machine.max_feed * 0.98) << "block " << k << ": slowed more than the axes need";
   }
   EXPECT_GT(turning, 0u);
 }
