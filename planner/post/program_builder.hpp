@@ -81,6 +81,9 @@ class Builder {
     return kin_.forward(j);
   }
 
+  // Every axis of j as the program writes it (kAxisDecimals in the work offset's frame).
+  Joints written(const Joints& j) const;
+
   // The machine's linear axes' peak speed over a TCP cutting block from (p0, j0) to (p1, j1), as a length
   // per block (mm): the block's time times it is their top speed.
   double tcp_linear_path(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1) const;

@@ -207,9 +207,13 @@ TEST_F(ScheduleCli, FeedsOnlyWhereTheLineSetsThem) {
   write_text(dir / "slot.ngc", "o<slot> sub\nG1 X30 F600\no<slot> endsub\n");
   write_text(dir / "p.ngc", "G21 G90 G94\nG0 X-10 Y0 Z8\no<slot> call\nG0 Z15\nG0 X-10 Y5\nG0 Z8\nM3 S600\nG33 X30 K1\nM30\n");
   const auto r = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
-                               " --schedule-feed 6000 -o " + (dir / "p2.ngc").string());
+                               " --schedule-feed 6000 -o " + (dir / "p2.ngc").string() + " --report " +
+                               (dir / "r.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(read_text(dir / "p2.ngc"), read_text(dir / "p.ngc"));  // no line could take the new feeds
+  // The report keeps the schedule's warnings, not stderr alone (black-box testing).
+  const std::string report_text = read_text(dir / "r.json");
+  EXPECT_NE(report_text.find("feed schedule: 2 feed blocks"), std::string::npos) << report_text.substr(0, 3000);
   // The schedule names them: the same program's blocks over the limit.
   GcodeOptions options;
   options.subroutine_dirs = {dir.path()};

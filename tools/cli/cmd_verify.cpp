@@ -119,7 +119,12 @@ void run_verify(const VerifyArgs& a) {
     // -o is the rewritten program here (`verify --schedule-feed V -o PROGRAM2.ngc`; --report names the JSON).
     const FeedSchedule fs = schedule_feeds(program, result.report, so);
     const std::string text = read_text_file(a.program, "G-code file");
-    if (!a.report.empty()) write_verify_json(result.report, a.report);
+    if (!a.report.empty()) {
+      // The report holds what the schedule could not do too (a block left above the limit), not stderr alone.
+      VerifyReport with_schedule = result.report;
+      for (const std::string& w : fs.warnings) with_schedule.warnings.push_back("feed schedule: " + w);
+      write_verify_json(with_schedule, a.report);
+    }
     write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
     print_feed_schedule("verify", so, fs);
   } else {

@@ -1,4 +1,5 @@
-// Under TCP, F is the tip's speed: the post slows the tip where the axes would exceed their top speed.
+// The speeds a program asks for, read from what it writes: under TCP F is the tip's speed and the post
+// slows it where the axes would exceed their top speed; under G93 F times the block as written.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,6 +86,40 @@ TEST(PostTcpFeed, TheLinearAxesKeepTheirTopSpeedAlongTheirArcs) {
     EXPECT_GE(fastest, job.machine.max_feed * 0.98) << "block " << k << ": slowed more than the axes need";
   }
   EXPECT_GT(turning, 0u);
+}
+
+// Under G93 F is 1 / the block's minutes, and the tip moves between the ends as written (4 decimals).
+// Through the singular pole with no pole cone, the post splits moves down to a few micrometres, where the
+// rounded ends had moved the tip 1 % faster than the feed (black-box testing).
+TEST(PostInverseTime, TheTipKeepsItsFeedAsWritten) {
+  const tf::PostJob job = job_for("table-table-ac");
+  tf::OrientedPath path;
+  for (int k = 0; k < 41; ++k) {
+    const double t = -20.0 + 40.0 * k / 40.0;
+    tf::OrientedRow row;
+    row.p = {-10.0 + 20.0 * k / 40.0, 5.0, 3.0};
+    row.axis = t < 0 ? polar_axis(-t, 180.0) : polar_axis(t, 90.0);  // in along 180 deg, through the pole, out along 90
+    path.rows.push_back(row);
+  }
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Joint;
+  opt.pole_tolerance_deg = 0.0;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  const tf::Kinematics kin(job.machine, job.tool.length);
+  const auto w = [](tf::Joints j) {
+    for (int k = 0; k < 6; ++k) j.axis(k) = written(j.axis(k), 1e4);
+    return j;
+  };
+  size_t timed = 0;
+  for (size_t k = 1; k < prog.blocks.size(); ++k) {
+    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
+    if (b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::InverseTime) continue;
+    ++timed;
+    const double tip = (kin.forward(w(b.target)).tip - kin.forward(w(a.target)).tip).norm();
+    const double minutes = 1.0 / written(b.feed, 1e4);
+    EXPECT_LE(tip / minutes, job.feed * (1 + 1e-3)) << "block " << k << ", the tip moving " << tip << " mm";
+  }
+  EXPECT_GT(timed, 20u);
 }
 
 }  // namespace
