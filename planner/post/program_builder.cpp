@@ -74,21 +74,24 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
     b.feed = feed;
     // Under TCP, F is the tip's speed and the controller moves the axes to keep it: a turn about a tip
     // that moves little had asked C for 44 000 deg/min of a machine's 1 800 (black-box testing). The tip
-    // slows so that no axis exceeds its top speed, timed from the ends as written (each rounded by up to
-    // half a unit); a tip that may not move as written reads F as degrees a minute (a rotary-only move).
+    // slows so that no axis exceeds its top speed, timed from the ends as written; where the written tip
+    // does not move, F is read as degrees a minute (a rotary-only move), and the linear axes, following
+    // the part round, still keep theirs.
     if (tcp_ && d_rot >= 1e-9) {
-      const double tip = d_tip - std::sqrt(3.0) * kAxisUnit, rot = d_rot + kAxisUnit;
-      if (tip <= 0.0) {
-        b.feed = std::min(feed, job_.machine.max_rotary_feed);
+      const Joints w0 = written(target(p0, j0)), w1 = written(target(p1, j1));
+      const double tip = Eigen::Vector3d(w1.x - w0.x, w1.y - w0.y, w1.z - w0.z).norm();
+      const double rot = std::max({std::abs(w1.a - w0.a), std::abs(w1.b - w0.b), std::abs(w1.c - w0.c)});
+      const double linear = tcp_linear_path(w0, w1);
+      double capped = feed;
+      if (tip == 0.0) {
+        capped = std::min(feed, job_.machine.max_rotary_feed);
+        if (linear > 0.0) capped = std::min(capped, job_.machine.max_feed * rot / linear);
       } else {
-        const double axes = std::max((tcp_linear_path(p0, j0, p1, j1) + std::sqrt(3.0) * kAxisUnit) / job_.machine.max_feed,
-                                     rot / job_.machine.max_rotary_feed);
-        if (tip / feed < axes) {
-          const double capped = tip / axes;
-          // Rounded down to the 2 decimals written (gcode_writer rounds to nearest), where that leaves any.
-          b.feed = std::floor(capped * 100.0) >= 1.0 ? std::floor(capped * 100.0) / 100.0 : capped;
-        }
+        const double minutes = std::max({tip / feed, linear / job_.machine.max_feed, rot / job_.machine.max_rotary_feed});
+        capped = tip / minutes;
       }
+      // Rounded down to the 2 decimals written (gcode_writer rounds to nearest), where that leaves any.
+      if (capped < feed) b.feed = std::floor(capped * 100.0) >= 1.0 ? std::floor(capped * 100.0) / 100.0 : capped;
     }
   } else {
     // Inverse time: the tip at the feed, unless an axis would exceed its top speed. The controller times
@@ -105,18 +108,17 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
   prog_.blocks.push_back(b);
 }
 
-double Builder::tcp_linear_path(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1) const {
+double Builder::tcp_linear_path(const Joints& from, const Joints& to) const {
   // The controller interpolates the tip and the rotaries linearly; the linear axes follow the part round
   // on arcs, so the chord of their ends undercounts their speed (by 11 % over a quarter turn). Sampled
   // every degree of the largest rotary turn, the longest piece times the pieces is the peak speed over
   // the block's time, in mm per block.
-  const double turn = std::max({std::abs(j1.a - j0.a), std::abs(j1.b - j0.b), std::abs(j1.c - j0.c)});
+  const double turn = std::max({std::abs(to.a - from.a), std::abs(to.b - from.b), std::abs(to.c - from.c)});
   const int n = std::max(1, static_cast<int>(std::min(720.0, std::ceil(turn))));
-  const auto forward = [this](const Joints& q) { return kin_.forward(q); };
   const auto at = [&](double s) {
-    Joints q = j0;
-    q.a += s * (j1.a - j0.a), q.b += s * (j1.b - j0.b), q.c += s * (j1.c - j0.c);
-    const Joints m = joints_for_tip(forward, q, p0.tip + s * (p1.tip - p0.tip));
+    Joints q = from;
+    for (int k = 0; k < 6; ++k) q.axis(k) += s * (to.axis(k) - from.axis(k));
+    const Joints m = machine_joints(q);
     return Eigen::Vector3d(m.x, m.y, m.z);
   };
   Eigen::Vector3d prev = at(0.0);

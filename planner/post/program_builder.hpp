@@ -84,9 +84,9 @@ class Builder {
   // Every axis of j as the program writes it (kAxisDecimals in the work offset's frame).
   Joints written(const Joints& j) const;
 
-  // The machine's linear axes' peak speed over a TCP cutting block from (p0, j0) to (p1, j1), as a length
-  // per block (mm): the block's time times it is their top speed.
-  double tcp_linear_path(const ToolPose& p0, const Joints& j0, const ToolPose& p1, const Joints& j1) const;
+  // The machine's linear axes' peak speed over a TCP block between programmed joints (the tip and the
+  // rotaries), as a length per block (mm): divided by the block's time, it is their top speed.
+  double tcp_linear_path(const Joints& from, const Joints& to) const;
 
   // The machine's joints for programmed ones: under TCP the program holds the tip, and the machine's
   // linear axes are those that put it there at the rotaries (the limits are theirs).

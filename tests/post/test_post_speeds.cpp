@@ -88,6 +88,53 @@ TEST(PostTcpFeed, TheLinearAxesKeepTheirTopSpeedAlongTheirArcs) {
   EXPECT_GT(turning, 0u);
 }
 
+// A turn about a fixed tip under TCP is a rotary-only move (F in degrees a minute), and the part turns
+// under the tip: 150 mm from C's centre, C at 7 200 deg/min drives X and Y at 18 850 mm/min.
+TEST(PostTcpFeed, ARotaryOnlyTurnKeepsTheLinearAxesTopSpeed) {
+  tf::PostJob job = job_for("table-table-ac");
+  job.feed = 20000.0;  // capped by max_feed, then by the axes
+  tf::OrientedPath path;
+  const Eigen::Vector3d tip(150.0, 0.0, 20.0);
+  for (int i = 0; i <= 30; ++i) {
+    tf::OrientedRow row;
+    row.axis = polar_axis(30.0, 3.0 * i);
+    row.p = tip + 3.0 * row.axis;  // the ball's centre over a fixed tip
+    path.rows.push_back(row);
+  }
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Tcp;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  const tf::Kinematics kin(job.machine, job.tool.length);
+  const auto forward = [&](const tf::Joints& q) { return kin.forward(q); };
+  size_t turning = 0;
+  for (size_t k = 1; k < prog.blocks.size(); ++k) {
+    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
+    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
+    const auto w = [](double v) { return written(v, 1e4); };
+    const Eigen::Vector3d tip0(w(a.target.x), w(a.target.y), w(a.target.z)), tip1(w(b.target.x), w(b.target.y), w(b.target.z));
+    const double rot = std::max(std::abs(w(b.target.a) - w(a.target.a)), std::abs(w(b.target.c) - w(a.target.c)));
+    if (rot < 1e-6 || (tip1 - tip0).norm() > 0.0) continue;
+    ++turning;
+    const double minutes = rot / written(b.feed, 1e2);
+    EXPECT_LE(rot / minutes, job.machine.max_rotary_feed * (1 + 1e-3)) << "block " << k;
+    const int n = 500;
+    double fastest = 0.0;
+    Eigen::Vector3d prev;
+    for (int i = 0; i <= n; ++i) {
+      const double s = double(i) / n;
+      tf::Joints q = a.target;
+      q.a = w(a.target.a) + s * (w(b.target.a) - w(a.target.a));
+      q.c = w(a.target.c) + s * (w(b.target.c) - w(a.target.c));
+      const tf::Joints m = tf::joints_for_tip(forward, q, tip0);
+      const Eigen::Vector3d xyz(m.x, m.y, m.z);
+      if (i > 0) fastest = std::max(fastest, (xyz - prev).norm() * n / minutes);
+      prev = xyz;
+    }
+    EXPECT_LE(fastest, job.machine.max_feed * (1 + 1e-3)) << "block " << k << " turning " << rot << " deg";
+  }
+  EXPECT_GT(turning, 0u);
+}
+
 // Under G93 F is 1 / the block's minutes, and the tip moves between the ends as written (4 decimals).
 // Through the singular pole with no pole cone, the post splits moves down to a few micrometres, where the
 // rounded ends had moved the tip 1 % faster than the feed (black-box testing).
