@@ -56,7 +56,9 @@ OrientedPath read_oriented_csv(const fs::path& file) {
     const double n = a.norm();
     if (n < 1e-12) throw InputError(name, line, "i,j,k", "zero tool axis");
     if (std::abs(n - 1.0) > 1e-3) throw InputError(name, line, "i,j,k", "tool axis is not a unit vector (length " + fixed(n, 6) + ")");
-    row.axis = a / n;
+    // An axis written to 9 decimals is unit within 1e-9: kept as written, so a row re-planning leaves alone
+    // is copied to the digit (normalised, its last decimal had moved on rows outside every window).
+    row.axis = std::abs(n - 1.0) <= 1e-8 ? a : Eigen::Vector3d(a / n);
     row.lead_deg = v[6];
     row.tilt_deg = v[7];
     row.clearance_mm = v[8];

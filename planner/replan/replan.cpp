@@ -18,11 +18,34 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 namespace {
 
-size_t nearest_row(const ToolPath& path, const Eigen::Vector3d& c) {
+// The tool's tip and axis at each row as the post places them: a flat or bull end's tip lies up to a
+// radius off its row's point, on a tilted axis nearer to the neighbouring pass's points than to its own
+// (black-box testing: a flat R4 at 40 deg tilt had its windows on the passes beside the collisions).
+struct RowPoses {
+  std::vector<Eigen::Vector3d> tip, axis;
+};
+RowPoses row_poses(const ToolPath& path, const OrientedPath& oriented, const Tool& tool) {
+  RowPoses r;
+  const size_t n = path.rows.size();
+  const bool axes = oriented.rows.size() == n;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d axis = axes ? oriented.rows[i].axis.normalized() : Eigen::Vector3d(Eigen::Vector3d::UnitZ());
+    r.tip.push_back(axes ? tool.tip_at(path.rows[i].p, path.rows[i].contact_normal(), axis)
+                         : Eigen::Vector3d(path.rows[i].p - tool.cl_height() * axis));
+    r.axis.push_back(axis);
+  }
+  return r;
+}
+
+// The row whose pose is nearest the block's end pose: tips apart, plus the axes' difference at the tool's
+// radius (the block's ends are the rows' poses exactly, up to the program's decimals).
+size_t nearest_row(const RowPoses& rows, const Tool& tool, const ToolPose& pose) {
+  const Eigen::Vector3d axis = pose.axis.normalized();
+  const double r2 = tool.radius() * tool.radius();
   size_t best = 0;
   double best_d = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < path.rows.size(); ++i) {
-    const double d = (path.rows[i].p - c).squaredNorm();
+  for (size_t i = 0; i < rows.tip.size(); ++i) {
+    const double d = (rows.tip[i] - pose.tip).squaredNorm() + r2 * (rows.axis[i] - axis).squaredNorm();
     if (d < best_d) {
       best_d = d;
       best = i;
@@ -37,10 +60,10 @@ double smoothstep(double x) {
   return x * x * (3.0 - 2.0 * x);
 }
 
-std::vector<ReplanWindow> windows_for(const ToolPath& path, const std::vector<double>& arc, const Tool& tool,
-                                      const std::vector<Collision>& collisions, double pad_mm) {
+std::vector<ReplanWindow> windows_for(const ToolPath& path, const OrientedPath& oriented, const std::vector<double>& arc,
+                                      const Tool& tool, const std::vector<Collision>& collisions, double pad_mm) {
   std::vector<ReplanWindow> w;
-  const std::vector<RowSpan> spans = collision_spans(path, tool, collisions);
+  const std::vector<RowSpan> spans = collision_spans(path, oriented, tool, collisions);
   const std::vector<std::string> unfixable = unfixable_reasons(collisions, spans);
   for (size_t k = 0; k < collisions.size(); ++k) {
     if (!unfixable[k].empty()) continue;
@@ -132,11 +155,15 @@ std::string unfixable_reason(const Collision& c) {
   return {};
 }
 
-std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c) {
-  const double cl = tool.cl_height();
-  const size_t i0 = nearest_row(path, c.start.tip + cl * c.start.axis);
-  const size_t i1 = nearest_row(path, c.end.tip + cl * c.end.axis);
+namespace {
+RowSpan rows_of(const RowPoses& rows, const Tool& tool, const Collision& c) {
+  const size_t i0 = nearest_row(rows, tool, c.start), i1 = nearest_row(rows, tool, c.end);
   return {std::min(i0, i1), std::max(i0, i1)};
+}
+}  // namespace
+
+RowSpan collision_rows(const ToolPath& path, const OrientedPath& oriented, const Tool& tool, const Collision& c) {
+  return rows_of(row_poses(path, oriented, tool), tool, c);
 }
 
 namespace {
@@ -162,10 +189,12 @@ double collision_distance_to_path(const ToolPath& path, const Tool& tool, const 
   return along_tool_axis(c) ? std::min(d0, d1) : std::max(d0, d1);
 }
 
-std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions) {
+std::vector<RowSpan> collision_spans(const ToolPath& path, const OrientedPath& oriented, const Tool& tool,
+                                     const std::vector<Collision>& collisions) {
+  const RowPoses rows = row_poses(path, oriented, tool);
   std::vector<RowSpan> spans;
   spans.reserve(collisions.size());
-  for (const Collision& c : collisions) spans.push_back(collision_rows(path, tool, c));
+  for (const Collision& c : collisions) spans.push_back(rows_of(rows, tool, c));
   return spans;
 }
 
@@ -220,7 +249,7 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   // The dynamics need about one response length to turn the axis; the blend comes on top.
   const double pad = (options.window_mm > 0 ? options.window_mm : response) + blend;
   const std::vector<double> arc = path.arc_length();
-  result.windows = windows_for(path, arc, scene.tool, collisions, pad);
+  result.windows = windows_for(path, original, arc, scene.tool, collisions, pad);
 
   // The stock obstacle is kept like a check surface (each component its own clearance).
   PlanObstacles obstacles = scene_obstacles(scene);

@@ -158,6 +158,13 @@ TEST(PathIO, OrientedRoundTripAndBadAxis) {
   EXPECT_NEAR((back.rows[0].axis - o.rows[0].axis).norm(), 0, 1e-8);
   EXPECT_DOUBLE_EQ(back.rows[0].tilt_deg, -7);
   EXPECT_TRUE(std::isinf(back.rows[1].clearance_mm));
+  // A file read and written again is the same to the digit: an axis of 9 decimals, whose normalised
+  // value prints -0.975883802, keeps its -0.975883803 (rows re-planning leaves alone are copies).
+  const std::string text =
+      "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n1,2,3,-0.975883803,-0.217796178,-0.01468431,0,0,1\n";
+  tf::test::write_text(dir / "digits.csv", text);
+  tf::write_oriented_csv(tf::read_oriented_csv(dir / "digits.csv"), dir / "again.csv");
+  EXPECT_EQ(tf::test::read_text(dir / "again.csv"), text);
   tf::test::write_text(dir / "bad.csv", "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n0,0,0,0,0,1,0,0,1\n0,0,0,0,0.5,0.5,0,0,1\n");
   try {
     tf::read_oriented_csv(dir / "bad.csv");

@@ -129,8 +129,10 @@ class PostAndVerify {
   VerifyOptions verify_options_;
 };
 
-bool any_fixable(const Scene& scene, const std::vector<Collision>& collisions) {
-  const std::vector<std::string> reasons = unfixable_reasons(collisions, collision_spans(scene.path, scene.tool, collisions));
+bool any_fixable(const Scene& scene, const Round& round) {
+  const std::vector<Collision>& collisions = round.verified.report.collisions;
+  const std::vector<std::string> reasons =
+      unfixable_reasons(collisions, collision_spans(scene.path, round.path, scene.tool, collisions));
   return std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) { return r.empty(); });
 }
 
@@ -166,7 +168,7 @@ std::vector<reporting::RowWindow> replan_rounds(const Scene& scene, const PlanOp
                                                 const PostAndVerify& post_and_verify, const JobOptions& options,
                                                 Round& current, JobSummary& summary, std::vector<size_t>& uncleared) {
   std::vector<reporting::RowWindow> replanned;
-  while (any_fixable(scene, current.verified.report.collisions) && summary.rounds < options.max_rounds) {
+  while (any_fixable(scene, current) && summary.rounds < options.max_rounds) {
     auto t = std::chrono::steady_clock::now();
     StockMeshOptions mesh_options;
     mesh_options.colour_by_deviation = false;
@@ -229,7 +231,7 @@ std::string left_reason(const RowSpan& rows, const std::string& unfixable, const
 void explain_left(const Scene& scene, const Round& current, const std::vector<size_t>& uncleared,
                   const std::vector<RowSpan>& first, const JobOptions& options, JobSummary& summary) {
   const std::vector<Collision>& left = current.verified.report.collisions;
-  const std::vector<RowSpan> spans = collision_spans(scene.path, scene.tool, left);
+  const std::vector<RowSpan> spans = collision_spans(scene.path, current.path, scene.tool, left);
   const std::vector<std::string> unfixable = unfixable_reasons(left, spans);
   for (size_t k = 0; k < left.size(); ++k) {
     const Collision& c = left[k];
@@ -365,7 +367,8 @@ JobSummary run_job(const Scene& scene, const JobOptions& options) {
     stop_unposted(planned.result, options, e.what());
   }
   summary.collisions_first = current.verified.report.collisions.size();
-  const std::vector<RowSpan> first_spans = collision_spans(scene.path, scene.tool, current.verified.report.collisions);
+  const std::vector<RowSpan> first_spans =
+      collision_spans(scene.path, current.path, scene.tool, current.verified.report.collisions);
   std::vector<size_t> uncleared;
   const std::vector<reporting::RowWindow> replanned =
       replan_rounds(scene, planned.options, post_and_verify, options, current, summary, uncleared);

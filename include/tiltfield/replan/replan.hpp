@@ -48,12 +48,15 @@ struct ReplanOptions {
 // cutter location whatever the axis; only another path can move it).
 std::string unfixable_reason(const Collision& c);
 
-// The path rows (inclusive, first <= last) nearest to the tool poses at the start and end of the
-// collision's block.
-std::pair<size_t, size_t> collision_rows(const ToolPath& path, const Tool& tool, const Collision& c);
-// The same for every collision (each a scan of the path: compute them once).
+// In: the scene's path, the oriented path the program was posted from (its axes; another row count: the
+// axes taken as +Z), the tool and a collision with its block's poses. Out: the rows (inclusive, first <=
+// last) whose tool poses, as the post places them (Tool::tip_at), are nearest to the block's start and
+// end poses.
 using RowSpan = std::pair<size_t, size_t>;
-std::vector<RowSpan> collision_spans(const ToolPath& path, const Tool& tool, const std::vector<Collision>& collisions);
+RowSpan collision_rows(const ToolPath& path, const OrientedPath& oriented, const Tool& tool, const Collision& c);
+// The same for every collision (each a scan of the path: compute them once).
+std::vector<RowSpan> collision_spans(const ToolPath& path, const OrientedPath& oriented, const Tool& tool,
+                                     const std::vector<Collision>& collisions);
 
 // In: a path, its tool and a collision with its block's poses. Out: the distance (mm) from the nearer of
 // the block's two cutter locations (tip + cl_height x axis) to the polyline through the path's rows.
