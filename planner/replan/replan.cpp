@@ -229,27 +229,13 @@ std::vector<Collision> read_replan_collisions(const std::filesystem::path& verif
   return std::move(report.collisions);
 }
 
-ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
-                    const std::vector<const Mesh*>& extra_obstacles, const PlanOptions& plan_options,
-                    const ReplanOptions& options) {
+namespace {
+// One attempt: the windows re-planned and blended into `result.path` (the original's rows elsewhere), then
+// their rows and motions proven against everything the re-planner knew.
+void plan_windows(const Scene& scene, const OrientedPath& original, const std::vector<const Mesh*>& extra_obstacles,
+                  const PlanOptions& plan_options, const std::vector<double>& arc, double blend, ReplanResult& result) {
   const ToolPath& path = scene.path;
   const size_t n = path.rows.size();
-  if (original.rows.size() != n)
-    throw InputError("", 0, "", "the oriented path has " + std::to_string(original.rows.size()) +
-                                    " rows but the scene's path has " + std::to_string(n));
-  ReplanResult result;
-  result.path = original;
-  // The scene's normals, whatever the caller attached: the windows' plans place flat and bull ends by them.
-  for (size_t i = 0; i < n; ++i) result.path.rows[i].n = path.rows[i].contact_normal();
-  if (collisions.empty() || n == 0) return result;
-
-  const double radius = scene.tool.radius();
-  const double response = plan_options.response_length_mm > 0 ? plan_options.response_length_mm : 4.0 * radius;
-  const double blend = options.blend_mm > 0 ? options.blend_mm : response;
-  // The dynamics need about one response length to turn the axis; the blend comes on top.
-  const double pad = (options.window_mm > 0 ? options.window_mm : response) + blend;
-  const std::vector<double> arc = path.arc_length();
-  result.windows = windows_for(path, original, arc, scene.tool, collisions, pad);
 
   // The stock obstacle is kept like a check surface (each component its own clearance).
   PlanObstacles obstacles = scene_obstacles(scene);
@@ -329,7 +315,50 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
         result.unreachable.push_back(i);
     }
   }
-  return result;
+}
+
+size_t failures(const ReplanResult& r) { return r.uncleared.size() + r.uncleared_motions.size() + r.unreachable.size(); }
+}  // namespace
+
+ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
+                    const std::vector<const Mesh*>& extra_obstacles, const PlanOptions& plan_options,
+                    const ReplanOptions& options) {
+  const ToolPath& path = scene.path;
+  const size_t n = path.rows.size();
+  if (original.rows.size() != n)
+    throw InputError("", 0, "", "the oriented path has " + std::to_string(original.rows.size()) +
+                                    " rows but the scene's path has " + std::to_string(n));
+  ReplanResult result;
+  result.path = original;
+  // The scene's normals, whatever the caller attached: the windows' plans place flat and bull ends by them.
+  for (size_t i = 0; i < n; ++i) result.path.rows[i].n = path.rows[i].contact_normal();
+  if (collisions.empty() || n == 0) return result;
+
+  const double radius = scene.tool.radius();
+  const double response = plan_options.response_length_mm > 0 ? plan_options.response_length_mm : 4.0 * radius;
+  const double blend = options.blend_mm > 0 ? options.blend_mm : response;
+  // The dynamics need about one response length to turn the axis; the blend comes on top.
+  const double pad = (options.window_mm > 0 ? options.window_mm : response) + blend;
+  const std::vector<double> arc = path.arc_length();
+  // A window planned afresh can meet the old axes at its ends from the other side of an obstacle, and
+  // the blend then swings through it (black-box testing: 33 degrees between two rows, through a plate a
+  // whole-path plan clears). Such a result is planned again on windows twice as wide, then four times,
+  // then on the whole path; the first that leaves no row or motion short is kept, else the one that
+  // leaves fewest.
+  std::optional<ReplanResult> best;
+  std::vector<ReplanWindow> last_windows;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    ReplanResult r = result;
+    r.windows = windows_for(path, original, arc, scene.tool, collisions, attempt < 3 ? pad * double(1 << attempt) : kInfinity);
+    const auto same = [](const ReplanWindow& a, const ReplanWindow& b) { return a.first == b.first && a.last == b.last; };
+    if (best && std::equal(r.windows.begin(), r.windows.end(), last_windows.begin(), last_windows.end(), same)) continue;
+    last_windows = r.windows;
+    plan_windows(scene, original, extra_obstacles, plan_options, arc, blend, r);
+    r.widened = attempt;
+    if (!best || failures(r) < failures(*best)) best = std::move(r);
+    if (failures(*best) == 0 || !options.widen) break;
+  }
+  return *best;
 }
 
 }  // namespace tf

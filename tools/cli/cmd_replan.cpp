@@ -81,8 +81,9 @@ void run_replan(const ReplanArgs& a) {
         r.windows.empty() || !std::isfinite(r.min_clearance_mm) ? "no window re-planned"
         : clearance_measured(r.min_clearance_mm) ? "min clearance at the windows' rows " + fixed(r.min_clearance_mm, 3) + " mm"
                                                  : "no check surface or fixture near the windows";
-    std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s), " << r.rows_changed
-              << " rows changed, " << clearance << "\n";
+    static const char* const widened[] = {"", " (twice as wide as asked)", " (four times as wide as asked)", " (the whole path)"};
+    std::cerr << "replan: " << collisions.size() << " collision(s), " << r.windows.size() << " window(s)"
+              << widened[std::clamp(r.widened, 0, 3)] << ", " << r.rows_changed << " rows changed, " << clearance << "\n";
   }
   // The job fails after the output was written. The rows below their clearance and the motions between
   // rows that come below it in one line.

@@ -41,6 +41,10 @@ struct ReplanOptions {
   double blend_mm = 0.0;
   // Margin (mm) added to the cutting reach when the stock is cropped (see stock_obstacle).
   double crop_margin_mm = 0.5;
+  // Where a window's rows or motions stay below their clearance (or beyond the machine's reach), plan
+  // again on windows twice and four times as wide, then on the whole path, and keep the first result
+  // with none such (else the one with fewest).
+  bool widen = true;
 };
 
 // Why no tool axis can remove `c`, or empty when re-planning may: a rapid (the post's links and retracts
@@ -87,6 +91,8 @@ struct ReplanResult {
   // margin found, mm.
   std::vector<std::pair<size_t, double>> uncleared_motions;
   std::vector<size_t> unreachable;  // rows of the windows without a joint solution on the scene's machine
+  // 0: the windows as asked; 1, 2: twice, four times as wide; 3: the whole path (ReplanOptions::widen).
+  int widened = 0;
 };
 
 // The part of `stock` that only the non-cutting part of the tool may meet: triangles split to at most
