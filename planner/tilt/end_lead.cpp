@@ -12,6 +12,12 @@
 namespace tf {
 using Eigen::Vector3d;
 
+bool end_dips(const PlanContext& ctx, size_t row, const Vector3d& axis) {
+  if (ctx.contact_dip.size() <= row) return false;  // no end form set up (a ball, or no design)
+  const double limit = ctx.options.end_dip_tolerance_mm + ctx.contact_dip[row];
+  return end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row], limit) > limit;
+}
+
 namespace {
 
 constexpr double kLeadStepDeg = 0.5;
@@ -23,11 +29,6 @@ constexpr int kBisections = 5;  // to 0.5 / 32 deg
 double dip_at(const PlanContext& ctx, size_t row, const Vector3d& axis) {
   const double dip = end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row]);
   return std::max(0.0, dip - ctx.contact_dip[row]);
-}
-// Whether the end dips more than the tolerance (stops at the first sample that does).
-bool dips(const PlanContext& ctx, size_t row, const Vector3d& axis) {
-  const double limit = ctx.options.end_dip_tolerance_mm + ctx.contact_dip[row];
-  return end_dip(ctx.end_form, ctx.tip(row, axis), axis, ctx.design_side[row], limit) > limit;
 }
 
 // The least lead from `lead` onward in direction `sign` (+1 more lead, -1 less) at which the end does not
@@ -42,7 +43,7 @@ double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, doubl
     const double l = lead + sign * k * kLeadStepDeg;
     const Vector3d a = axis(l);
     if (a.dot(f.n) < ctx.cos_max_tilt) return NAN;
-    if (dips(ctx, row, a)) {
+    if (end_dips(ctx, row, a)) {
       below = l;
       continue;
     }
@@ -51,7 +52,7 @@ double least_lifting_lead(const PlanContext& ctx, size_t row, double lead, doubl
     for (int b = 0; b < kBisections; ++b) {
       const double m = 0.5 * (below + above);
       const Vector3d am = axis(m);
-      (dips(ctx, row, am) ? below : above) = m;
+      (end_dips(ctx, row, am) ? below : above) = m;
     }
     return acceptable(axis(above)) ? above : l;
   }
@@ -113,7 +114,7 @@ size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& no
   std::vector<double> up(n, 0.0), down(n, 0.0);
   std::vector<char> stuck(n, 0);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-    if (!dips(ctx, i, ctx.nominal[i])) return;
+    if (!end_dips(ctx, i, ctx.nominal[i])) return;
     const int sign = lead >= 0 ? 1 : -1;
     double l = least_lifting_lead(ctx, i, lead, tilt, sign, false);
     if (std::isfinite(l)) {
@@ -140,8 +141,8 @@ size_t lead_nominal_out_of_design(PlanContext& ctx, std::vector<std::string>& no
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     if (change[i] == 0.0) return;
     const double own = either(up[i], down[i]);
-    if (own != change[i] && dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + change[i], tilt)) &&
-        !dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + own, tilt)))
+    if (own != change[i] && end_dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + change[i], tilt)) &&
+        !end_dips(ctx, i, axis_from_lead_tilt(ctx.frames[i], lead + own, tilt)))
       change[i] = own;
   });
   size_t raised = 0;

@@ -164,6 +164,9 @@ std::vector<Eigen::Vector3d> pointwise_axes(const PlanContext& ctx, const Progre
 
 // The end form against the design (end_lead.cpp): its samples, the design's hierarchy and each row's side.
 void set_up_end_form(PlanContext& ctx, const std::vector<const Mesh*>& design);
+// Whether a flat or bull end at `axis` dips below the design by more than end_dip_tolerance_mm beyond its
+// contact's own dip (stops at the first sample that does); false without an end form.
+bool end_dips(const PlanContext& ctx, size_t row, const Eigen::Vector3d& axis);
 // Rows whose nominal axis dips a flat or bull end below the design surface by more than
 // end_dip_tolerance_mm: the least change of lead that lifts it (forward first; 0.5 deg steps bisected to
 // 0.016 deg, within the max-tilt cone), spread along the path over the response length so that the axis

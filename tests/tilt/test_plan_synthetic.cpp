@@ -349,6 +349,29 @@ TEST(PlanSynthetic, AChannelIsClearedByLeaningOutOfItWithOneFlip) {
   EXPECT_GE(fcl.min_margin, -0.01);
 }
 
+// A flat R3 along a post with a nominal lead of 10 deg: the clear axes are a band of tilt from about 0.02 to
+// 3.8 deg toward the post, near lead 0 (the end's body swings across its contact with the first degrees),
+// between the cone search's normal and its first ring of 5 deg (black-box testing: 12 rows left failing,
+// the axis whipping 25 deg between rows, where one constant axis clears every row).
+TEST(PlanSynthetic, AFlatEndBesideAPostFindsTheNarrowBandOfClearTilts) {
+  const Mesh post = test::box_mesh({22, 8, 0}, {26, 12, 15}, 100.0), floor = test::box_mesh({0, -10, -5}, {40, 30, 0}, 100.0);
+  Tool tool;
+  tool.cutter = FlatCutter{3.0};
+  tool.flute_length = 12.0;
+  tool.shank_radius = 3.0;
+  tool.length = 50.0;
+  tool.holder = {{10.0, 30.0}};
+  PlannerBasics basics;
+  basics.lead_deg = 10.0;
+  const ToolPath path = test::polyline_path({{20, 0, 0}, {20, 20, 0}}, 0.5, {0, 0, 1});
+  const PlanResult r = plan_path(path, tool, {{&post}, {}, {&floor}}, basics, 1000, derive_plan_options(tool, basics, 1000));
+  EXPECT_EQ(r.metrics.rows_below_safety, 0u);
+  EXPECT_EQ(r.metrics.segments_below_safety, 0u);
+  EXPECT_LT(r.metrics.max_step_deg, 5.0);
+  const test::FclCheck fcl = test::fcl_check(test::densify(r.path, 10), tool, {&post}, basics);
+  EXPECT_GE(fcl.min_margin, -0.01);
+}
+
 // A path buried in a closed solid: every row is listed at its depth, and no motion between them (nearer
 // the solid's faces than its rows but clear of them) is listed with a positive margin (black-box testing:
 // 80 motions "0.25 short" with margin +0.25).
