@@ -21,6 +21,18 @@ bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
   return true;
 }
 
+void require_rows_of_path(const OrientedPath& oriented, const ToolPath& path, const std::string& file) {
+  if (oriented.rows.size() != path.rows.size())
+    throw InputError(file, 0, "", "has " + std::to_string(oriented.rows.size()) + " rows, the scene's path " +
+                                      std::to_string(path.rows.size()));
+  for (size_t i = 0; i < path.rows.size(); ++i)
+    if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3)
+      throw InputError(file, static_cast<int>(i) + 2, "x",
+                       "row " + std::to_string(i + 1) + " is not the scene's path row (" + fixed(path.rows[i].p.x(), 4) +
+                           ", " + fixed(path.rows[i].p.y(), 4) + ", " + fixed(path.rows[i].p.z(), 4) +
+                           "): an oriented path of another path");
+}
+
 namespace fs = std::filesystem;
 
 OrientedPath read_oriented_csv(const fs::path& file) {

@@ -275,3 +275,27 @@ TEST(SceneIO, AKeyGivenTwiceIsNamedEvenWhenEmpty) {
     EXPECT_NE(r.out.find("field " + field + ": appears twice"), std::string::npos) << r.out;
   }
 }
+
+namespace {
+// `check SCENE --oriented CSV` asks of the oriented path what `replan` does: the scene's rows, row by row
+// (black-box testing: a row moved by 100 mm passed, only the count was compared).
+TEST(SceneIO, CheckComparesTheOrientedRowsWithTheScenesPath) {
+  tf::test::TempDir dir;
+  const auto file = tf::test::write_scene(dir, tf::test::valid_scene_json());
+  const std::string header = "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n";
+  tf::test::write_text(dir / "same.csv", header + "10,10,21,0,0,1,0,0,1\n11,10,21,0,0,1,0,0,1\n12,10,21,0,0,1,0,0,1\n");
+  tf::test::write_text(dir / "moved.csv", header + "10,10,21,0,0,1,0,0,1\n111,10,21,0,0,1,0,0,1\n12,10,21,0,0,1,0,0,1\n");
+  tf::test::write_text(dir / "short.csv", header + "10,10,21,0,0,1,0,0,1\n11,10,21,0,0,1,0,0,1\n");
+  const auto check = [&](const std::string& csv) {
+    return tf::test::run_tiltfield("check '" + file.string() + "' --oriented '" + (dir / csv).string() + "'");
+  };
+  EXPECT_EQ(check("same.csv").exit_code, 0);
+  const auto moved = check("moved.csv");
+  EXPECT_EQ(moved.exit_code, 2) << moved.out;
+  EXPECT_NE(moved.out.find("moved.csv:3"), std::string::npos) << moved.out;
+  EXPECT_NE(moved.out.find("row 2 is not the scene's path row"), std::string::npos) << moved.out;
+  const auto short_one = check("short.csv");
+  EXPECT_EQ(short_one.exit_code, 2) << short_one.out;
+  EXPECT_NE(short_one.out.find("has 2 rows"), std::string::npos) << short_one.out;
+}
+}  // namespace

@@ -61,9 +61,7 @@ void add_check_command(CLI::App& app) {
       // Checked against the scene's path as `post` and `replan` read them: row for row.
       if (!scene.empty()) {
         const Scene s = load_scene(scene);
-        if (!s.path.rows.empty() && o.rows.size() != s.path.rows.size())
-          throw InputError(oriented, 0, "", "has " + std::to_string(o.rows.size()) + " rows, the scene's path " +
-                                                std::to_string(s.path.rows.size()));
+        if (!s.path.rows.empty()) require_rows_of_path(o, s.path, oriented);
       }
       std::cout << "oriented path " << oriented << ": " << o.rows.size() << " rows\n";
     }

@@ -37,16 +37,8 @@ void run_replan(const ReplanArgs& a) {
   std::optional<Mesh> given_stock;
   if (!a.stock_mesh.empty()) given_stock = load_mesh(a.stock_mesh);
   OrientedPath original = read_oriented_csv(a.oriented);
-  if (original.rows.size() != scene.path.rows.size())
-    throw InputError(a.oriented, 0, "", "has " + std::to_string(original.rows.size()) + " rows, the scene's path " +
-                                            std::to_string(scene.path.rows.size()));
   // The oriented rows must be the scene's path (planned from it): the same cutter locations, row by row.
-  for (size_t i = 0; i < original.rows.size(); ++i)
-    if ((original.rows[i].p - scene.path.rows[i].p).norm() > 1e-3)
-      throw InputError(a.oriented, static_cast<int>(i) + 2, "x",
-                       "row " + std::to_string(i + 1) + " is not the scene's path row (" +
-                           fixed(scene.path.rows[i].p.x(), 4) + ", " + fixed(scene.path.rows[i].p.y(), 4) + ", " +
-                           fixed(scene.path.rows[i].p.z(), 4) + "): an oriented path of another path");
+  require_rows_of_path(original, scene.path, a.oriented);
   attach_path_normals(original, scene.path);  // the rows are the path's (checked above)
   const std::vector<Collision> collisions = read_replan_collisions(a.verify);
   // A report of another program or scene had been re-planned at whatever rows lay nearest (black-box

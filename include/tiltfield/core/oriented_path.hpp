@@ -44,6 +44,10 @@ Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool);
 // (as many, each within 0.001 mm of its path row) and returns true; otherwise leaves the rows as they are
 // (their points then are the cutter locations themselves) and returns false.
 bool attach_path_normals(OrientedPath& oriented, const ToolPath& path);
+// Throws InputError (naming `file`, and the line of the first row that differs) unless `oriented` has the
+// rows of `path`: as many, each cutter location within 0.001 mm of its row's. What `replan` and `check`
+// ask of an oriented path given with its scene.
+void require_rows_of_path(const OrientedPath& oriented, const ToolPath& path, const std::string& file);
 
 // Header x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm[,feed]. Throws InputError with line and column
 // for a bad number, a missing column, a zero or non-unit axis (off by more than 1e-3), or no rows.
