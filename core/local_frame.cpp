@@ -14,16 +14,17 @@ std::vector<LocalFrame> local_frames(const ToolPath& path) {
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d& nrm = path.rows[i].n;
     // Neighbours at the row's own point (a repeated row) are passed over: the first row of a path that
-    // repeats it had taken an arbitrary feed direction, its sideways axis read as lead (black-box testing).
+    // repeats it had taken an arbitrary feed direction, its sideways axis read as lead, and the two rows of
+    // a repeated corner had taken the directions before and after it (black-box testing). A reversal on a
+    // repeated point, whose distinct neighbours coincide, keeps the neighbours it has: it turns between
+    // its rows.
     const auto& p = path.rows;
-    size_t a = i == 0 ? 0 : i - 1;
-    size_t b = i + 1 < n ? i + 1 : i;
+    const size_t a0 = i == 0 ? 0 : i - 1, b0 = i + 1 < n ? i + 1 : i;
+    size_t a = a0, b = b0;
+    while (a > 0 && p[a].p == p[i].p) --a;
+    while (b + 1 < n && p[b].p == p[i].p) ++b;
     Eigen::Vector3d d = p[b].p - p[a].p;
-    if (d.squaredNorm() == 0.0) {  // (a reversal's turning point keeps the neighbours it has)
-      while (a > 0 && p[a].p == p[i].p) --a;
-      while (b + 1 < n && p[b].p == p[i].p) ++b;
-      d = p[b].p - p[a].p;
-    }
+    if ((d - d.dot(nrm) * nrm).norm() <= 1e-9) d = p[b0].p - p[a0].p;
     d -= d.dot(nrm) * nrm;
     Eigen::Vector3d f;
     if (d.norm() > 1e-9) {

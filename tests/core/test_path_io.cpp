@@ -239,6 +239,16 @@ TEST(LocalFrame, RepeatedRowsTakeTheFeedOfTheNextDistinctPoint) {
   const auto turned = tf::local_frames(back);
   EXPECT_NEAR(turned[2].f.x(), 1.0, 1e-12);
   EXPECT_NEAR(turned[3].f.x(), -1.0, 1e-12);
+  // A corner on a repeated point: both rows take the corner's direction, as an unrepeated corner row does
+  // (black-box testing: the first had taken +X before the corner, the second +Y after it).
+  tf::ToolPath corner;
+  for (const Eigen::Vector3d& q : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                   Eigen::Vector3d(1, 1, 0)})
+    corner.rows.push_back({q, {0, 0, 1}});
+  const auto at_corner = tf::local_frames(corner);
+  const Eigen::Vector3d diagonal = Eigen::Vector3d(1, 1, 0).normalized();
+  EXPECT_NEAR((at_corner[1].f - diagonal).norm(), 0, 1e-12);
+  EXPECT_NEAR((at_corner[2].f - diagonal).norm(), 0, 1e-12);
 }
 
 }  // namespace
