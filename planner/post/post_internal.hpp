@@ -1,5 +1,7 @@
 // tiltfield (internal to the post-processor): the steps post_program() chains.
 #pragma once
+#include <cstdio>
+#include <cstdlib>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <string>
@@ -38,8 +40,14 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
 inline constexpr int kAxisDecimals = 4;
 inline constexpr double kAxisScale = 1e4;  // 10^kAxisDecimals
 inline constexpr double kAxisUnit = 1.0 / kAxisScale;
-// `value` as written: rounded to kAxisDecimals in the frame of the work offset `origin`.
-inline double as_written(double value, double origin) { return std::round((value - origin) * kAxisScale) / kAxisScale + origin; }
+// `value` as written: rounded to kAxisDecimals in the frame of the work offset `origin`, by the writer's
+// own formatting (a half unit, such as 2.50005, rounds as printf rounds the binary value: std::round had
+// read 2.5001 where 2.5000 was written, and the TCP feed cap had taken a moving tip for a still one).
+inline double as_written(double value, double origin) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", kAxisDecimals, value - origin);
+  return std::strtod(buf, nullptr) + origin;
+}
 
 // Sampling a block can miss a little of the true maximum between samples: the linearisation accepts a
 // block only below this share of the tolerances.

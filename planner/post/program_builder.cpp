@@ -77,7 +77,7 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
     // slows so that no axis exceeds its top speed, timed from the ends as written; where the written tip
     // does not move, F is read as degrees a minute (a rotary-only move), and the linear axes, following
     // the part round, still keep theirs.
-    if (tcp_ && d_rot >= 1e-9) {
+    if (tcp_) {  // the rotaries as written may turn where the rows' barely do
       const Joints w0 = written(target(p0, j0)), w1 = written(target(p1, j1));
       const double tip = Eigen::Vector3d(w1.x - w0.x, w1.y - w0.y, w1.z - w0.z).norm();
       const double rot = std::max({std::abs(w1.a - w0.a), std::abs(w1.b - w0.b), std::abs(w1.c - w0.c)});
@@ -87,8 +87,8 @@ void Builder::cut(const ToolPose& p0, const Joints& j0, const ToolPose& p1, cons
         capped = std::min(feed, job_.machine.max_rotary_feed);
         if (linear > 0.0) capped = std::min(capped, job_.machine.max_feed * rot / linear);
       } else {
-        const double minutes = std::max({tip / feed, linear / job_.machine.max_feed, rot / job_.machine.max_rotary_feed});
-        capped = tip / minutes;
+        const double axes = std::max(linear / job_.machine.max_feed, rot / job_.machine.max_rotary_feed);
+        if (tip / feed < axes * (1.0 - 1e-9)) capped = tip / axes;  // not where the tip alone sets the time
       }
       // Rounded down to the 2 decimals written (gcode_writer rounds to nearest), where that leaves any.
       if (capped < feed) b.feed = std::floor(capped * 100.0) >= 1.0 ? std::floor(capped * 100.0) / 100.0 : capped;

@@ -230,6 +230,13 @@ std::vector<Collision> read_replan_collisions(const std::filesystem::path& verif
 }
 
 namespace {
+// The stock obstacle is kept like a check surface (each component its own clearance).
+PlanObstacles replan_obstacles(const Scene& scene, const std::vector<const Mesh*>& extra_obstacles) {
+  PlanObstacles obstacles = scene_obstacles(scene);
+  obstacles.check_surfaces.insert(obstacles.check_surfaces.end(), extra_obstacles.begin(), extra_obstacles.end());
+  return obstacles;
+}
+
 // One attempt: the windows re-planned and blended into `result.path` (the original's rows elsewhere), then
 // their rows and motions proven against everything the re-planner knew.
 void plan_windows(const Scene& scene, const OrientedPath& original, const std::vector<const Mesh*>& extra_obstacles,
@@ -237,9 +244,7 @@ void plan_windows(const Scene& scene, const OrientedPath& original, const std::v
   const ToolPath& path = scene.path;
   const size_t n = path.rows.size();
 
-  // The stock obstacle is kept like a check surface (each component its own clearance).
-  PlanObstacles obstacles = scene_obstacles(scene);
-  obstacles.check_surfaces.insert(obstacles.check_surfaces.end(), extra_obstacles.begin(), extra_obstacles.end());
+  const PlanObstacles obstacles = replan_obstacles(scene, extra_obstacles);
   const std::vector<LocalFrame> frames = local_frames(path);
   std::optional<Kinematics> kin;
   if (scene.machine) kin.emplace(*scene.machine, scene.tool.length);
@@ -268,7 +273,8 @@ void plan_windows(const Scene& scene, const OrientedPath& original, const std::v
     for (size_t i = w.first; i <= w.last; ++i) {
       const Eigen::Vector3d& old_axis = original.rows[i].axis;
       OrientedRow& row = result.path.rows[i];
-      row.axis = blended[i - w.first];
+      // Where the weight is 0 the row keeps its axis to the digit (the blend returns it normalised).
+      row.axis = weights[i - w.first] == 0.0 ? old_axis : blended[i - w.first];
       const Eigen::Vector2d lt = lead_tilt_from_axis(frames[i], row.axis);
       row.lead_deg = lt.x();
       row.tilt_deg = lt.y();
@@ -317,7 +323,33 @@ void plan_windows(const Scene& scene, const OrientedPath& original, const std::v
   }
 }
 
-size_t failures(const ReplanResult& r) { return r.uncleared.size() + r.uncleared_motions.size() + r.unreachable.size(); }
+// What an attempt leaves short that the original path did not: wider windows take in more rows, and a row
+// the original left short already (a planner fall-back, a ball inside a check surface) is no attempt's
+// fault (review: the whole path could never have won).
+struct AlreadyShort {
+  std::vector<char> row, motion;  // per row; per motion from row i
+};
+AlreadyShort already_short(const Scene& scene, const OrientedPath& original, const std::vector<const Mesh*>& extra_obstacles,
+                           const PlanOptions& plan_options) {
+  const size_t n = original.rows.size();
+  const PlanObstacles obstacles = replan_obstacles(scene, extra_obstacles);
+  std::vector<size_t> rows(n), motions(n > 0 ? n - 1 : 0);
+  for (size_t i = 0; i < n; ++i) rows[i] = i;
+  for (size_t i = 0; i + 1 < n; ++i) motions[i] = i;
+  AlreadyShort a{std::vector<char>(n, 0), std::vector<char>(n, 0)};
+  const std::vector<RowClearance> r = row_clearances(original, rows, scene.tool, scene.planner, obstacles);
+  for (size_t i = 0; i < n; ++i) a.row[i] = r[i].margin_mm < 0.0;
+  const std::vector<MotionClearance> m = motion_clearances(scene.path, original, motions, scene.tool, scene.planner, obstacles, plan_options);
+  for (size_t i = 0; i + 1 < n; ++i) a.motion[i] = !m[i].clear;
+  return a;
+}
+
+size_t failures(const ReplanResult& r, const AlreadyShort* already) {
+  size_t f = r.unreachable.size();
+  for (size_t row : r.uncleared) f += !already || !already->row[row];
+  for (const auto& [row, margin] : r.uncleared_motions) f += !already || !already->motion[row];
+  return f;
+}
 }  // namespace
 
 ReplanResult replan(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions,
@@ -345,7 +377,9 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   // whole-path plan clears). Such a result is planned again on windows twice as wide, then four times,
   // then on the whole path; the first that leaves no row or motion short is kept, else the one that
   // leaves fewest.
+  // Attempts are compared by what they leave short that the original did not.
   std::optional<ReplanResult> best;
+  std::optional<AlreadyShort> already;
   std::vector<ReplanWindow> last_windows;
   for (int attempt = 0; attempt < 4; ++attempt) {
     ReplanResult r = result;
@@ -355,8 +389,10 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
     last_windows = r.windows;
     plan_windows(scene, original, extra_obstacles, plan_options, arc, blend, r);
     r.widened = attempt;
-    if (!best || failures(r) < failures(*best)) best = std::move(r);
-    if (failures(*best) == 0 || !options.widen) break;
+    if (!options.widen || failures(r, nullptr) == 0) return r;
+    if (!already) already = already_short(scene, result.path, extra_obstacles, plan_options);
+    if (!best || failures(r, &*already) < failures(*best, &*already)) best = std::move(r);
+    if (failures(*best, &*already) == 0) break;
   }
   return *best;
 }

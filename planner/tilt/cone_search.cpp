@@ -43,7 +43,8 @@ std::vector<Vector3d> cone_axes(const PlanContext& ctx, size_t row, const Vector
   // such a small tilt dips the end into a curved design, the end's lift would turn the row again after
   // the search (a 12-degree step on an impeller's hub): those are not offered.
   for (const double fine : {1.0, 2.5}) {
-    const double tilt = std::min(fine * std::numbers::pi / 180.0, max_tilt);
+    const double tilt = fine * std::numbers::pi / 180.0;
+    if (tilt > max_tilt) break;  // beyond the max-tilt cone
     for (int k = 0; k < 8; ++k) {
       const double phi = 2 * std::numbers::pi * k / 8;
       const Vector3d a = std::cos(tilt) * fr.n + std::sin(tilt) * (std::cos(phi) * fr.f + std::sin(phi) * fr.t);

@@ -105,6 +105,9 @@ void add_replan_command(CLI::App& app) {
       ->check(number_at_least(0, false));
   cmd->add_option("--blend", a.options.blend_mm, "blend length at each window end, mm (0: derived)")
       ->check(number_at_least(0, false));
+  cmd->add_flag("!--no-widen", a.options.widen,
+                "keep the windows as asked even where they leave rows or motions short (default: plan again twice and "
+                "four times as wide, then on the whole path)");
   cmd->callback([] { run_replan(a); });
 }
 

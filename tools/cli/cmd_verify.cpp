@@ -121,9 +121,11 @@ void run_verify(const VerifyArgs& a) {
     const std::string text = read_text_file(a.program, "G-code file");
     if (!a.report.empty()) {
       // The report holds what the schedule could not do too (a block left above the limit), not stderr alone.
-      VerifyReport with_schedule = result.report;
-      for (const std::string& w : fs.warnings) with_schedule.warnings.push_back("feed schedule: " + w);
-      write_verify_json(with_schedule, a.report);
+      std::vector<std::string>& warnings = result.report.warnings;
+      const size_t own = warnings.size();
+      for (const std::string& w : fs.warnings) warnings.push_back("feed schedule: " + w);
+      write_verify_json(result.report, a.report);
+      warnings.resize(own);  // the schedule prints its own below
     }
     write_file_atomic(a.out, [&](std::ostream& out) { out << rewrite_feeds(text, program, fs); });
     print_feed_schedule("verify", so, fs);
