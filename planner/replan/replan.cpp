@@ -64,7 +64,7 @@ std::vector<ReplanWindow> windows_for(const ToolPath& path, const OrientedPath& 
                                       const Tool& tool, const std::vector<Collision>& collisions, double pad_mm) {
   std::vector<ReplanWindow> w;
   const std::vector<RowSpan> spans = collision_spans(path, oriented, tool, collisions);
-  const std::vector<std::string> unfixable = unfixable_reasons(collisions, spans);
+  const std::vector<std::string> unfixable = unfixable_reasons(collisions, spans, tool);
   for (size_t k = 0; k < collisions.size(); ++k) {
     if (!unfixable[k].empty()) continue;
     auto [a, b] = spans[k];
@@ -141,14 +141,19 @@ bool along_tool_axis(const Collision& c) {
 }
 }  // namespace
 
-std::string unfixable_reason(const Collision& c) {
+std::string unfixable_reason(const Collision& c, const Tool& tool) {
   if (c.rapid) return "a rapid move: the post's retracts and links must clear it, not the tool axis";
-  if (c.component == ToolComponent::Ball) {
+  // A flat or bull end swings about its contact with the axis (Tool::contact_offset): its collisions at a
+  // cutter location are the axis's to fix (black-box testing: 322 collisions of a bull end with a fixture
+  // had been passed over in silence as "the ball itself").
+  const bool end_moves = !std::holds_alternative<BallCutter>(tool.cutter);
+  if (c.component == ToolComponent::Ball && !(end_moves && !along_tool_axis(c))) {
     const std::string with = c.with == HitWith::Check ? "check surface" : std::string(to_string(c.with));
     // The message had blamed the cutter location of a row that was clear (black-box testing): the
     // re-planner does not move approaches.
+    const std::string part = end_moves ? "the tool's end" : "the ball";
     if (along_tool_axis(c))
-      return "the ball meets the " + with + " on a move along the tool axis (the post's approach or retract)," +
+      return part + " meets the " + with + " on a move along the tool axis (the post's approach or retract)," +
              " not at a cutter location; re-planning the axes does not move it";
     return "the ball itself meets the " + with + " at the cutter location; no tool axis moves it";
   }
@@ -198,13 +203,16 @@ std::vector<RowSpan> collision_spans(const ToolPath& path, const OrientedPath& o
   return spans;
 }
 
-std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans) {
+std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans,
+                                           const Tool& tool) {
   std::vector<std::string> out;
   std::vector<size_t> ball;  // collisions of the ball itself on a feed move
   for (size_t k = 0; k < collisions.size(); ++k) {
-    out.push_back(unfixable_reason(collisions[k]));
-    // An approach's collision is no reason to leave the rows' other collisions alone.
-    if (collisions[k].component == ToolComponent::Ball && !collisions[k].rapid && !along_tool_axis(collisions[k]))
+    out.push_back(unfixable_reason(collisions[k], tool));
+    // An approach's collision is no reason to leave the rows' other collisions alone, nor is a flat or
+    // bull end's, which the axis moves.
+    if (collisions[k].component == ToolComponent::Ball && !collisions[k].rapid && !along_tool_axis(collisions[k]) &&
+        !out[k].empty())
       ball.push_back(k);
   }
   for (size_t k = 0; k < collisions.size(); ++k) {

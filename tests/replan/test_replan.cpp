@@ -95,13 +95,24 @@ TEST(Replan, FixtureCollisionIsReplannedAgainstTheFixture) {
   site.end = {Eigen::Vector3d(20, 0, 0), Eigen::Vector3d::UnitZ()};
   tf::Collision ball = site;
   ball.component = tf::ToolComponent::Ball;
-  EXPECT_TRUE(tf::unfixable_reason(site).empty());
-  EXPECT_NE(tf::unfixable_reason(ball).find("ball itself"), std::string::npos);
+  EXPECT_TRUE(tf::unfixable_reason(site, scene.tool).empty());
+  EXPECT_NE(tf::unfixable_reason(ball, scene.tool).find("ball itself"), std::string::npos);
+  // A flat or bull end swings with the axis: its collision at a cutter location is re-planned (black-box
+  // testing: a bull end's 322 collisions with a fixture had been passed over), its approach's is not.
+  tf::Tool flat = scene.tool, bull = scene.tool;
+  flat.cutter = tf::FlatCutter{scene.tool.radius()};
+  bull.cutter = tf::BullCutter{scene.tool.radius(), 1.0};
+  EXPECT_TRUE(tf::unfixable_reason(ball, flat).empty());
+  EXPECT_TRUE(tf::unfixable_reason(ball, bull).empty());
+  EXPECT_TRUE(tf::unfixable_reasons({ball, site}, {{119, 120}, {119, 120}}, bull)[1].empty());
+  EXPECT_FALSE(tf::unfixable_reasons({ball, site}, {{119, 120}, {119, 120}}, scene.tool)[1].empty());
   tf::Collision approach = ball;  // down a tilted axis onto the row, as written to 4 decimals: an approach
   approach.start.axis = approach.end.axis = Eigen::Vector3d(0.5, 0, std::sqrt(0.75));
   approach.start.tip = Eigen::Vector3d(35.0001, 0, 25.9807);
-  EXPECT_NE(tf::unfixable_reason(approach).find("along the tool axis (the post's approach or retract)"), std::string::npos)
-      << tf::unfixable_reason(approach);
+  EXPECT_NE(tf::unfixable_reason(approach, scene.tool).find("along the tool axis (the post's approach or retract)"),
+            std::string::npos)
+      << tf::unfixable_reason(approach, scene.tool);
+  EXPECT_FALSE(tf::unfixable_reason(approach, flat).empty());
   EXPECT_TRUE(tf::replan(scene, planned.path, {ball}, {}, po).windows.empty());
 
   const tf::ReplanResult r = tf::replan(scene, planned.path, {site}, {}, po);

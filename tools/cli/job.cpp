@@ -132,7 +132,7 @@ class PostAndVerify {
 bool any_fixable(const Scene& scene, const Round& round) {
   const std::vector<Collision>& collisions = round.verified.report.collisions;
   const std::vector<std::string> reasons =
-      unfixable_reasons(collisions, collision_spans(scene.path, round.path, scene.tool, collisions));
+      unfixable_reasons(collisions, collision_spans(scene.path, round.path, scene.tool, collisions), scene.tool);
   return std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) { return r.empty(); });
 }
 
@@ -232,7 +232,7 @@ void explain_left(const Scene& scene, const Round& current, const std::vector<si
                   const std::vector<RowSpan>& first, const JobOptions& options, JobSummary& summary) {
   const std::vector<Collision>& left = current.verified.report.collisions;
   const std::vector<RowSpan> spans = collision_spans(scene.path, current.path, scene.tool, left);
-  const std::vector<std::string> unfixable = unfixable_reasons(left, spans);
+  const std::vector<std::string> unfixable = unfixable_reasons(left, spans, scene.tool);
   for (size_t k = 0; k < left.size(); ++k) {
     const Collision& c = left[k];
     std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));

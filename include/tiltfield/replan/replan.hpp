@@ -47,10 +47,11 @@ struct ReplanOptions {
   bool widen = true;
 };
 
-// Why no tool axis can remove `c`, or empty when re-planning may: a rapid (the post's links and retracts
-// must clear it, not the axis), or the ball itself inside a fixture or check surface (it sits at the
-// cutter location whatever the axis; only another path can move it).
-std::string unfixable_reason(const Collision& c);
+// Why no tool axis can remove `c`, made by `tool`, or empty when re-planning may: a rapid (the post's links
+// and retracts must clear it, not the axis), a ball cutter's ball inside a fixture or check surface (it
+// sits at the cutter location whatever the axis; only another path can move it; a flat or bull end swings
+// with the axis, and is re-planned), or the end on a move along the tool axis (an approach or retract).
+std::string unfixable_reason(const Collision& c, const Tool& tool);
 
 // In: the scene's path, the oriented path the program was posted from (its axes; another row count: the
 // axes taken as +Z), the tool and a collision with its block's poses. Out: the rows (inclusive, first <=
@@ -72,7 +73,8 @@ double collision_distance_to_path(const ToolPath& path, const Tool& tool, const 
 // unfixable_reason for each collision, and more: a collision of another part on rows where the ball
 // itself meets the same obstacle is the cutter passing through it, which no axis fixes either. `spans`:
 // collision_spans of the same collisions.
-std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans);
+std::vector<std::string> unfixable_reasons(const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans,
+                                           const Tool& tool);
 
 struct ReplanWindow {
   size_t first = 0, last = 0;  // rows, inclusive
