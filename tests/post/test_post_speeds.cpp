@@ -15,29 +15,65 @@ using namespace post_test;
 // What the controller reads: the axis words to 4 decimals, F to 2 (or as many as a small feed needs).
 double written(double v, double scale) { return std::round(v * scale) / scale; }
 
+// Every axis as the program writes it (4 decimals).
+tf::Joints as_written(tf::Joints j) {
+  for (int k = 0; k < 6; ++k) j.axis(k) = written(j.axis(k), 1e4);
+  return j;
+}
+
+// A TCP program's feed moves (G94 linear blocks under TCP) with their ends as written.
+struct TcpMove {
+  size_t block;
+  tf::Joints a, b;  // programmed joints: the tip and the rotaries
+  double feed;      // F as written
+};
+std::vector<TcpMove> tcp_moves(const tf::OrientedPath& path, const tf::PostJob& job) {
+  tf::PostOptions opt;
+  opt.dialect = tf::Dialect::Tcp;
+  const tf::Program prog = tf::post_program(path, job, opt);
+  std::vector<TcpMove> out;
+  for (size_t k = 1; k < prog.blocks.size(); ++k) {
+    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
+    if (a.tcp && b.tcp && b.motion == tf::Motion::Linear && b.feed_mode == tf::FeedMode::PerMinute)
+      out.push_back({k, as_written(a.target), as_written(b.target), b.feed >= 0.01 ? written(b.feed, 1e2) : b.feed});
+  }
+  return out;
+}
+
+// The linear axes' fastest speed (mm/min) over a TCP block between programmed joints `a` and `b` (tip and
+// rotaries, as written) taking `minutes`, on the interpolation the controller runs (tip and rotaries
+// linear), sampled in n pieces.
+double peak_linear_speed(const tf::Kinematics& kin, const tf::Joints& a, const tf::Joints& b, double minutes, int n) {
+  const auto forward = [&](const tf::Joints& q) { return kin.forward(q); };
+  double fastest = 0.0;
+  Eigen::Vector3d prev;
+  for (int i = 0; i <= n; ++i) {
+    tf::Joints q = a;
+    for (int k = 0; k < 6; ++k) q.axis(k) += double(i) / n * (b.axis(k) - a.axis(k));
+    const tf::Joints m = tf::joints_for_tip(forward, q, Eigen::Vector3d(q.x, q.y, q.z));
+    const Eigen::Vector3d xyz(m.x, m.y, m.z);
+    if (i > 0) fastest = std::max(fastest, (xyz - prev).norm() * n / minutes);
+    prev = xyz;
+  }
+  return fastest;
+}
+
 // Where the axis turns fast about a tip that moves little, no rotary exceeds max_rotary_feed, timed as
 // written (black-box testing: C at 44 000 deg/min of a machine's 1 800).
 TEST(PostTcpFeed, TheRotariesKeepTheirTopSpeedAsWritten) {
   const tf::PostJob job = job_for("table-table-ac");
   tf::OrientedPath path = impeller_like_path(40);
   for (size_t i = 20; i < path.rows.size(); ++i) path.rows[i].axis = polar_axis(35.0, 60.0);  // a sharp turn
-  tf::PostOptions opt;
-  opt.dialect = tf::Dialect::Tcp;
-  const tf::Program prog = tf::post_program(path, job, opt);
   size_t turning = 0;
-  for (size_t k = 1; k < prog.blocks.size(); ++k) {
-    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
-    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
-    const auto w = [](double v) { return written(v, 1e4); };
-    const double tip = Eigen::Vector3d(w(b.target.x) - w(a.target.x), w(b.target.y) - w(a.target.y),
-                                       w(b.target.z) - w(a.target.z)).norm();
-    const double rot = std::max({std::abs(w(b.target.a) - w(a.target.a)), std::abs(w(b.target.b) - w(a.target.b)),
-                                 std::abs(w(b.target.c) - w(a.target.c))});
+  for (const TcpMove& m : tcp_moves(path, job)) {
+    const size_t k = m.block;
+    const tf::Joints &wa = m.a, &wb = m.b;
+    const double tip = Eigen::Vector3d(wb.x - wa.x, wb.y - wa.y, wb.z - wa.z).norm();
+    const double rot = std::max({std::abs(wb.a - wa.a), std::abs(wb.b - wa.b), std::abs(wb.c - wa.c)});
     if (rot < 1e-6) continue;
     ++turning;
-    const double f = b.feed >= 0.01 ? written(b.feed, 1e2) : b.feed;
     // A block whose tip does not move as written reads F as degrees a minute (a rotary-only move).
-    const double minutes = tip > 0 ? tip / f : rot / f;
+    const double minutes = tip > 0 ? tip / m.feed : rot / m.feed;
     EXPECT_LE(rot / minutes, job.machine.max_rotary_feed * (1 + 1e-3)) << "block " << k;
   }
   EXPECT_GT(turning, 0u);
@@ -45,8 +81,8 @@ TEST(PostTcpFeed, TheRotariesKeepTheirTopSpeedAsWritten) {
 
 // Under TCP the linear axes follow the tilting table on arcs: a turn of A by 85 deg in one block (the
 // axis on a great circle) with the tip 130 mm from A's centre drives Y and Z 10 % faster than their
-// ends' chord says. Judged on the interpolation
-// the controller runs (tip and rotaries linear), sampled finely: no instant above max_feed.
+// ends' chord says. Judged on the interpolation the controller runs (tip and rotaries linear), sampled
+// finely: no instant above max_feed.
 TEST(PostTcpFeed, TheLinearAxesKeepTheirTopSpeedAlongTheirArcs) {
   const tf::PostJob job = job_for("table-table-ac");
   tf::OrientedPath path;
@@ -56,32 +92,16 @@ TEST(PostTcpFeed, TheLinearAxesKeepTheirTopSpeedAlongTheirArcs) {
     row.axis = i < 4 ? polar_axis(40.0, -90.0) : polar_axis(45.0, 90.0);  // A turns between rows 3 and 4
     path.rows.push_back(row);
   }
-  tf::PostOptions opt;
-  opt.dialect = tf::Dialect::Tcp;
-  const tf::Program prog = tf::post_program(path, job, opt);
   const tf::Kinematics kin(job.machine, job.tool.length);
-  const auto forward = [&](const tf::Joints& q) { return kin.forward(q); };
   size_t turning = 0;
-  for (size_t k = 1; k < prog.blocks.size(); ++k) {
-    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
-    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
-    const double rot = std::max({std::abs(b.target.a - a.target.a), std::abs(b.target.c - a.target.c)});
-    const Eigen::Vector3d tip0(a.target.x, a.target.y, a.target.z), tip1(b.target.x, b.target.y, b.target.z);
-    if (rot < 1.0 || (tip1 - tip0).norm() < 1e-3) continue;
+  for (const TcpMove& m : tcp_moves(path, job)) {
+    const size_t k = m.block;
+    const tf::Joints &wa = m.a, &wb = m.b;
+    const double rot = std::max({std::abs(wb.a - wa.a), std::abs(wb.c - wa.c)});
+    const double tip = Eigen::Vector3d(wb.x - wa.x, wb.y - wa.y, wb.z - wa.z).norm();
+    if (rot < 1.0 || tip < 1e-3) continue;
     ++turning;
-    const double minutes = (tip1 - tip0).norm() / b.feed;
-    const int n = 2000;
-    double fastest = 0.0;
-    Eigen::Vector3d prev;
-    for (int i = 0; i <= n; ++i) {
-      const double s = double(i) / n;
-      tf::Joints q = a.target;
-      q.a += s * (b.target.a - a.target.a), q.c += s * (b.target.c - a.target.c);
-      const tf::Joints m = tf::joints_for_tip(forward, q, tip0 + s * (tip1 - tip0));
-      const Eigen::Vector3d xyz(m.x, m.y, m.z);
-      if (i > 0) fastest = std::max(fastest, (xyz - prev).norm() * n / minutes);
-      prev = xyz;
-    }
+    const double fastest = peak_linear_speed(kin, wa, wb, tip / m.feed, 2000);
     EXPECT_LE(fastest, job.machine.max_feed * (1 + 1e-3)) << "block " << k << " turning " << rot << " deg";
     EXPECT_GE(fastest, job.machine.max_feed * 0.98) << "block " << k << ": slowed more than the axes need";
   }
@@ -101,35 +121,17 @@ TEST(PostTcpFeed, ARotaryOnlyTurnKeepsTheLinearAxesTopSpeed) {
     row.p = tip + 3.0 * row.axis;  // the ball's centre over a fixed tip
     path.rows.push_back(row);
   }
-  tf::PostOptions opt;
-  opt.dialect = tf::Dialect::Tcp;
-  const tf::Program prog = tf::post_program(path, job, opt);
   const tf::Kinematics kin(job.machine, job.tool.length);
-  const auto forward = [&](const tf::Joints& q) { return kin.forward(q); };
   size_t turning = 0;
-  for (size_t k = 1; k < prog.blocks.size(); ++k) {
-    const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
-    if (!a.tcp || !b.tcp || b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::PerMinute) continue;
-    const auto w = [](double v) { return written(v, 1e4); };
-    const Eigen::Vector3d tip0(w(a.target.x), w(a.target.y), w(a.target.z)), tip1(w(b.target.x), w(b.target.y), w(b.target.z));
-    const double rot = std::max(std::abs(w(b.target.a) - w(a.target.a)), std::abs(w(b.target.c) - w(a.target.c)));
-    if (rot < 1e-6 || (tip1 - tip0).norm() > 0.0) continue;
+  for (const TcpMove& m : tcp_moves(path, job)) {
+    const size_t k = m.block;
+    const tf::Joints &wa = m.a, &wb = m.b;
+    const double rot = std::max(std::abs(wb.a - wa.a), std::abs(wb.c - wa.c));
+    if (rot < 1e-6 || Eigen::Vector3d(wb.x - wa.x, wb.y - wa.y, wb.z - wa.z).norm() > 0.0) continue;
     ++turning;
-    const double minutes = rot / written(b.feed, 1e2);
+    const double minutes = rot / m.feed;
     EXPECT_LE(rot / minutes, job.machine.max_rotary_feed * (1 + 1e-3)) << "block " << k;
-    const int n = 500;
-    double fastest = 0.0;
-    Eigen::Vector3d prev;
-    for (int i = 0; i <= n; ++i) {
-      const double s = double(i) / n;
-      tf::Joints q = a.target;
-      q.a = w(a.target.a) + s * (w(b.target.a) - w(a.target.a));
-      q.c = w(a.target.c) + s * (w(b.target.c) - w(a.target.c));
-      const tf::Joints m = tf::joints_for_tip(forward, q, tip0);
-      const Eigen::Vector3d xyz(m.x, m.y, m.z);
-      if (i > 0) fastest = std::max(fastest, (xyz - prev).norm() * n / minutes);
-      prev = xyz;
-    }
+    const double fastest = peak_linear_speed(kin, wa, wb, minutes, 500);
     EXPECT_LE(fastest, job.machine.max_feed * (1 + 1e-3)) << "block " << k << " turning " << rot << " deg";
   }
   EXPECT_GT(turning, 0u);
@@ -153,16 +155,12 @@ TEST(PostInverseTime, TheTipKeepsItsFeedAsWritten) {
   opt.pole_tolerance_deg = 0.0;
   const tf::Program prog = tf::post_program(path, job, opt);
   const tf::Kinematics kin(job.machine, job.tool.length);
-  const auto w = [](tf::Joints j) {
-    for (int k = 0; k < 6; ++k) j.axis(k) = written(j.axis(k), 1e4);
-    return j;
-  };
   size_t timed = 0;
   for (size_t k = 1; k < prog.blocks.size(); ++k) {
     const tf::Block &a = prog.blocks[k - 1], &b = prog.blocks[k];
     if (b.motion != tf::Motion::Linear || b.feed_mode != tf::FeedMode::InverseTime) continue;
     ++timed;
-    const double tip = (kin.forward(w(b.target)).tip - kin.forward(w(a.target)).tip).norm();
+    const double tip = (kin.forward(as_written(b.target)).tip - kin.forward(as_written(a.target)).tip).norm();
     const double minutes = 1.0 / written(b.feed, 1e4);
     EXPECT_LE(tip / minutes, job.feed * (1 + 1e-3)) << "block " << k << ", the tip moving " << tip << " mm";
   }

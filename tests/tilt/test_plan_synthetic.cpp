@@ -355,10 +355,8 @@ TEST(PlanSynthetic, AChannelIsClearedByLeaningOutOfItWithOneFlip) {
 // the axis whipping 25 deg between rows, where one constant axis clears every row).
 TEST(PlanSynthetic, AFlatEndBesideAPostFindsTheNarrowBandOfClearTilts) {
   const Mesh post = test::box_mesh({22, 8, 0}, {26, 12, 15}, 100.0), floor = test::box_mesh({0, -10, -5}, {40, 30, 0}, 100.0);
-  Tool tool;
+  Tool tool = test::test_tool();
   tool.cutter = FlatCutter{3.0};
-  tool.flute_length = 12.0;
-  tool.shank_radius = 3.0;
   tool.length = 50.0;
   tool.holder = {{10.0, 30.0}};
   PlannerBasics basics;
