@@ -245,6 +245,52 @@ PlanObstacles replan_obstacles(const Scene& scene, const std::vector<const Mesh*
   return obstacles;
 }
 
+// The windows' rows and motions proven against everything the re-planner knew, and the rows' joint
+// solutions on the machine (`kin` null: none); what fails is listed in `result`.
+void prove_windows(const Scene& scene, const std::vector<const Mesh*>& extra_obstacles, const PlanObstacles& obstacles,
+                   const PlanOptions& plan_options, const Kinematics* kin, ReplanResult& result) {
+  const ToolPath& path = scene.path;
+  const size_t n = path.rows.size();
+  std::vector<size_t> rows;
+  for (const ReplanWindow& w : result.windows)
+    for (size_t i = w.first; i <= w.last; ++i) rows.push_back(i);
+  const std::vector<RowClearance> clear = row_clearances(result.path, rows, scene.tool, scene.planner, obstacles);
+  // The CSV's clearance is the plan's: to the check surfaces and fixtures, not the stock obstacle the
+  // windows were also kept from (black-box testing: 10 mm to the stock in a scene without check surfaces,
+  // where `plan` writes none).
+  const std::vector<RowClearance> scene_clear =
+      extra_obstacles.empty() ? clear : row_clearances(result.path, rows, scene.tool, scene.planner, scene_obstacles(scene));
+  result.min_clearance_mm = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const double d = scene_clear[k].distance_mm;
+    result.path.rows[rows[k]].clearance_mm = std::isfinite(d) ? std::min(d, kNoObstacleClearance) : kNoObstacleClearance;
+    result.min_clearance_mm = std::min(result.min_clearance_mm, result.path.rows[rows[k]].clearance_mm);
+    // The planner's own test: below the clearance is below it (a tolerance here hid rows 0.005 mm short).
+    if (clear[k].margin_mm < 0.0) {
+      ++result.rows_below_safety;
+      result.uncleared.push_back(rows[k]);
+    }
+  }
+  // The motions between the windows' rows and across their ends, proven as the planner proves its own: a
+  // blend can turn the axis through an obstacle between two clear rows (black-box testing: 27 degrees
+  // between two rows swept the holder through a post, and the window read 0.833 mm).
+  std::vector<size_t> motions;
+  for (const ReplanWindow& w : result.windows)
+    for (size_t i = w.first > 0 ? w.first - 1 : 0; i <= w.last && i + 1 < n; ++i) motions.push_back(i);
+  const std::vector<MotionClearance> between =
+      motion_clearances(path, result.path, motions, scene.tool, scene.planner, obstacles, plan_options);
+  for (size_t k = 0; k < motions.size(); ++k)
+    if (!between[k].clear) result.uncleared_motions.emplace_back(motions[k], between[k].margin_mm);
+  // The blended axes on the scene's machine: a window the limits cannot follow is reported, not posted.
+  if (kin) {
+    for (size_t i : rows) {
+      const OrientedRow& r = result.path.rows[i];
+      if (kin->inverse(ToolPose{row_tip(r, scene.tool), r.axis.normalized()}, Joints{}).empty())
+        result.unreachable.push_back(i);
+    }
+  }
+}
+
 // One attempt: the windows re-planned and blended into `result.path` (the original's rows elsewhere), then
 // their rows and motions proven against everything the re-planner knew.
 void plan_windows(const Scene& scene, const OrientedPath& original, const std::vector<const Mesh*>& extra_obstacles,
@@ -290,45 +336,7 @@ void plan_windows(const Scene& scene, const OrientedPath& original, const std::v
     }
   }
 
-  // The windows' clearances, exactly, against everything the re-planner knew.
-  std::vector<size_t> rows;
-  for (const ReplanWindow& w : result.windows)
-    for (size_t i = w.first; i <= w.last; ++i) rows.push_back(i);
-  const std::vector<RowClearance> clear = row_clearances(result.path, rows, scene.tool, scene.planner, obstacles);
-  // The CSV's clearance is the plan's: to the check surfaces and fixtures, not the stock obstacle the
-  // windows were also kept from (black-box testing: 10 mm to the stock in a scene without check surfaces,
-  // where `plan` writes none).
-  const std::vector<RowClearance> scene_clear =
-      extra_obstacles.empty() ? clear : row_clearances(result.path, rows, scene.tool, scene.planner, scene_obstacles(scene));
-  result.min_clearance_mm = std::numeric_limits<double>::infinity();
-  for (size_t k = 0; k < rows.size(); ++k) {
-    const double d = scene_clear[k].distance_mm;
-    result.path.rows[rows[k]].clearance_mm = std::isfinite(d) ? std::min(d, kNoObstacleClearance) : kNoObstacleClearance;
-    result.min_clearance_mm = std::min(result.min_clearance_mm, result.path.rows[rows[k]].clearance_mm);
-    // The planner's own test: below the clearance is below it (a tolerance here hid rows 0.005 mm short).
-    if (clear[k].margin_mm < 0.0) {
-      ++result.rows_below_safety;
-      result.uncleared.push_back(rows[k]);
-    }
-  }
-  // The motions between the windows' rows and across their ends, proven as the planner proves its own: a
-  // blend can turn the axis through an obstacle between two clear rows (black-box testing: 27 degrees
-  // between two rows swept the holder through a post, and the window read 0.833 mm).
-  std::vector<size_t> motions;
-  for (const ReplanWindow& w : result.windows)
-    for (size_t i = w.first > 0 ? w.first - 1 : 0; i <= w.last && i + 1 < n; ++i) motions.push_back(i);
-  const std::vector<MotionClearance> between =
-      motion_clearances(path, result.path, motions, scene.tool, scene.planner, obstacles, plan_options);
-  for (size_t k = 0; k < motions.size(); ++k)
-    if (!between[k].clear) result.uncleared_motions.emplace_back(motions[k], between[k].margin_mm);
-  // The blended axes on the scene's machine: a window the limits cannot follow is reported, not posted.
-  if (kin) {
-    for (size_t i : rows) {
-      const OrientedRow& r = result.path.rows[i];
-      if (kin->inverse(ToolPose{row_tip(r, scene.tool), r.axis.normalized()}, Joints{}).empty())
-        result.unreachable.push_back(i);
-    }
-  }
+  prove_windows(scene, extra_obstacles, obstacles, plan_options, kin ? &*kin : nullptr, result);
 }
 
 // What an attempt leaves short that the original path did not: wider windows take in more rows, and a row
