@@ -13,10 +13,17 @@ Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool) {
   return tool.tip_at(row.p, row.n, a);
 }
 
-bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
-  if (oriented.rows.size() != path.rows.size()) return false;
+namespace {
+// The first row whose point lies more than 0.001 mm from its path row's; the row count when none does.
+size_t first_row_off_path(const OrientedPath& oriented, const ToolPath& path) {
   for (size_t i = 0; i < path.rows.size(); ++i)
-    if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3) return false;
+    if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3) return i;
+  return path.rows.size();
+}
+}  // namespace
+
+bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
+  if (oriented.rows.size() != path.rows.size() || first_row_off_path(oriented, path) < path.rows.size()) return false;
   for (size_t i = 0; i < path.rows.size(); ++i) oriented.rows[i].n = path.rows[i].contact_normal();
   return true;
 }
@@ -25,12 +32,12 @@ void require_rows_of_path(const OrientedPath& oriented, const ToolPath& path, co
   if (oriented.rows.size() != path.rows.size())
     throw InputError(file, 0, "", "has " + std::to_string(oriented.rows.size()) + " rows, the scene's path " +
                                       std::to_string(path.rows.size()));
-  for (size_t i = 0; i < path.rows.size(); ++i)
-    if ((oriented.rows[i].p - path.rows[i].p).norm() > 1e-3)
-      throw InputError(file, static_cast<int>(i) + 2, "x",
-                       "row " + std::to_string(i + 1) + " is not the scene's path row (" + fixed(path.rows[i].p.x(), 4) +
-                           ", " + fixed(path.rows[i].p.y(), 4) + ", " + fixed(path.rows[i].p.z(), 4) +
-                           "): an oriented path of another path");
+  const size_t i = first_row_off_path(oriented, path);
+  if (i < path.rows.size())
+    throw InputError(file, static_cast<int>(i) + 2, "x",
+                     "row " + std::to_string(i + 1) + " is not the scene's path row (" + fixed(path.rows[i].p.x(), 4) +
+                         ", " + fixed(path.rows[i].p.y(), 4) + ", " + fixed(path.rows[i].p.z(), 4) +
+                         "): an oriented path of another path");
 }
 
 namespace fs = std::filesystem;
