@@ -34,7 +34,7 @@ void require_rows_of_path(const OrientedPath& oriented, const ToolPath& path, co
                                       std::to_string(path.rows.size()));
   const size_t i = first_row_off_path(oriented, path);
   if (i < path.rows.size())
-    throw InputError(file, static_cast<int>(i) + 2, "x",
+    throw InputError(file, oriented.rows[i].source_line, "x",
                      "row " + std::to_string(i + 1) + " is not the scene's path row (" + fixed(path.rows[i].p.x(), 4) +
                          ", " + fixed(path.rows[i].p.y(), 4) + ", " + fixed(path.rows[i].p.z(), 4) +
                          "): an oriented path of another path");
@@ -70,6 +70,7 @@ OrientedPath read_oriented_csv(const fs::path& file) {
       v[i] = i < 3 ? parse_coordinate(t.rows[r][c[i]], name, line, cols[i]) : parse_number(t.rows[r][c[i]], name, line, cols[i]);
     }
     OrientedRow row;
+    row.source_line = line;
     row.p = {v[0], v[1], v[2]};
     Eigen::Vector3d a(v[3], v[4], v[5]);
     const double n = a.norm();

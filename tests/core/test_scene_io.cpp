@@ -286,6 +286,9 @@ TEST(SceneIO, CheckComparesTheOrientedRowsWithTheScenesPath) {
   tf::test::write_text(dir / "same.csv", header + "10,10,21,0,0,1,0,0,1\n11,10,21,0,0,1,0,0,1\n12,10,21,0,0,1,0,0,1\n");
   tf::test::write_text(dir / "moved.csv", header + "10,10,21,0,0,1,0,0,1\n111,10,21,0,0,1,0,0,1\n12,10,21,0,0,1,0,0,1\n");
   tf::test::write_text(dir / "short.csv", header + "10,10,21,0,0,1,0,0,1\n11,10,21,0,0,1,0,0,1\n");
+  // Comment and blank lines move the rows down the file: the message names the row's own line.
+  tf::test::write_text(dir / "commented.csv",
+                       "# planned by hand\n" + header + "10,10,21,0,0,1,0,0,1\n\n# the moved row\n111,10,21,0,0,1,0,0,1\n12,10,21,0,0,1,0,0,1\n");
   const auto check = [&](const std::string& csv) {
     return tf::test::run_tiltfield("check '" + file.string() + "' --oriented '" + (dir / csv).string() + "'");
   };
@@ -294,6 +297,9 @@ TEST(SceneIO, CheckComparesTheOrientedRowsWithTheScenesPath) {
   EXPECT_EQ(moved.exit_code, 2) << moved.out;
   EXPECT_NE(moved.out.find("moved.csv:3"), std::string::npos) << moved.out;
   EXPECT_NE(moved.out.find("row 2 is not the scene's path row"), std::string::npos) << moved.out;
+  const auto commented = check("commented.csv");
+  EXPECT_EQ(commented.exit_code, 2) << commented.out;
+  EXPECT_NE(commented.out.find("commented.csv:6"), std::string::npos) << commented.out;
   const auto short_one = check("short.csv");
   EXPECT_EQ(short_one.exit_code, 2) << short_one.out;
   EXPECT_NE(short_one.out.find("has 2 rows"), std::string::npos) << short_one.out;

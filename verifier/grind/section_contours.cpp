@@ -51,6 +51,84 @@ bool edges_cross(const Paths& paths) {
   return false;
 }
 
+namespace {
+// Distance (nm) from q to the segment a-b.
+double segment_distance(const IntPoint& q, const IntPoint& a, const IntPoint& b) {
+  const double ux = double(b.X - a.X), uy = double(b.Y - a.Y), qx = double(q.X - a.X), qy = double(q.Y - a.Y);
+  const double len2 = ux * ux + uy * uy;
+  const double f = len2 > 0.0 ? std::clamp((qx * ux + qy * uy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(qx - f * ux, qy - f * uy);
+}
+
+// Without needles: a vertex where the contour turns back on itself, within `clean` of the line through
+// its neighbours. It bounds no area (Clipper's unions leave such spikes where hulls touch), and the tiling
+// between sections cannot follow it.
+Path without_needles(Path p, double clean) {
+  bool dropped = true;
+  while (dropped && p.size() >= 3) {
+    dropped = false;
+    Path out;
+    out.reserve(p.size());
+    const size_t n = p.size();
+    for (size_t i = 0; i < n; ++i) {
+      const IntPoint& a = out.empty() ? p[n - 1] : out.back();
+      const IntPoint &b = p[i], &c = p[(i + 1) % n];
+      const double ux = double(c.X - a.X), uy = double(c.Y - a.Y), len = std::hypot(ux, uy);
+      const double bx = double(b.X - a.X), by = double(b.Y - a.Y);
+      const bool back = bx * double(c.X - b.X) + by * double(c.Y - b.Y) < 0.0;
+      const double off = len > 0.0 ? std::abs(ux * by - uy * bx) / len : std::hypot(bx, by);
+      if (back && off <= clean) {
+        dropped = true;
+        continue;
+      }
+      out.push_back(b);
+    }
+    p = std::move(out);
+  }
+  return p;
+}
+}  // namespace
+
+Path clean_contour(const Path& in, double clean) {
+  // Without points within `clean` of the one kept before (and of the first, at the end).
+  Path p;
+  p.reserve(in.size());
+  for (const IntPoint& q : in)
+    if (p.empty() || std::hypot(double(q.X - p.back().X), double(q.Y - p.back().Y)) > clean) p.push_back(q);
+  while (p.size() > 1 && std::hypot(double(p.back().X - p.front().X), double(p.back().Y - p.front().Y)) <= clean)
+    p.pop_back();
+  const size_t n = p.size();
+  if (n < 4) return p;
+  // Start at the lowest-leftmost vertex, a corner of the hull that stays.
+  const size_t first = static_cast<size_t>(std::min_element(p.begin(), p.end(), [](const IntPoint& a, const IntPoint& b) {
+                                             return a.X < b.X || (a.X == b.X && a.Y < b.Y);
+                                           }) - p.begin());
+  auto at = [&](size_t k) -> const IntPoint& { return p[(first + k) % n]; };
+  // From each kept vertex the edge runs as far as every vertex it skips stays within `clean` of it (a run
+  // is capped so that a long straight stretch costs no more than linear time times the cap).
+  constexpr size_t kMaxRun = 64;
+  Path out{at(0)};
+  size_t anchor = 0;
+  while (anchor < n) {
+    size_t end = anchor + 1;
+    while (end < n && end - anchor < kMaxRun) {
+      const size_t next = end + 1;  // n: back to the first vertex
+      bool within = true;
+      for (size_t k = anchor + 1; k < next && within; ++k) within = segment_distance(at(k), at(anchor), at(next)) <= clean;
+      if (!within) break;
+      end = next;
+    }
+    if (end >= n) break;
+    out.push_back(at(end));
+    anchor = end;
+  }
+  return without_needles(std::move(out), clean);
+}
+
+void clean_contours(Paths& paths, double clean) {
+  for (Path& p : paths) p = clean_contour(p, clean);
+}
+
 Paths tidy_contours(Paths paths, double clean) {
   // A contour narrower than `clean` on average (twice its area over its perimeter) goes too: a sliver of
   // air or material 0.4 um wide that one section holds and its neighbours do not had the tiling stair-step
@@ -70,8 +148,8 @@ Paths tidy_contours(Paths paths, double clean) {
     return out;
   };
   auto cleaned = [&](const Paths& in) {
-    Paths out;
-    ClipperLib::CleanPolygons(in, out, clean);
+    Paths out = in;
+    clean_contours(out, clean);
     return without_slivers(std::move(out));
   };
   if (Paths c = cleaned(paths); !edges_cross(c)) return c;

@@ -9,6 +9,14 @@ namespace tf::grind::detail {
 // or where one's end lies on the other (contours touching at a point), do not count.
 bool edges_cross(const ClipperLib::Paths& paths);
 
+// In: a closed contour (nm) and a distance `clean` (nm). Out: the contour with vertices dropped where every
+// dropped vertex lies within `clean` of the edge that replaces it (and vertices within `clean` of the one
+// before). Clipper's CleanPolygons tests each vertex against its current neighbours only, and dropping one
+// moves the next test's neighbour farther off: on a finely sampled curve the drops ran on, a ground V's
+// section lost 0.09 mm between two of its 7 remaining vertices out of 700 (black-box testing).
+ClipperLib::Path clean_contour(const ClipperLib::Path& in, double clean);
+void clean_contours(ClipperLib::Paths& paths, double clean);
+
 // In: a section's contours (Clipper's strictly simple output, nm) and the cleaning distance `clean` (nm).
 // Out: the contours with vertices within `clean` of their neighbours' line dropped, and contours narrower
 // than `clean` on average (twice the area over the perimeter) left out, such that no two edges cross or

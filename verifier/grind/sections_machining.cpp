@@ -184,7 +184,7 @@ void add_regions(const ClipperLib::PolyNode& node, double clean, Regions& out) {
       region.push_back(hole->Contour);
       add_regions(*hole, clean, out);  // islands inside the hole
     }
-    ClipperLib::CleanPolygons(region, clean);
+    detail::clean_contours(region, clean);
     if (region.front().size() < 3) continue;
     region.erase(std::remove_if(region.begin() + 1, region.end(), [](const Path& p) { return p.size() < 3; }), region.end());
     out.push_back(std::move(region));
@@ -330,6 +330,11 @@ double minimum_section_bytes(const GrindScene& scene, const SectionOptions& opt)
   return (section_gaps(scene.blank, opt.spacing) + 1.0) * circle_points(scene.blank, opt.chord_tolerance) * 400.0;
 }
 
+// Rings along a profile's sloping segments at most this far apart (the shorter of the two sides): a V-wheel
+// plunge's removed volume is within 0.15 % of its closed form at 0.1 mm and moves by 0.07 % at 0.008 mm; a
+// rounded wheel's corners are finer already (the bundled end mill moved by 0.001 %, at three times the time).
+constexpr double kProfileRingStep = 0.1;  // mm
+
 SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& opt, const Progress& progress) {
   SectionStack stack;
   stack.blank = scene.blank;
@@ -345,6 +350,8 @@ SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& op
     before = op.moves.back().target;
   }
   const std::vector<Eigen::Vector2d> trig = detail::generator_table(opt.generators);
+  Wheel wheel = scene.wheel;
+  wheel.profile = detail::rings_along_profile(wheel.profile, kProfileRingStep);
   const Path circle = blank_circle(scene.blank, opt.chord_tolerance);
   stack.sections.resize(n + 1);
   std::atomic<int> done{0}, ground{0};
@@ -355,7 +362,7 @@ SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& op
     Slice slice{{circle}, {std::vector<int>(circle.size(), 0)}};
     bool cut = false;
     for (size_t k = 0; k < poses.size(); ++k)
-      cut |= cut_section(slice, z, poses[k], scene.wheel, trig, opt, static_cast<int>(k) + 1);
+      cut |= cut_section(slice, z, poses[k], wheel, trig, opt, static_cast<int>(k) + 1);
     double area = 0;
     for (const Path& p : slice.paths) area += ClipperLib::Area(p);
     if (cut && area < blank_area * (1 - 1e-9)) ++ground;

@@ -36,19 +36,47 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
   const double dxy2 = a.x() * a.x() + a.y() * a.y();
   if (dxy2 > 1e-18) {
     const Eigen::Vector2d dir = Eigen::Vector2d(a.y(), -a.x()) / std::sqrt(dxy2);
-    for (int r = 0; r < rings; ++r) {
-      const Eigen::Vector2d& tr = profile[size_t(r)];
-      const Eigen::Vector3d o = c + tr.x() * a;
+    // The disc at offset t of radius rho: its chord's ends, or its one point where the plane touches it.
+    auto chord = [&](double t, double rho, int id, bool touching) {
+      const Eigen::Vector3d o = c + t * a;
       const double k = a.dot(o) - a.z() * z0;
       const Eigen::Vector2d p0 = k / dxy2 * Eigen::Vector2d(a.x(), a.y());
       const Eigen::Vector3d w(p0.x() - o.x(), p0.y() - o.y(), z0 - o.z());
       const double b = dir.x() * w.x() + dir.y() * w.y();
-      const double disc = b * b - (w.squaredNorm() - tr.y() * tr.y());
-      if (disc < 0.0) continue;
+      if (touching) {
+        out.push_back(p0 - b * dir);
+        if (ids) ids->push_back(id);
+        return;
+      }
+      const double disc = b * b - (w.squaredNorm() - rho * rho);
+      if (disc < 0.0) return;
       const double s = std::sqrt(disc);
       out.push_back(p0 + (-b - s) * dir);
       out.push_back(p0 + (-b + s) * dir);
-      if (ids) ids->insert(ids->end(), {2 * r, 2 * r + 1});
+      if (ids) ids->insert(ids->end(), {id, id + 1});
+    };
+    for (int r = 0; r < rings; ++r) chord(profile[size_t(r)].x(), profile[size_t(r)].y(), 2 * r, false);
+    // Between two rings the wheel is a cone's frustum, and the plane's distance from the axis in a disc's
+    // plane, m(t) = |z0 - c.z - t a.z| / sqrt(dxy2), is linear in t: where it equals rho(t) the plane touches
+    // the frustum, the section's extreme point along the spindle. Without it the section ended at the
+    // last ring that reaches the plane: a ground slot came out narrower by up to a ring spacing, and a
+    // wheel given by a coarse profile (a V of three points) ground nothing where only its rim reached
+    // (black-box testing).
+    const double inv = 1.0 / std::sqrt(dxy2);
+    const double m0 = (z0 - c.z()) * inv, mt = -a.z() * inv;  // m(t) = |m0 + mt t|
+    const int vertex_ids = 2 * rings + rings * static_cast<int>(trig.size());
+    for (int r = 0; r + 1 < rings; ++r) {
+      const double t0 = profile[size_t(r)].x(), r0 = profile[size_t(r)].y();
+      const double t1 = profile[size_t(r + 1)].x(), r1 = profile[size_t(r + 1)].y();
+      const double slope = (r1 - r0) / (t1 - t0);
+      for (int side = 0; side < 2; ++side) {
+        const double sg = side == 0 ? 1.0 : -1.0;  // rho(t) = sg * (m0 + mt t)
+        const double den = slope - sg * mt;
+        if (std::abs(den) < 1e-15) continue;
+        const double t = (sg * m0 - r0 + slope * t0) / den;
+        if (!(t > t0 && t < t1)) continue;
+        chord(t, r0 + slope * (t - t0), vertex_ids + 2 * r + side, true);
+      }
     }
   }
   // Generators: only needed when rings are nearly parallel to the plane (their chords get sparse).
@@ -86,6 +114,20 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
       add(s0 == s1 ? 0.0 : s0 / (s0 - s1), i);
     }
   }
+}
+
+std::vector<Eigen::Vector2d> rings_along_profile(const std::vector<Eigen::Vector2d>& profile, double short_side) {
+  std::vector<Eigen::Vector2d> out;
+  for (size_t i = 0; i < profile.size(); ++i) {
+    if (i > 0) {
+      const Eigen::Vector2d d = profile[i] - profile[i - 1];
+      const double shorter = std::min(std::abs(d.x()), std::abs(d.y()));
+      const int n = static_cast<int>(std::min(1e4, std::ceil(shorter / std::max(short_side, 1e-6))));
+      for (int k = 1; k < n; ++k) out.push_back(profile[i - 1] + d * (double(k) / n));
+    }
+    out.push_back(profile[i]);
+  }
+  return out;
 }
 
 std::vector<Eigen::Vector2d> generator_table(int n) {

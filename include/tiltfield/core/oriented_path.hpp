@@ -30,6 +30,8 @@ struct OrientedRow {
   // or bull end's cutter location moves with the axis to keep its contact (Tool::contact_offset). Zero:
   // unknown, `p` is the cutter location itself.
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  // The line of the CSV the row was read from (read_oriented_csv), for messages; 0: not read from a file.
+  int source_line = 0;
 };
 
 struct OrientedPath {
