@@ -162,6 +162,14 @@ CsvTable read_csv(const fs::path& file) {
     if (tl.find('\0') != std::string::npos) throw InputError(file.string(), n, "", "binary data in a CSV file");
     auto cells = split(tl);
     if (t.header.empty()) {
+      // A file without its header row: its first row of numbers had been read as column names, and the
+      // message spoke of a column appearing twice (black-box testing).
+      const bool numbers = std::all_of(cells.begin(), cells.end(), [](const std::string& c) {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(c.data(), c.data() + c.size(), v);
+        return !c.empty() && ec == std::errc() && ptr == c.data() + c.size();
+      });
+      if (numbers) throw InputError(file.string(), n, "", "no header row: the first row holds numbers, not column names");
       // A column named twice is ambiguous (which one holds the feed?): the readers took the first.
       for (size_t i = 0; i < cells.size(); ++i)
         if (!cells[i].empty() && std::find(cells.begin(), cells.begin() + long(i), cells[i]) != cells.begin() + long(i))

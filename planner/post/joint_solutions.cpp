@@ -283,8 +283,10 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
   InverseOptions exact;
   exact.pole_tolerance_deg = 0.0;
   s << ":";
+  bool first = true;
   for (const Joints& j : unlimited.inverse(pose, Joints{}, exact)) {
-    s << " solution " << t << "=" << fixed(tilt_of(j, m.kinematics), 3) << " C=" << fixed(j.c, 3);
+    s << (first ? "" : ";") << " solution " << t << "=" << fixed(tilt_of(j, m.kinematics), 3) << " C=" << fixed(j.c, 3);
+    first = false;
     for (const auto& [letter, lim] : m.limits) {
       double v = letter == 'X' ? j.x : letter == 'Y' ? j.y : letter == 'Z' ? j.z : j.rotary(letter);
       if (letter == 'C' || letter == t) {
@@ -294,7 +296,6 @@ std::string unreachable_reason(const ToolPose& pose, const Kinematics& kin, cons
       }
       s << " has " << letter << " " << fixed(v, 3) << " outside [" << fixed(lim.min, 3) << ", " << fixed(lim.max, 3) << "]";
     }
-    s << ";";
   }
   return "unreachable pose: " + s.str();
 }

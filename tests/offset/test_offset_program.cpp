@@ -154,6 +154,25 @@ TEST(OffsetProgram, ProgramPointsLieAtTheGap) {
   }
 }
 
+// A lead of 128 mm in a 40 x 20 rectangle: its quarter arc, checked at 17 points, crossed the wall between
+// two of them (black-box testing). Halved until clear, it keeps the gap all along: every micrometre of it.
+TEST(OffsetProgram, ALongLeadIsHalvedUntilItClearsTheProfileAllAlong) {
+  const Profile p = parse_profile("START 0 0\n0 40 0\n0 0 20\n0 -40 0\n0 0 -20\n", "rect");
+  const auto r = offset_profile(p, constant_gap(2.0), {});
+  const auto field = make_clearance_field(p, constant_gap(2.0));
+  for (const double lead : {2.0, 100.0, 128.0, 1000.0}) {
+    for (const auto& rc : plan_leads(r, *field, lead)) {
+      ASSERT_TRUE(rc.has_leads) << lead;
+      for (const Segment& s : {rc.lead_in, rc.lead_out}) {
+        const int n = static_cast<int>(std::ceil(length(s) / 1e-3));
+        double worst = INFINITY;
+        for (int k = 0; k <= n; ++k) worst = std::min(worst, profile_distance(*field, point_at(s, double(k) / n)));
+        EXPECT_GE(worst, 2.0 - 1e-6) << "lead " << lead << ", radius " << s.r;
+      }
+    }
+  }
+}
+
 // Reads the program's path moves back (G1 lines, G2/G3 arcs with I J relative to the start) and samples
 // them: every sampled point of the path lies at the gap from the profile.
 TEST(OffsetProgram, ProgramMovesSampledLieAtTheGap) {
@@ -230,7 +249,9 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
   for (const char* opt :
        {"--plunge-feed 0", "--plunge-feed -5", "--spindle -100", "--target ecm --ecm-flush -1",
         "--z-cut 10 --z-safe 5", "--target ecm --ecm-retract-every 5 --ecm-retract-height -3", "--feed nan",
-        "--z-safe nan", "--lead inf"}) {
+        "--z-safe nan", "--lead inf",
+        // written as F0 or Q0 by the 8 decimals; a retract every nanometre wrote 1.25 GB (black-box testing)
+        "--feed 1e-9", "--target ecm --ecm-voltage 1e-9", "--target ecm --ecm-retract-every 1e-9"}) {
     SCOPED_TRACE(opt);
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " -d 2 " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));

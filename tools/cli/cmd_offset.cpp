@@ -22,11 +22,16 @@ struct OffsetCliOptions {
   offset::EcmOptions ecm;
 };
 
+constexpr double kMinRetractEveryMm = 0.1;
+
 // A value as the message shows it (fixed() refuses what is not finite).
 std::string shown(double v) { return std::isfinite(v) ? fixed(v, 9) : std::to_string(v); }
 
+// Positive, and not so small that the program's 8 decimals write it as 0 (F0 is refused by the
+// controller; S0 and Q0 run with the spindle or the generator off).
 void check_positive(double v, const char* field) {
   if (!(v > 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a positive number, got " + shown(v));
+  if (v < 5e-9) throw InputError("", 0, field, "is " + shown(v) + ": below 0.00000001, written as 0 by the program's 8 decimals");
 }
 void check_not_negative(double v, const char* field) {
   if (!(v >= 0) || !std::isfinite(v)) throw InputError("", 0, field, "must be a number >= 0, got " + shown(v));
@@ -58,6 +63,10 @@ void check_program_options(const offset::MillingOptions& m, const offset::EcmOpt
   check_not_negative(e.start_dwell_s, "ecm-dwell");
   check_not_negative(e.end_dwell_s, "ecm-end-dwell");
   check_not_negative(e.retract_every_mm, "ecm-retract-every");
+  // A retract every micrometre wrote a 1.25 GB program (black-box testing).
+  if (e.retract_every_mm > 0 && e.retract_every_mm < kMinRetractEveryMm)
+    throw InputError("", 0, "ecm-retract-every",
+                     "is " + shown(e.retract_every_mm) + " mm: 0 (never) or at least " + fixed(kMinRetractEveryMm, 1) + " mm");
   check_positive(e.retract_height, "ecm-retract-height");
   check_finite(e.z_work, "ecm-z-work");
   check_finite(e.z_safe, "ecm-z-safe");

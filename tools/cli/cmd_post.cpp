@@ -102,8 +102,7 @@ void run_post(PostArgs& a) {
     program = post_program(path, job, o, terminal_progress());
   } catch (const PostRowError& e) {
     // Name the row by its line in the CSV (comments and blank lines are skipped by the reader).
-    const CsvTable table = read_csv(a.oriented);
-    const int line = e.row() < table.lines.size() ? table.lines[e.row()] : 0;
+    const int line = e.row() < path.rows.size() ? path.rows[e.row()].source_line : 0;
     throw InputError(a.oriented, line, "", "row " + std::to_string(e.row() + 1) + ": " + e.what());
   }
   if (!global_options().quiet)
@@ -146,10 +145,16 @@ void add_post_command(CLI::App& app) {
                                       "default: 4 x the tool radius");
   a.max_mrr_option = cmd->add_option("--max-mrr", a.schedule.max_mrr,
                   "simulate the program and lower feeds so that no block removes more than this many mm3/min");
-  cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")->capture_default_str();
+  // The schedule's own options without it had been taken and ignored (black-box testing).
+  cmd->add_option("--min-feed", a.schedule.min_feed, "with --max-mrr: slowest feed written, mm/min")
+      ->capture_default_str()
+      ->needs(a.max_mrr_option);
   a.air_feed_option = cmd->add_option("--air-feed", a.schedule.air_feed,
-                                      "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)");
-  cmd->add_option("--resolution", a.resolution, "with --max-mrr: dexel spacing of the simulation, mm")->capture_default_str();
+                                      "with --max-mrr: feed of blocks that cut nothing (default: the machine's max_feed)")
+                          ->needs(a.max_mrr_option);
+  cmd->add_option("--resolution", a.resolution, "with --max-mrr: dexel spacing of the simulation, mm")
+      ->capture_default_str()
+      ->needs(a.max_mrr_option);
   cmd->callback([] { run_post(a); });
 }
 

@@ -10,13 +10,15 @@
 #include "cli.hpp"
 #include "job.hpp"
 #include "tiltfield/core/error.hpp"
+#include "tiltfield/dexel/verify.hpp"
 
 namespace tf::cli {
 
 namespace {
 // Before the work: no output may replace a file the scene was read from (`run -o` into the scene's folder
 // replaced its stock mesh, and the next run cut nothing), nor be renamed onto a folder.
-void check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
+// Returns whether it made the output folder (to be taken away again if the job stops on bad input).
+bool check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
   std::vector<std::pair<std::string, std::string>> outputs;
   for (const char* name : kRunOutputs) {
     const std::string path = (dir / name).string();
@@ -28,6 +30,7 @@ void check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
   // A folder that cannot be written is bad input, found before the work: it had failed with exit 1 after
   // the plan (black-box testing).
   std::error_code ec;
+  const bool existed = std::filesystem::exists(dir, ec);
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(dir.string(), 0, "-o", "cannot make the output folder (" + ec.message() + ")");
   const std::filesystem::path probe = dir / ".tiltfield-write-test";
@@ -36,6 +39,7 @@ void check_run_outputs(const Scene& scene, const std::filesystem::path& dir) {
     if (!test) throw InputError(dir.string(), 0, "-o", "cannot write in the output folder");
   }
   std::filesystem::remove(probe, ec);
+  return !existed;
 }
 }  // namespace
 
@@ -57,10 +61,21 @@ void add_run_command(CLI::App& app) {
   cmd->callback([] {
     const Scene scene = load_scene(a.scene.empty() ? bundled_scene("impeller") : std::filesystem::path(a.scene));
     require_for_planning(scene);
-    check_run_outputs(scene, a.dir);
+    // The verification's spacing is checked before the plan (a spacing too fine or too coarse for the stock
+    // had stopped the job after planning).
+    check_verify_resolution(scene, a.options.resolution_mm);
+    const bool made = check_run_outputs(scene, a.dir);
     a.options.out_dir = a.dir;
     a.options.progress = terminal_progress();
-    const JobSummary s = run_job(scene, a.options);
+    JobSummary s;
+    try {
+      s = run_job(scene, a.options);
+    } catch (const InputError&) {
+      // Bad input leaves no output: a folder this run made and left empty goes too.
+      std::error_code ec;
+      if (made && std::filesystem::is_empty(a.dir, ec)) std::filesystem::remove(a.dir, ec);
+      throw;
+    }
     std::cout << format_summary(s, scene);
     if (s.collisions_final > 0)
       throw JobError(std::to_string(s.collisions_final) + " collision(s) left after re-planning (see `left` above)");

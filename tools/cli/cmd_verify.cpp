@@ -191,10 +191,16 @@ void add_verify_command(CLI::App& app) {
                   "0: the arc between two angle samples at the tool's radius, at least the resolution (default 0)");
   args.schedule_option = cmd->add_option("--schedule-feed", args.schedule_mrr,
                   "rewrite F words so that no block removes more than this many mm3/min; -o is then the new program");
-  cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")->capture_default_str();
+  // The schedule's own options without it had been taken and ignored (black-box testing).
+  cmd->add_option("--min-feed", args.schedule.min_feed, "slowest feed the schedule writes, mm/min")
+      ->capture_default_str()
+      ->needs(args.schedule_option);
   args.air_feed_option = cmd->add_option("--air-feed", args.schedule.air_feed,
-                                         "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)");
-  cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON")->check(output_file());
+                                         "feed of blocks that cut nothing, mm/min (default: the machine's max_feed)")
+                             ->needs(args.schedule_option);
+  cmd->add_option("--report", args.report, "with --schedule-feed: also write the verification report JSON")
+      ->check(output_file())
+      ->needs(args.schedule_option);
   cmd->add_flag("--stop-at-first-collision", args.stop_at_first, "stop after the first block that collides");
   cmd->add_flag("--fail-on-collision", args.fail_on_collision, "exit 1 when any collision is found (outputs are written)");
   cmd->add_flag("--block-delete", args.block_delete,

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <sstream>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -186,7 +187,15 @@ Lattice Simulator::make_lattice(const Scene& scene, double h) {
   const Eigen::Vector3d ext = box.sizes();
   const double nodes = (ext.x() / h + 3) * (ext.y() / h + 3) * (ext.z() / h + 3);
   const double rays = nodes / std::max({ext.x() / h + 3, ext.y() / h + 3, ext.z() / h + 3}) * 3;
-  if (rays > 2e8) throw InputError("", 0, "resolution", "too fine for this stock (more than 2e8 rays)");
+  if (rays > 2e8) {
+    // The lattice spans the fixtures and check surfaces too: say what it spans, or a check surface far
+    // off reads as a fault of the resolution (black-box testing).
+    std::ostringstream msg;
+    msg << "too fine for this scene: more than 2e8 rays at " << h << " mm over the box of the stock"
+        << (scene.fixtures.empty() && scene.check_surfaces.empty() ? "" : ", fixtures and check surfaces") << ", "
+        << ext.x() << " x " << ext.y() << " x " << ext.z() << " mm";
+    throw InputError("", 0, "resolution", msg.str());
+  }
   return lattice_for(box, h, 2);
 }
 
@@ -459,6 +468,8 @@ double Simulator::block_minutes(const Block& b, double len) const {
 }
 
 }  // namespace sim
+
+void check_verify_resolution(const Scene& scene, double h) { sim::Simulator::make_lattice(scene, h); }
 
 VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
                             const VerifyOptions& options) {

@@ -183,6 +183,9 @@ class Simulator {
  public:
   Simulator(const Scene& scene, const Program& program, const ForwardFn& forward, const VerifyOptions& options);
   VerifyResult run();
+  // The lattice of the stock's box (with the fixtures and check surfaces) at spacing h; throws InputError
+  // for a spacing the stock cannot take (simulate.cpp).
+  static Lattice make_lattice(const Scene& scene, double h);
 
  private:
   struct Obstacle {
@@ -231,7 +234,6 @@ class Simulator {
   }
 
   // Per block (simulate.cpp).
-  static Lattice make_lattice(const Scene& scene, double h);
   PartSpan part_span(const SweptPart& p, int d) const;
   BlockResult simulate_block(const Block& b, const Joints& from, int index, bool continuing, VerifyReport& rep);
   // Where block bi starts, given where the block before it ended (`from`), across a tool change

@@ -82,6 +82,11 @@ struct VerifyResult {
 VerifyResult verify_program(const Scene& scene, const Program& program, const ForwardFn& forward,
                             const VerifyOptions& options = {});
 
+// Throws InputError (field "resolution") where verify_program would refuse the lattice spacing `h` mm for
+// the scene: not positive, coarser than a quarter of the stock's thinnest side, or more than 2e8 rays. For
+// a job that plans before it verifies, to refuse a bad spacing before any work.
+void check_verify_resolution(const Scene& scene, double h);
+
 // Options for the stock mesh.
 struct StockMeshOptions {
   // Vertices move onto a local sphere (or plane) fitted to the exact dexel ends around them where it fits
