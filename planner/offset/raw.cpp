@@ -3,6 +3,7 @@
 // Karbowski, Ruszaj, section 3.1): intersection of the neighbouring offsets where they overlap, an arc of
 // radius D about the vertex where they part. Sharp corners are made afterwards from these arcs (sharp.cpp),
 // once the loops are gone.
+#include <algorithm>
 #include <cmath>
 
 #include "offset_internal.hpp"
@@ -103,6 +104,87 @@ std::vector<Segment> offset_piece(const Piece& p, const GapLaw& law, double sigm
   return out;
 }
 
+// `out` continued backward from its start by `reach` mm along its line or circle (a half turn at most).
+Segment extended_back(const Segment& out, double reach) {
+  if (!out.is_arc()) return make_line(out.a - reach * tangent_at(out, 0.0), out.a);
+  const double sign = out.sweep > 0 ? 1.0 : -1.0;
+  const double back = std::min({reach / out.r, 2.0 * M_PI - std::abs(out.sweep) - 1e-3, M_PI});
+  Segment e = make_arc(out.c, out.r, start_angle(out) - sign * back, sign * back);
+  e.b = out.a;
+  return e;
+}
+
+// Under a gap law an overlapping join may find no crossing of its two offsets: a law rising steeply into
+// the vertex tilts the incoming offset into the outgoing one's gap without meeting it (a rise of 0.5 mm
+// over the last millimetre before a 37-degree corner). The outgoing offset, continued back, then meets an
+// earlier offset: the chain is cut there, what lies between is dropped, and the continuation joins the
+// two (marked Transition: its nearest profile point is the earlier element's, and it lies farther from it
+// than that element's gap). An arc about the vertex had closed the chain instead, a fold with no crossing
+// that loop removal left in place: the contour came 0.46 mm inside the law's gap, or the offset was
+// found "empty" (black-box testing). Only the incoming offset and earlier pieces of this pass are searched.
+// Whether every point of `bridge` (sampled) keeps the gap of its nearest profile point, within tol.
+bool keeps_gap(const Segment& bridge, const std::vector<Piece>& pieces, const GapLaw& law, double tol) {
+  for (int k = 0; k <= 32; ++k) {
+    const Vector2d q = point_at(bridge, k / 32.0);
+    double best = INFINITY, s = 0.0;
+    for (const Piece& p : pieces) {
+      double t = 0.0;
+      const double d = distance(p.seg, q, &t);
+      if (d < best) best = d, s = p.s0 + t * (p.s1 - p.s0);
+    }
+    if (best < gap_at(law, s) - tol) return false;
+  }
+  return true;
+}
+
+bool join_back(std::vector<std::vector<Segment>>& off, std::vector<std::vector<Segment>>& joins, size_t i, size_t j,
+               double reach, const std::vector<Piece>& pieces, const GapLaw& law, double tol) {
+  const Segment& out = off[j].front();
+  const Segment ext = extended_back(out, reach);
+  double walked = 0.0;
+  const size_t stop = j < i ? j + 1 : 0;
+  for (size_t k = i + 1; k-- > stop && walked <= reach;) {
+    // The pieces of k in chain order are off[k] then joins[k], walked from the end: first `in` itself (off[i].back()),
+    // which the continuation may meet where `out` could not.
+    std::vector<std::pair<std::vector<Segment>*, size_t>> segs;
+    for (size_t m = 0; m < off[k].size(); ++m) segs.emplace_back(&off[k], m);
+    if (k < i)
+      for (size_t m = 0; m < joins[k].size(); ++m) segs.emplace_back(&joins[k], m);
+    for (size_t q = segs.size(); q-- > 0;) {
+      auto& [vec, m] = segs[q];
+      const Segment& seg = (*vec)[m];
+      const Crossing* best = nullptr;
+      const auto xs = intersect(seg, ext, tol);
+      for (const auto& c : xs)
+        if (c.t1 > 1e-12 && c.t2 < 1 - 1e-12 && (!best || c.t2 > best->t2)) best = &c;
+      Segment bridge;
+      if (best) {
+        bridge = sub_segment(ext, best->t2, 1.0);
+        bridge.a = best->p;
+        bridge.b = out.a;
+        // A crossing with an offset farther off (across a neck) bridges past other elements: not a join.
+        if (!keeps_gap(bridge, pieces, law, 1e3 * tol)) return false;
+      }
+      if (best) {
+        const Crossing c = *best;
+        Segment& cut = (*vec)[m];
+        cut = sub_segment(cut, 0.0, c.t1);
+        cut.b = c.p;
+        vec->resize(m + 1);
+        if (vec == &off[k]) joins[k].clear();
+        for (size_t later = k + 1; later <= i; ++later) off[later].clear(), joins[later].clear();
+        bridge.kind = SegmentKind::Transition;
+        bridge.g0 = bridge.g1 = out.g0;
+        bridge.line = out.line;
+        joins[i].push_back(bridge);
+        return true;
+      }
+      walked += length(seg);
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const OffsetOptions& options, double sigma,
@@ -112,6 +194,9 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
   std::vector<std::vector<Segment>> off(n);
   for (size_t i = 0; i < n; ++i) off[i] = offset_piece(pieces[i], law, sigma, options.arc_tolerance, tol);
   std::vector<std::vector<Segment>> joins(n);  // joins[i]: between piece i and the next non-empty one
+  const bool varying = !is_constant(law);
+  double g_max = 0.0;
+  for (const Piece& p : pieces) g_max = std::max({g_max, p.g0, p.g1});
 
   for (size_t i = 0; i < n; ++i) {
     if (off[i].empty()) continue;
@@ -154,6 +239,9 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
       out.a = c.p;
       continue;
     }
+    // Searched back over the incoming offset and a few gaps before it.
+    const double reach = 4.0 * g_max + length(in);
+    if (varying && !points && join_back(off, joins, i, j, reach, pieces, law, tol)) continue;
     round_join();
   }
 

@@ -108,6 +108,51 @@ TEST(OffsetExact, VariableGapFollowsTheLaw) {
   }
 }
 
+// A law rising steeply into a vertex tilts the incoming offset into the outgoing one's gap without meeting
+// it: an arc about the vertex had closed the chain, a fold that loop removal left (the contour 0.46 mm
+// inside the law's gap before an arc), or the whole offset was dropped as "empty" (before a line). The
+// outgoing offset continued back meets an earlier one (black-box testing). And a law knot written to 9
+// decimals 2e-10 mm inside an octagon's side left a sliver of a piece with nothing to join ("empty").
+TEST(OffsetExact, ALawRisingSteeplyIntoAVertexKeepsEveryGap) {
+  struct Case {
+    const char* name;
+    std::string profile;
+    GapLaw law;
+  };
+  GapLaw into_line, into_arc, octagon;
+  into_line.s = {0, 9, 10, 30, 40, 56};
+  into_line.gap = {0.5, 0.5, 1, 1, 0.5, 0.5};
+  into_arc.s = {0, 20, 30, 55.157305176, 56.157305176};
+  into_arc.gap = {1, 1, 0.2, 0.2, 1};
+  std::string octagon_text = "START 8 0\n";
+  for (int i = 0; i < 8; ++i) {
+    const double a0 = 2 * M_PI * i / 8, a1 = 2 * M_PI * (i + 1) / 8;
+    octagon_text += "0 " + std::to_string(8 * (std::cos(a1) - std::cos(a0))) + " " +
+                    std::to_string(8 * (std::sin(a1) - std::sin(a0))) + "\n";
+  }
+  const double side = 16 * std::sin(M_PI / 8);
+  octagon.s = {0, side - 1, std::round(side * 1e9) / 1e9, 2 * side, 3 * side, 8 * side};
+  octagon.gap = {0.5, 0.5, 1, 1, 0.5, 0.5};
+  const std::vector<Case> cases = {
+      {"into a line", "START 0 0\n0 10 0\n0 4 3\n0 0 12\n0 -14 0\n0 0 -15\n", into_line},
+      {"into an arc", "START 10 0\n-6 4 3\n0 0 12\n0 -14 0\n0 0 -15\n0 10 0\n", into_arc},
+      {"octagon", octagon_text, octagon}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Profile p = profile_text(c.profile);
+    GapLaw law = c.law;
+    law.s.back() = chain_length(p.elements);  // closes exactly on the profile
+    const auto r = offset_profile(p, law, {});
+    EXPECT_EQ(r.contours.size(), 1u);
+    if (r.contours.size() != 1) continue;
+    const auto e = check_exactness(p, law, r, 256);
+    EXPECT_LE(e.max_error, 1e-6);
+    EXPECT_LE(e.max_fitted, 1e-6);
+    EXPECT_GE(e.min_transition, -1e-6);  // never closer than the law
+    expect_clean_contours(r);
+  }
+}
+
 TEST(OffsetExact, GapLawMustCloseOnClosedProfile) {
   const Profile p = scene_profile("rounded_rect.txt");
   GapLaw law;
