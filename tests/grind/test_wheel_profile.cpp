@@ -81,6 +81,49 @@ TEST(WheelProfile, ADoubleConeFluteCutsEverySection) {
   }
 }
 
+// The nearest point of a section's contours to the blank axis (mm).
+double nearest_to_axis(const Section& s) {
+  double r = INFINITY;
+  for (const Contour& c : s.contours)
+    for (size_t i = 0; i < c.points.size(); ++i) {
+      const Eigen::Vector2d a = c.points[i], b = c.points[(i + 1) % c.points.size()], d = b - a;
+      const double t = std::clamp(-a.dot(d) / std::max(d.squaredNorm(), 1e-30), 0.0, 1.0);
+      r = std::min(r, (a + t * d).norm());
+    }
+  return r;
+}
+
+const Section& section_at(const SectionStack& stack, double z) {
+  const Section* best = &stack.sections.front();
+  for (const Section& s : stack.sections)
+    if (std::abs(s.z - z) < std::abs(best->z - z)) best = &s;
+  return *best;
+}
+
+// A flat rim given as a profile of its two ends, swivelled 30 degrees and plunged to 32 mm from the blank
+// axis: the plane z = 5 through the wheel's centre meets it in an ellipse's arc, which the two end rings
+// took as its chord (0.13 mm shallow, black-box testing). The section is ground to radius 2.
+TEST(WheelProfile, AFlatRimGivenByItsEndsGrindsToDepthWhenSwivelled) {
+  GrindScene scene = profile_scene(10.0, {{-5, 30}, {5, 30}}, "OP gashing flat\nG1 Y32\nG0 Y50\n",
+                                   {2.5, 50, 4.330127, 0, 0, 30});
+  scene.wheel.radius = 30.0;
+  scene.wheel.thickness = 10.0;
+  const SectionStack stack = simulate_sections(scene, {});
+  EXPECT_NEAR(nearest_to_axis(section_at(stack, 5.0)), 2.0, 0.003);
+}
+
+// The spindle along the blank (W = 90) while the blank turns a full revolution: the generators are
+// numbered from the blank's turned x, so the sweep follows them; a fixed x had left the ids in place and
+// the hull of both sections cut 0.008 mm too deep at the default step (black-box testing).
+TEST(WheelProfile, TurningUnderASpindleAlongTheBlankKeepsTheRadius) {
+  GrindScene scene = testing::make_scene(kBlankR, 10.0, 30.0, 4.0, 0.0, "OP od_sharpening\nG1 Y32\nG1 A360\nG0 Y50\n",
+                                         {5, 50, 0, 0, 0, 90});
+  const SectionStack stack = simulate_sections(scene, {});
+  const Section& s = section_at(stack, 5.0);
+  EXPECT_NEAR(nearest_to_axis(s), 2.0, 0.002);
+  EXPECT_NEAR(section_area(s), M_PI * 4.0, 0.01);
+}
+
 // Cleaning drops a vertex only where it stays within the cleaning distance of the edge that replaces it. On
 // an arc sampled every 8 um Clipper's CleanPolygons, which tests each vertex against its current neighbours,
 // ran on and left chords far off the arc.

@@ -113,7 +113,7 @@ TEST(OffsetExact, VariableGapFollowsTheLaw) {
 // inside the law's gap before an arc), or the whole offset was dropped as "empty" (before a line). The
 // outgoing offset continued back meets an earlier one (black-box testing). And a law knot written to 9
 // decimals 2e-10 mm inside an octagon's side left a sliver of a piece with nothing to join ("empty").
-TEST(OffsetExact, ALawRisingSteeplyIntoAVertexKeepsEveryGap) {
+TEST(OffsetExact, ALawRisingOrFallingSteeplyAtAVertexKeepsEveryGap) {
   struct Case {
     const char* name;
     std::string profile;
@@ -133,8 +133,15 @@ TEST(OffsetExact, ALawRisingSteeplyIntoAVertexKeepsEveryGap) {
   const double side = 16 * std::sin(M_PI / 8);
   octagon.s = {0, side - 1, std::round(side * 1e9) / 1e9, 2 * side, 3 * side, 8 * side};
   octagon.gap = {0.5, 0.5, 1, 1, 0.5, 0.5};
+  // Falling steeply out of a square's corner (found "empty"), and a peak at the corner rising and falling
+  // along one line (a 0.42 mm2 loop in the corner had been the whole result).
+  const GapLaw out_of{{0, 10, 11, 20, 30, 40}, {1.2, 1.2, 0.3, 0.3, 1.2, 1.2}, 0.0, ""};
+  const GapLaw peak{{0, 9, 10, 11, 40}, {0.5, 0.5, 1.5, 0.5, 0.5}, 0.0, ""};
+  const std::string square = "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n";
   const std::vector<Case> cases = {
       {"into a line", "START 0 0\n0 10 0\n0 4 3\n0 0 12\n0 -14 0\n0 0 -15\n", into_line},
+      {"out of a corner", square, out_of},
+      {"peak at a corner", square, peak},
       {"into an arc", "START 10 0\n-6 4 3\n0 0 12\n0 -14 0\n0 0 -15\n0 10 0\n", into_arc},
       {"octagon", octagon_text, octagon}};
   for (const Case& c : cases) {

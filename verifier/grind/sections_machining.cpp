@@ -124,7 +124,7 @@ Path blank_circle(const Blank& blank, double tol) {
 // operation ended.
 std::vector<PoseInfo> operation_poses(const Operation& op, const Axes& before, const GrindScene& scene,
                                       double step) {
-  std::vector<PoseInfo> poses{detail::pose_info(wheel_pose(before), scene.wheel, scene.blank)};
+  std::vector<PoseInfo> poses{detail::pose_info(wheel_pose(before), scene.wheel, scene.blank, before.a)};
   poses.front().a = before.a, poses.front().w = before.w;
   Axes from = before;
   for (const Move& m : op.moves) {
@@ -137,7 +137,7 @@ std::vector<PoseInfo> operation_poses(const Operation& op, const Axes& before, c
     }
     for (int i = 1; i <= n; ++i) {
       const Axes axes = interpolate(from, m.target, double(i) / n);
-      PoseInfo p = detail::pose_info(wheel_pose(axes), scene.wheel, scene.blank);
+      PoseInfo p = detail::pose_info(wheel_pose(axes), scene.wheel, scene.blank, axes.a);
       p.a = axes.a, p.w = axes.w;
       // Of a run of poses where the wheel cannot reach the blank only the first and the last are kept: the
       // pairs inside it are skipped by the sections anyway (both far), and a long move in the air would

@@ -18,7 +18,8 @@ struct PoseInfo {
   // section turns in the section plane (turning_sweep), where between others it only moves.
   double a = 0, w = 0;
 };
-PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank);
+// a_deg: the blank's turn A at the pose (numbers the generators where the spindle lies along the blank).
+PoseInfo pose_info(const WheelPose& pose, const Wheel& wheel, const Blank& blank, double a_deg = 0.0);
 
 // Appends points on the boundary of the wheel's section by the plane z = z0 (blank frame): the endpoints of
 // each ring's chord (the "segments" of the section method), and, when the plane crosses the spindle axis steeply
@@ -30,8 +31,8 @@ void wheel_section_points(const PoseInfo& info, const std::vector<Eigen::Vector2
                           const std::vector<Eigen::Vector2d>& trig, std::vector<Eigen::Vector2d>& out,
                           std::vector<int>* ids = nullptr);
 
-// The profile with rings added along its sloping segments, so that no segment between two rings runs
-// farther than `short_side` mm both along the spindle and in radius. A plane that reaches a segment only
+// The profile with rings added along its segments, so that no segment between two rings runs farther than
+// `short_side` mm both along the spindle and in radius, nor farther than 0.25 mm along the spindle. A plane that reaches a segment only
 // past its smaller ring touches it at wheel_section_points' extreme point, and the section between that
 // point and the next ring is taken as straight: wrong by up to a quarter of the segment's shorter side
 // (a V-wheel's 10 mm flank given by its two ends was off by 0.5 mm).
