@@ -114,14 +114,6 @@ Segment extended_back(const Segment& out, double reach) {
   return e;
 }
 
-// Under a gap law an overlapping join may find no crossing of its two offsets: a law rising steeply into
-// the vertex tilts the incoming offset into the outgoing one's gap without meeting it (a rise of 0.5 mm
-// over the last millimetre before a 37-degree corner). The outgoing offset, continued back, then meets an
-// earlier offset: the chain is cut there, what lies between is dropped, and the continuation joins the
-// two (marked Transition: its nearest profile point is the earlier element's, and it lies farther from it
-// than that element's gap). An arc about the vertex had closed the chain instead, a fold with no crossing
-// that loop removal left in place: the contour came 0.46 mm inside the law's gap, or the offset was
-// found "empty" (black-box testing). Only the incoming offset and earlier pieces of this pass are searched.
 // Whether every point of `bridge` (sampled) keeps the gap of its nearest profile point, within tol.
 bool keeps_gap(const Segment& bridge, const std::vector<Piece>& pieces, const GapLaw& law, double tol) {
   for (int k = 0; k <= 32; ++k) {
@@ -137,6 +129,14 @@ bool keeps_gap(const Segment& bridge, const std::vector<Piece>& pieces, const Ga
   return true;
 }
 
+// Under a gap law an overlapping join may find no crossing of its two offsets: a law rising steeply into
+// the vertex tilts the incoming offset into the outgoing one's gap without meeting it (a rise of 0.5 mm
+// over the last millimetre before a 37-degree corner). The outgoing offset, continued back, then meets an
+// earlier offset: the chain is cut there, what lies between is dropped, and the continuation joins the
+// two (marked Transition: its nearest profile point is the earlier element's, and it lies farther from it
+// than that element's gap). An arc about the vertex had closed the chain instead, a fold with no crossing
+// that loop removal left in place: the contour came 0.46 mm inside the law's gap, or the offset was
+// found "empty" (black-box testing). Only the incoming offset and earlier pieces of this pass are searched.
 bool join_back(std::vector<std::vector<Segment>>& off, std::vector<std::vector<Segment>>& joins, size_t i, size_t j,
                double reach, const std::vector<Piece>& pieces, const GapLaw& law, double tol) {
   const Segment& out = off[j].front();
@@ -157,15 +157,12 @@ bool join_back(std::vector<std::vector<Segment>>& off, std::vector<std::vector<S
       const auto xs = intersect(seg, ext, tol);
       for (const auto& c : xs)
         if (c.t1 > 1e-12 && c.t2 < 1 - 1e-12 && (!best || c.t2 > best->t2)) best = &c;
-      Segment bridge;
       if (best) {
-        bridge = sub_segment(ext, best->t2, 1.0);
+        Segment bridge = sub_segment(ext, best->t2, 1.0);
         bridge.a = best->p;
         bridge.b = out.a;
         // A crossing with an offset farther off (across a neck) bridges past other elements: not a join.
         if (!keeps_gap(bridge, pieces, law, 1e3 * tol)) return false;
-      }
-      if (best) {
         const Crossing c = *best;
         Segment& cut = (*vec)[m];
         cut = sub_segment(cut, 0.0, c.t1);
