@@ -313,6 +313,30 @@ TEST(Rs274Judge, SubroutinesAndControlFlow) {
   EXPECT_EQ(j.program.blocks.size(), 5u);  // the rapid, X4 (then out at i = 5), Y6, Y8, Y9
 }
 
+// Comments only between the items of a line, and lines of at most 252 characters (a CRLF's "\r"
+// counted): what rs274 refuses the reader refuses, naming the line, and what rs274 reads it reads. A
+// comment inside a number or an expression had been stripped and the pieces joined (black-box testing).
+TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
+  TF_REQUIRE_RS274();
+  const std::string head = "G21 G90 G94\nT1 M6\nG43 H1\nG0 X0 Y0 Z5 A0 C0\n";
+  for (const std::string& bad : std::vector<std::string>{"G1 X1(c).5 F10", "G(c)1 X1 F10", "G1 X#(c)1 F10", "G1 X[1 (c) + 2] F10",
+                                "G1 X[SIN(c)[90]] F10", "#1(c)=3", "G1 X(MSG,hi)3 F10", "G1 X[1 ; c\n] F10",
+                                "G1 X1 F10" + std::string(244, ' '), "G1 X1 F10" + std::string(243, ' ') + "\r"}) {
+    const std::string text = head + bad + "\nM2\n";
+    test::TempDir dir;
+    EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << bad;
+    try {
+      parse_gcode(text, "judge.ngc", trt_joint(), library());
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 5) << e.what();
+    }
+  }
+  const std::string good = head + "G1 X1 (c) F10 (d)\n(e)G1 Y2 (f);g\nG1 X[1+2](h)Y3\n#1=4(i)#2=5\nG1 X#1 Y#2" +
+                           std::string(241, ' ') + "\r\nM2\n";
+  expect_same_motion(judge(good, library(), trt_joint()), "comments between words, a line of 252 characters");
+}
+
 // Fanuc-style subprograms as a Fanuc post writes them: the program number first, M98 P with and without
 // L, calls nested two deep from a called program, N numbers, G91 inside, a subprogram that reads
 // and sets the caller's #1 and its own named parameter, subprograms after the M30, one reached by the main

@@ -13,6 +13,10 @@ namespace tf {
 namespace gcode {
 namespace {
 
+// The longest line rs274 reads (its count includes the "\r" of a "\r\n"): 253 characters are
+// "Command too long".
+constexpr size_t kMaxLineLength = 252;
+
 // What a G code of the motion group or of the non-modal group 0 is, for the block dispatch.
 bool is_motion_code(int g) {
   return g == 0 || g == 10 || g == 20 || g == 30 || g == 50 || g == 51 || g == 330 || g == 331 || g == 800 || is_cycle(g);
@@ -63,6 +67,9 @@ Reader::Reader(const std::string& file, const MachineSpec& machine, const GcodeO
 // the "%" lines, what follows the end).
 std::optional<std::string> Reader::code_of(std::string_view raw, int number) {
   if (st_.ended) return std::nullopt;
+  if (raw.size() > kMaxLineLength)
+    throw InputError(file_, number, "", "a line of " + std::to_string(raw.size()) + " characters: LinuxCNC reads at most " +
+                                            std::to_string(kMaxLineLength) + " (\"Command too long\")");
   std::string_view view = raw;
   while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
   bool slash = false;

@@ -15,18 +15,31 @@ std::vector<std::string_view> split_lines(std::string_view text) {
   for (size_t pos = 0; pos <= text.size();) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
+    lines.push_back(text.substr(pos, end - pos));
     pos = end + 1;
   }
   return lines;
 }
 
+namespace {
+
+// What may follow a comment: the start of the next item of the line (a word's letter, LinuxCNC's polar
+// words, a parameter setting), another comment, or nothing.
+bool starts_item(char upper) { return std::isalpha(static_cast<unsigned char>(upper)) || upper == '@' || upper == '^' || upper == '#'; }
+
+}  // namespace
+
 std::string strip_line(std::string_view raw, const std::string& file, int line) {
   std::string out;
   out.reserve(raw.size());
-  bool in_comment = false;
+  bool in_comment = false, after_comment = false;
+  int depth = 0;  // of expression brackets
+  // rs274 reads a comment as an item of its own, between words: one inside a number, an expression or a
+  // parameter's name ("X1(c).5", "G(c)1", "X[1 (c) + 2]") is refused there, where stripping it first had
+  // joined the pieces into a word (black-box testing).
+  auto inside_a_word = [&](char ch) {
+    return InputError(file, line, std::string(1, ch), "a comment inside a word or expression (LinuxCNC refuses it)");
+  };
   for (char ch : raw) {
     const auto u = static_cast<unsigned char>(ch);
     // A control byte (a NUL cut the message that named it short) or a byte of binary data: refused, as
@@ -41,11 +54,19 @@ std::string strip_line(std::string_view raw, const std::string& file, int line) 
       if (ch == '(') throw InputError(file, line, "(", "nested comment (LinuxCNC refuses them)");
       continue;
     }
-    if (ch == '(') { in_comment = true; continue; }
+    if (ch == '(' || ch == ';') {
+      if (depth > 0) throw inside_a_word(ch);
+      if (ch == ';') break;
+      in_comment = after_comment = true;
+      continue;
+    }
     if (ch == ')') throw InputError(file, line, ")", "')' without an opening '('");
-    if (ch == ';') break;
     if (std::isspace(u)) continue;
-    out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+    const char upper = static_cast<char>(std::toupper(u));
+    if (after_comment && !starts_item(upper)) throw inside_a_word(ch);
+    after_comment = false;
+    depth += upper == '[' ? 1 : upper == ']' ? -1 : 0;
+    out.push_back(upper);
   }
   if (in_comment) throw InputError(file, line, "(", "comment is not closed on this line");
   return out;

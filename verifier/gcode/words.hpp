@@ -15,11 +15,12 @@ struct Word {
   std::string text;  // as written (letter + number), for messages
 };
 
-// The lines of a program's text, without their line ends ("\n" or "\r\n"); views into `text`.
+// The lines of a program's text, without their "\n" (the "\r" of a "\r\n" is kept: rs274 counts it in a
+// line's length, and strip_line reads it as a blank); views into `text`.
 std::vector<std::string_view> split_lines(std::string_view text);
 
 // Strips "( ... )" and "; ..." comments and whitespace; returns the code part in upper case.
-// Throws InputError on an unclosed "(".
+// Throws InputError on an unclosed "(" and on a comment that is not between two items of the line.
 std::string strip_line(std::string_view raw, const std::string& file, int line);
 
 // A G or M number with up to one decimal, as an integer key: G43.4 -> 434, G1 -> 10. Throws on anything else.

@@ -349,7 +349,7 @@ SectionStack simulate_sections(const GrindScene& scene, const SectionOptions& op
     poses.push_back(operation_poses(op, before, scene, opt.step));
     before = op.moves.back().target;
   }
-  const std::vector<Eigen::Vector2d> trig = detail::generator_table(opt.generators);
+  const std::vector<Eigen::Vector2d> trig = detail::generator_table(detail::generator_count(scene.wheel.radius, opt));
   Wheel wheel = scene.wheel;
   wheel.profile = detail::rings_along_profile(wheel.profile, kProfileRingStep);
   const Path circle = blank_circle(scene.blank, opt.chord_tolerance);

@@ -141,6 +141,13 @@ std::vector<Eigen::Vector2d> rings_along_profile(const std::vector<Eigen::Vector
   return out;
 }
 
+int generator_count(double radius, const SectionOptions& options) {
+  const double cos_half = 1.0 - options.chord_tolerance / (2.0 * std::max(radius, 1e-9));
+  if (!(cos_half > -1.0 && cos_half < 1.0)) return options.generators;
+  const double needed = std::ceil(M_PI / std::acos(cos_half));
+  return static_cast<int>(std::clamp(needed, double(options.generators), 100000.0));
+}
+
 std::vector<Eigen::Vector2d> generator_table(int n) {
   std::vector<Eigen::Vector2d> t;
   for (int g = 0; g < n; ++g) t.emplace_back(std::cos(2.0 * M_PI * g / n), std::sin(2.0 * M_PI * g / n));
