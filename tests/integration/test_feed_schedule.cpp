@@ -182,7 +182,8 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
       {"--schedule-feed -3", "--schedule-feed"}, {"--schedule-feed 0", "--schedule-feed"},
       {"--schedule-feed 6000 --air-feed 1e300", "--air-feed"}, {"--schedule-feed 6000 --air-feed -1", "--air-feed"},
       {"--schedule-feed 6000 --air-feed 0", "--air-feed"},    {"--schedule-feed 6000 --air-feed nan", "--air-feed"},
-      {"--schedule-feed 6000 --min-feed 1e12", "--min-feed"}};
+      {"--schedule-feed 6000 --min-feed 1e12", "--min-feed"},
+      {"--schedule-feed 6000 --air-feed 5000.5", "--air-feed"}};  // above the machine's max_feed
   for (const auto& [options, named] : bad_options) {
     const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " " +
                                    options + " -o " + (dir / "p3.ngc").string());
@@ -196,6 +197,14 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
   std::cout << "max MRR " << before << " -> " << after << " mm3/min (limit 6000)\n";
   EXPECT_LE(after, 6000.0 + 0.005);
   EXPECT_GE(after, 6000.0 * 0.99);  // the limit is used, not undercut
+  // A limit no block reaches leaves every cutting block's F as written, the diagonal's too (recomputed
+  // from its path and time it had come back as 599.99999 and been written 599.99; black-box testing).
+  ASSERT_EQ(run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() +
+                          " --schedule-feed 1e9 -o " + (dir / "p4.ngc").string())
+                .exit_code,
+            0);
+  const Program p4 = parse_gcode(read_text(dir / "p4.ngc"), "p4.ngc", MachineSpec{});
+  for (size_t i = 1; i <= 3; ++i) EXPECT_EQ(p4.blocks[i].feed, 600.0) << "block " << i + 1;
   TF_REQUIRE_RS274();
   const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);

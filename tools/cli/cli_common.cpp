@@ -23,6 +23,10 @@ GlobalOptions& global_options() {
 double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed) {
   if (option.count() == 0) return machine_max_feed;
   if (!(value > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
+  // The controller would clamp it to its own; a program written for it should say what it runs.
+  if (value > machine_max_feed)
+    throw InputError("", 0, "--air-feed", fixed(value, 1) + " mm/min is above the machine's max_feed, " +
+                                               fixed(machine_max_feed, 1) + " mm/min");
   return value;
 }
 

@@ -71,10 +71,14 @@ FeedSchedule schedule_feeds(const Program& program, const VerifyReport& report, 
         }
       }
     }
+    // A block the limits leave alone keeps its F: recomputed from its path and time a 500 had come back
+    // as 499.99999... and been written 499.99 (black-box testing).
+    if (t == r.minutes) continue;
     // Rounded down to the precision the feed is written with, in the program's units, so the written
-    // feed keeps the limit.
+    // feed keeps the limit (less a billionth for the division's rounding: an air feed of 3000 stays 3000).
     const WrittenFeed w = written_feed(b);
-    double f = std::floor((b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) / w.unit * w.scale) / w.scale * w.unit;
+    const double exact = (b.feed_mode == FeedMode::InverseTime ? 1.0 / t : path / t) / w.unit * w.scale;
+    double f = std::floor(exact * (1.0 + 1e-9)) / w.scale * w.unit;
     // The minimum feed is written at least (10 mm/min rounded down in inches would read 9.99998).
     if (b.feed_mode != FeedMode::InverseTime && f < o.min_feed && path / t >= o.min_feed * (1 - 1e-12))
       f = std::ceil(o.min_feed / w.unit * w.scale) / w.scale * w.unit;
