@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -69,9 +70,28 @@ namespace {
 OpenMesh::IO::Options writer_options(const Mesh& mesh, const std::string& ext) {
   OpenMesh::IO::Options opt;
   if (ext == ".stl" || ext == ".ply") opt += OpenMesh::IO::Options::Binary;
-  if (mesh.has_vertex_colors() && (ext == ".ply" || ext == ".off" || ext == ".obj"))
-    opt += OpenMesh::IO::Options::VertexColor;
+  if (mesh.has_vertex_colors() && (ext == ".ply" || ext == ".off")) opt += OpenMesh::IO::Options::VertexColor;
   return opt;
+}
+
+// OBJ with vertex colours as "v x y z r g b" (0..1), the extension MeshLab, CloudCompare and Blender read.
+// OpenMesh's OBJ writer refuses colours: a coloured stock mesh asked for as .obj had failed after the
+// whole simulation (black-box testing).
+void write_coloured_obj(const Mesh& mesh, std::ostream& out) {
+  out << "# " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces\n";
+  char line[160];
+  for (const auto v : mesh.vertices()) {
+    const Mesh::Point& p = mesh.point(v);
+    const Mesh::Color& c = mesh.color(v);
+    std::snprintf(line, sizeof line, "v %.6f %.6f %.6f %.4f %.4f %.4f\n", p[0], p[1], p[2], c[0] / 255.0,
+                  c[1] / 255.0, c[2] / 255.0);
+    out << line;
+  }
+  for (const auto f : mesh.faces()) {
+    out << 'f';
+    for (const auto v : mesh.fv_range(f)) out << ' ' << v.idx() + 1;
+    out << '\n';
+  }
 }
 
 // Counts the bytes written to it and keeps none.
@@ -108,6 +128,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file) {
   // Through our stream, whose every byte is checked: OpenMesh's own file writer reported success on a
   // file cut off by a full disk, which then replaced the earlier mesh (black-box testing).
   write_file_atomic(file, [&](std::ostream& out) {
+    if (ext == ".obj" && mesh.has_vertex_colors()) return write_coloured_obj(mesh, out);
     if (ext == ".obj") out << std::fixed;  // as OpenMesh's file writer sets it: 5.000000, not 5
     bool ok = false;
     {

@@ -199,7 +199,10 @@ Mesh read_off(const fs::path& file) {
     return static_cast<long>(v);
   };
   auto [head, hl] = next("OFF");
-  if (head != "OFF") throw InputError(name, hl, "OFF", "missing 'OFF' header (only plain OFF is read)");
+  // COFF: a colour after each vertex, on its line (what the stock mesh is written as).
+  const bool coloured = head == "COFF";
+  if (head != "OFF" && !coloured)
+    throw InputError(name, hl, "OFF", "missing 'OFF' header (plain OFF and COFF are read)");
   const long nv = integer("vertex count", 0, 50'000'000);
   const long nf = integer("face count", 0, 100'000'000);
   integer("edge count", 0, 1'000'000'000);
@@ -211,6 +214,8 @@ Mesh read_off(const fs::path& file) {
     for (int c = 0; c < 3; ++c) {
       auto [t, ln] = next("vertex");
       V[i][c] = parse_number(t, name, ln, "vertex");
+      if (coloured && c == 2)
+        while (k < tok.size() && tok[k].second == ln) ++k;
     }
   }
   std::vector<Eigen::Vector3i> T;

@@ -41,6 +41,24 @@ TEST(MeshIO, RoundTripEveryFormat) {
   }
 }
 
+// A coloured mesh (the stock by deviation) in every format; OBJ takes the colours as "v x y z r g b",
+// which OpenMesh's OBJ writer refuses (black-box testing: `verify --stock-mesh s.obj` failed at the end).
+TEST(MeshIO, AColouredMeshIsWrittenInEveryFormat) {
+  tf::test::TempDir dir;
+  tf::Mesh box = unit_box();
+  box.request_vertex_colors();
+  for (const auto v : box.vertices()) box.set_color(v, tf::Mesh::Color(255, 128, 0));
+  for (const char* ext : {".stl", ".obj", ".off", ".ply"}) {
+    const auto file = dir / (std::string("coloured") + ext);
+    ASSERT_NO_THROW(tf::write_mesh(box, file)) << ext;
+    const tf::Mesh back = tf::load_mesh(file);
+    EXPECT_EQ(back.n_faces(), 12u) << ext;
+    EXPECT_NEAR(tf::signed_volume(back), 6.0, 1e-5) << ext;
+  }
+  const std::string obj = tf::test::read_text(dir / "coloured.obj");
+  EXPECT_NE(obj.find(" 1.0000 0.5020 0.0000\n"), std::string::npos) << obj.substr(0, 200);
+}
+
 TEST(MeshIO, AVertexDeviationStaysWithTheMeshButNotInItsFile) {
   tf::test::TempDir dir;
   tf::Mesh box = unit_box();
