@@ -1,5 +1,6 @@
 // RS274/NGC text for a posted program (LinuxCNC reads the joint dialect as is).
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <ostream>
 #include <string>
@@ -35,11 +36,16 @@ TcpCodes tcp_codes(const PostJob& job, const PostOptions& options) {
   return {"G43.4 H" + std::to_string(options.tool_number), "G49"};
 }
 
-// F with `decimals` places, or as many more (up to 8) as a small feed needs not to read 0, which a
-// controller refuses ("Cannot do G1 with zero feed rate").
+// F with `decimals` places, or as many more (up to 8) as a small feed needs for four significant digits
+// (trailing zeros beyond `decimals` dropped). Rounded to two places a plunge at half of F0.01 had read
+// F0.01, and G93's 9.97e-5 F0.0001 (black-box testing); a feed that read 0 a controller refuses ("Cannot
+// do G1 with zero feed rate").
 std::string feed_word(double feed, int decimals) {
-  std::string f = fixed(feed, decimals);
-  while (std::stod(f) == 0.0 && decimals < 8) f = fixed(feed, ++decimals);
+  const int significant = feed > 0.0 && std::isfinite(feed) ? 3 - static_cast<int>(std::floor(std::log10(feed))) : decimals;
+  std::string f = fixed(feed, std::clamp(significant, decimals, 8));
+  const size_t point = f.find('.');
+  while (point != std::string::npos && f.size() > point + 1 + size_t(decimals) && f.back() == '0') f.pop_back();
+  if (!f.empty() && f.back() == '.') f.pop_back();
   if (!(std::stod(f) > 0.0))
     throw InputError("", 0, "feed", "a feed of " + std::to_string(feed) + " is too small to write (it reads as F0)");
   return f;

@@ -58,9 +58,30 @@ namespace {
 
 
 std::string segment_failure(size_t row, const LinearizeOptions& lo) {
+  // The tcp dialect bounds no tip deviation (the controller keeps the tip): its infinite tolerance had
+  // crashed the message's number formatting (black-box testing).
+  const std::string tip = std::isfinite(lo.tip_tolerance_mm) ? "tip " + fixed(lo.tip_tolerance_mm, 4) + " mm, " : "";
   return "cannot linearise the move from row " + std::to_string(row) + " to row " + std::to_string(row + 1) +
-         " within the tolerances (tip " + fixed(lo.tip_tolerance_mm, 4) + " mm, axis " + fixed(lo.axis_tolerance_deg, 4) +
-         " deg)";
+         " within the tolerances (" + tip + "axis " + fixed(lo.axis_tolerance_deg, 4) + " deg)";
+}
+
+// Where a move between two reachable rows cannot be followed because its axis, turning along the great
+// circle from one row's to the other's, passes a pose no joint setting reaches (beyond a tilt limit): the
+// path's fault, named at its row as an unreachable row is. Empty when every sampled pose is reachable.
+std::string unreachable_between(const Kinematics& kin, const ToolPose& p0, const ToolPose& p1, const Joints& j0,
+                                const PostOptions& options) {
+  InverseOptions io;
+  io.pole_tolerance_deg = options.pole_tolerance_deg;
+  constexpr int kSamples = 64;
+  for (int k = 1; k < kSamples; ++k) {
+    const double s = double(k) / kSamples;
+    const ToolPose p{p0.tip + s * (p1.tip - p0.tip), slerp_axis(p0.axis, p1.axis, s)};
+    if (kin.inverse(p, j0, io).empty())
+      return "the axis turning to this row along its great circle leaves the machine's reach " +
+             std::to_string(int(std::lround(100.0 * s))) + " % of the way from the row before: " +
+             unreachable_reason(p, kin, options);
+  }
+  return {};
 }
 
 // The rows as tool poses with their feeds, and the box the transit moves must clear (part, tips, rows).
@@ -253,7 +274,7 @@ struct RowMove {
 
 // The cutting blocks between consecutive rows, each move linearised within the tolerances.
 void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, std::vector<Joints>& joints,
-                const LinearizeOptions& lo, double link_gap, const Progress& progress) {
+                const LinearizeOptions& lo, const PostOptions& options, double link_gap, const Progress& progress) {
   const std::vector<ToolPose>& poses = rows.poses;
   std::vector<PosedJoints> pieces;
   for (size_t i = 1; i < poses.size(); ++i) {
@@ -265,8 +286,11 @@ void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, std::ve
     pieces.clear();
     RowMove move{kin, rows, joints, lo, b, i, poses[i - 1], joints[i - 1], pieces};
     if (!linearize(kin, move.p0, move.j0, poses[i], joints[i], lo, pieces) && !move.stay_in_configuration() &&
-        !move.change_before() && !move.change_at() && !move.change_between())
+        !move.change_before() && !move.change_at() && !move.change_between()) {
+      const std::string beyond = unreachable_between(kin, poses[i - 1], poses[i], joints[i - 1], options);
+      if (!beyond.empty()) throw PostRowError(i, beyond);
       throw JobError(segment_failure(i - 1, lo));
+    }
     move.cut_pieces();
     if (i % 4096 == 0) report(progress, "post", 0.2 + 0.8 * double(i) / double(poses.size()));
   }
@@ -292,7 +316,7 @@ Program post_program(const OrientedPath& path, const PostJob& job, const PostOpt
   const TransitChecker check(job);
   Builder b(kin, job, options, tcp, rows.bounds, check);
   b.start(rows.poses[0], joints[0], rows.feeds[0]);
-  post_moves(b, kin, rows, joints, lo, link_gap, progress);
+  post_moves(b, kin, rows, joints, lo, options, link_gap, progress);
   b.finish(rows.poses.back(), joints.back());
   report(progress, "post", 1.0);
   return std::move(b.program());

@@ -341,12 +341,14 @@ void plan_windows(const Scene& scene, const OrientedPath& original, const std::v
 
 // What an attempt leaves short that the original path did not: wider windows take in more rows, and a row
 // the original left short already (a planner fall-back, a ball inside a check surface) is no attempt's
-// fault (review: the whole path could never have won).
+// fault (review: the whole path could never have won). Except in the windows as asked: their rows are
+// the re-plan's to clear, short before or not (black-box testing: with --window and --blend given, rows a
+// crashed holder had left short before the re-plan stayed short, and the first attempt counted as clean).
 struct AlreadyShort {
   std::vector<char> row, motion;  // per row; per motion from row i
 };
 AlreadyShort already_short(const Scene& scene, const OrientedPath& original, const std::vector<const Mesh*>& extra_obstacles,
-                           const PlanOptions& plan_options) {
+                           const PlanOptions& plan_options, const std::vector<ReplanWindow>& asked) {
   const size_t n = original.rows.size();
   const PlanObstacles obstacles = replan_obstacles(scene, extra_obstacles);
   std::vector<size_t> rows(n), motions(n > 0 ? n - 1 : 0);
@@ -357,6 +359,8 @@ AlreadyShort already_short(const Scene& scene, const OrientedPath& original, con
   for (size_t i = 0; i < n; ++i) a.row[i] = r[i].margin_mm < 0.0;
   const std::vector<MotionClearance> m = motion_clearances(scene.path, original, motions, scene.tool, scene.planner, obstacles, plan_options);
   for (size_t i = 0; i + 1 < n; ++i) a.motion[i] = !m[i].clear;
+  for (const ReplanWindow& w : asked)
+    for (size_t i = w.first; i <= w.last && i < n; ++i) a.row[i] = a.motion[i] = 0;
   return a;
 }
 
@@ -396,17 +400,18 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   // Attempts are compared by what they leave short that the original did not.
   std::optional<ReplanResult> best;
   std::optional<AlreadyShort> already;
-  std::vector<ReplanWindow> last_windows;
+  std::vector<ReplanWindow> last_windows, asked;
   for (int attempt = 0; attempt < 4; ++attempt) {
     ReplanResult r = result;
     r.windows = windows_for(path, original, arc, scene.tool, collisions, attempt < 3 ? pad * double(1 << attempt) : kInfinity);
     const auto same = [](const ReplanWindow& a, const ReplanWindow& b) { return a.first == b.first && a.last == b.last; };
     if (best && std::equal(r.windows.begin(), r.windows.end(), last_windows.begin(), last_windows.end(), same)) continue;
     last_windows = r.windows;
+    if (attempt == 0) asked = r.windows;
     plan_windows(scene, original, extra_obstacles, plan_options, arc, blend, r);
     r.widened = attempt;
     if (!options.widen || failures(r, nullptr) == 0) return r;
-    if (!already) already = already_short(scene, result.path, extra_obstacles, plan_options);
+    if (!already) already = already_short(scene, result.path, extra_obstacles, plan_options, asked);
     if (!best || failures(r, &*already) < failures(*best, &*already)) best = std::move(r);
     if (failures(*best, &*already) == 0) break;
   }

@@ -72,6 +72,42 @@ TEST(PostCli, UnreachableRowExitsTwoNamingTheLine) {
   EXPECT_EQ(std::count(p.result.output.begin(), p.result.output.end(), '\n'), 1);
 }
 
+// Two rows within the tilt limit whose axis, turning between them along its great circle, passes beyond
+// it (A limit -100; rows tilted 99.9 deg, 60 deg apart in azimuth: 101.4 deg half way): the path's fault,
+// named at its row in both dialects. The tcp dialect had crashed formatting its infinite tip tolerance.
+TEST(PostCli, AMoveWhoseAxisPassesBeyondATiltLimitExitsTwoNamingTheRow) {
+  TempDir dir("cli-between");
+  tf::OrientedPath path = impeller_like_path(2);
+  path.rows[0].axis = polar_axis(99.9, 90.0);
+  path.rows[1].axis = polar_axis(99.9, 150.0);
+  path.rows[1].p = path.rows[0].p + Eigen::Vector3d(0.5, 0, 0);
+  for (const std::string dialect : {"joint", "tcp"}) {
+    auto p = post(dir, machine_file("table-table-ac").string(), path, "--dialect " + dialect);
+    EXPECT_EQ(p.result.exit_code, 2) << dialect << ": " << p.result.output;
+    EXPECT_NE(p.result.output.find("oriented.csv:3: row 2: the axis turning to this row along its great circle"),
+              std::string::npos) << p.result.output;
+    EXPECT_NE(p.result.output.find("outside the A limits [-100, 50]"), std::string::npos) << p.result.output;
+    EXPECT_EQ(std::count(p.result.output.begin(), p.result.output.end(), '\n'), 1) << p.result.output;
+    EXPECT_FALSE(fs::exists(p.out));
+  }
+}
+
+// Small feeds keep four significant digits: the plunge at half of F0.01 had been written F0.01.
+TEST(PostCli, ASmallFeedKeepsItsDigits) {
+  TempDir dir("cli-small-feed");
+  tf::OrientedPath path = impeller_like_path(10);
+  for (size_t i = 0; i < path.rows.size(); ++i) {  // a pass of rows 0.5 mm apart: one plunge, then the cut
+    path.rows[i].p = path.rows[0].p + Eigen::Vector3d(0.5 * double(i), 0, 0);
+    path.rows[i].axis = Eigen::Vector3d::UnitZ();
+    path.rows[i].feed = 0.01;
+  }
+  auto p = post(dir, machine_file("xyz").string(), path, "");
+  ASSERT_EQ(p.result.exit_code, 0) << p.result.output;
+  const std::string text = read_text(p.out);
+  EXPECT_NE(text.find(" F0.005\n"), std::string::npos) << text.substr(0, 1500);
+  EXPECT_NE(text.find(" F0.01"), std::string::npos) << text.substr(0, 1500);  // the cut
+}
+
 // A feed too small to write (it would read as F0) names its row and line (it named neither).
 TEST(PostCli, FeedTooSmallToWriteExitsTwoNamingTheRow) {
   TempDir dir("cli-feed");

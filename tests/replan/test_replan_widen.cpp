@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "replan/hidden_post_scene.hpp"
 #include "test_support.hpp"
@@ -58,6 +59,77 @@ TEST(ReplanWiden, AWindowThatCannotBeBlendedClearIsPlannedWider) {
     const tf::test::FclCheck check = tf::test::fcl_check(tf::test::densify(rows, 20), scene.tool, meshes, scene.planner);
     EXPECT_GE(check.min_margin, -0.02) << "window " << w.first << "-" << w.last;
   }
+}
+
+}  // namespace
+
+namespace {
+
+// ASCII STL facets of the box [lo, hi], outward.
+std::string box_facets(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  std::ostringstream o;
+  const tf::Mesh m = tf::test::box_mesh(lo, hi, 1e9);
+  for (const auto f : m.faces()) {
+    o << " facet normal 0 0 0\n  outer loop\n";
+    for (const auto v : m.fv_range(f)) o << "   vertex " << m.point(v)[0] << " " << m.point(v)[1] << " " << m.point(v)[2] << "\n";
+    o << "  endloop\n endfacet\n";
+  }
+  return o.str();
+}
+
+// A vertical ball-end pass beside a tower of stock (black-box testing): the holder crashes into the tower
+// for 20 mm, the verifier reports the blocks where it meets material first, and rows beyond them were
+// already short before the re-plan. With --window 5 --blend 2 those rows had stayed short and the first
+// attempt counted as clean (they were "already short"), so it was never widened: exit 1, a 15.7 deg step.
+// A rapid's collision, which no axis fixes, is named with its reason and rows (it had been passed over:
+// "0 window(s)", exit 0).
+TEST(ReplanWiden, RowsShortBeforeTheReplanInTheWindowsAsAskedAreTheReplansToClear) {
+  tf::test::TempDir dir;
+  const std::string d = dir.path().string() + "/";
+  tf::test::write_text(dir / "stock.stl", "solid s\n" + box_facets({0, 0, 0}, {60, 40, 20}) +
+                                              box_facets({30, 15, 20}, {40, 25, 60}) + "endsolid s\n");
+  tf::test::write_text(dir / "design.stl", "solid d\n" + box_facets({-10, -50, 17}, {29, 90, 18}) + "endsolid d\n");
+  std::string path = "x,y,z,nx,ny,nz\n", oriented = "x,y,z,i,j,k,lead_deg,tilt_deg,clearance_mm\n";
+  for (int k = 0; k <= 240; ++k) {
+    const std::string p = "26," + std::to_string(-40.0 + 0.5 * k) + ",21";
+    path += p + ",0,0,1\n";
+    oriented += p + ",0,0,1,0,0,5\n";
+  }
+  tf::test::write_text(dir / "path.csv", path);
+  tf::test::write_text(dir / "oriented.csv", oriented);
+  tf::test::write_text(dir / "scene.json", R"({"units": "mm", "design": "design.stl", "stock": {"mesh": "stock.stl"},
+    "tool": {"type": "ball", "radius": 3, "flute_length": 12, "shank_radius": 3, "length": 30,
+             "holder": [{"radius": 12, "length": 40}]},
+    "path": {"file": "path.csv", "feed": 1000}, "planner": {"lead_deg": 0, "tilt_deg": 0, "safety_distance": 1},
+    "machine": ")" + std::string(TILTFIELD_SOURCE_DIR) + R"(/scenes/machines/table-table-ac.json"})");
+  ASSERT_EQ(tf::test::run_tiltfield("--quiet post " + d + "scene.json " + d + "oriented.csv -o " + d + "p.ngc").exit_code, 0);
+  const auto verified = tf::test::run_tiltfield("--quiet verify " + d + "scene.json " + d + "p.ngc -o " + d +
+                                                "v.json --resolution 0.5 --no-engagement");
+  ASSERT_EQ(verified.exit_code, 0) << verified.out;
+  const auto replan = [&](const std::string& report, const std::string& options) {
+    return tf::test::run_tiltfield("replan " + d + "scene.json " + d + "oriented.csv " + d + report + " -o " + d +
+                                   "out.csv " + options);
+  };
+  const auto narrow = replan("v.json", "--window 5 --blend 2 --no-widen");
+  ASSERT_EQ(narrow.exit_code, 1) << "the windows as asked clear the tower: not the case this test is about\n" << narrow.out;
+  const auto widened = replan("v.json", "--window 5 --blend 2");
+  EXPECT_EQ(widened.exit_code, 0) << widened.out;
+  // The verifier, the judge: the re-planned path's program meets no stock with its holder.
+  ASSERT_EQ(tf::test::run_tiltfield("post " + d + "scene.json " + d + "out.csv -o " + d + "p2.ngc").exit_code, 0);
+  ASSERT_EQ(tf::test::run_tiltfield("verify " + d + "scene.json " + d + "p2.ngc -o " + d + "v2.json --resolution 0.5 --no-engagement")
+                .exit_code,
+            0);
+  EXPECT_TRUE(nlohmann::json::parse(tf::test::read_text(dir / "v2.json"))["collisions"].empty());
+
+  nlohmann::json v = nlohmann::json::parse(tf::test::read_text(dir / "v.json"));
+  ASSERT_FALSE(v["collisions"].empty());
+  for (auto& c : v["collisions"]) c["rapid"] = true;
+  tf::test::write_text(dir / "rapids.json", v.dump());
+  const auto rapids = replan("rapids.json", "--quiet");
+  EXPECT_EQ(rapids.exit_code, 1) << rapids.out;
+  EXPECT_NE(rapids.out.find("left " + std::to_string(v["collisions"].size()) + " holder in stock (rapid), rows "),
+            std::string::npos) << rapids.out;
+  EXPECT_NE(rapids.out.find("no tool axis fixes"), std::string::npos) << rapids.out;
 }
 
 }  // namespace

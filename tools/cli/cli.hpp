@@ -12,6 +12,7 @@
 
 #include "tiltfield/engagement/feed_schedule.hpp"
 #include "tiltfield/core/progress.hpp"
+#include "tiltfield/core/report.hpp"
 #include "tiltfield/core/scene.hpp"
 
 namespace tf::cli {
@@ -36,6 +37,9 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& opti
 
 // Throws InputError naming `option` and `path` when the file could not be written there (its folder is
 // missing or not writable), so that a command refuses it before its long work; an empty path is not asked.
+// "holder in fixture", "ball in stock (rapid)": a collision's kind as the commands print it.
+std::string collision_kind(const Collision& c);
+
 void check_output_file(const std::string& option, const std::string& path);
 // Throws InputError (naming the option and the path) when an output would replace one of the command's
 // input files or another output of the same run: the output is renamed onto its name at the end, so the

@@ -37,6 +37,11 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, c
   for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
 }
 
+std::string collision_kind(const Collision& c) {
+  std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
+  return c.rapid ? kind + " (rapid)" : kind;
+}
+
 void check_output_file(const std::string& option, const std::string& path) {
   if (path.empty()) return;
   fs::path folder = fs::path(path).parent_path();

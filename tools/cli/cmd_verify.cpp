@@ -132,7 +132,8 @@ void run_verify(const VerifyArgs& a) {
   } else {
     write_verify_json(result.report, a.out);
   }
-  if (!a.html.empty()) write_verify_report(scene, program, a.program, result.report, stock ? &*stock : nullptr, a.html);
+  if (!a.html.empty())
+    write_verify_report(scene, program, a.program, result.report, stock ? &*stock : nullptr, a.html, scheduling ? a.report : a.out);
   const VerifyReport& r = result.report;
   if (!global_options().quiet) {
     const std::string gouges = scene.design.n_faces() == 0

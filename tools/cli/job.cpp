@@ -1,5 +1,6 @@
 #include "job.hpp"
 
+#include "cli.hpp"
 #include "report/report.hpp"
 
 #include <algorithm>
@@ -235,8 +236,7 @@ void explain_left(const Scene& scene, const Round& current, const std::vector<si
   const std::vector<std::string> unfixable = unfixable_reasons(left, spans, scene.tool);
   for (size_t k = 0; k < left.size(); ++k) {
     const Collision& c = left[k];
-    std::string kind = std::string(to_string(c.component)) + " in " + std::string(to_string(c.with));
-    if (c.rapid) kind += " (rapid)";
+    const std::string kind = cli::collision_kind(c);
     std::string reason = left_reason(spans[k], unfixable[k], uncleared, summary, options);
     const bool brought = std::none_of(first.begin(), first.end(), [&](const RowSpan& f) {
       return f.first <= spans[k].second && spans[k].first <= f.second;

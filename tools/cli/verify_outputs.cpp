@@ -57,7 +57,8 @@ StockOutput stock_output(const Scene& scene, const VerifyResult& verified, const
 }
 
 void write_verify_report(const Scene& scene, const Program& program, const std::filesystem::path& program_file,
-                         const VerifyReport& report, const StockOutput* stock, const std::filesystem::path& html) {
+                         const VerifyReport& report, const StockOutput* stock, const std::filesystem::path& html,
+                         const std::filesystem::path& report_json) {
   using namespace reporting;
   ReportInputs in;
   in.scene = &scene;
@@ -67,12 +68,14 @@ void write_verify_report(const Scene& scene, const Program& program, const std::
     in.stock_mesh = stock->stats;
   }
   in.summary.title = program_file.filename().string();
+  // The footnotes had named verify.json whatever -o was (black-box testing); no JSON written: none named.
+  in.report_json = report_json.filename().string();
   std::string note = "tiltfield verify of " + program_file.string() + " on its own (no plan: no oriented path)";
   if (scene.path.rows.empty()) note += "; the scene has no tool path";
   if (scene.design.n_faces() == 0) note += "; no design surface: no deviation colours, no gouge check";
   if (!report.warnings.empty())
     note += "; " + std::to_string(report.warnings.size()) + " warning" + (report.warnings.size() == 1 ? "" : "s") +
-            " (listed in VERIFY.json)";
+            " (listed in " + (in.report_json.empty() ? std::string("the verification report") : in.report_json) + ")";
   in.summary.note = note;
   in.summary.removed_volume_mm3 = report.removed_volume_mm3;
   in.summary.max_gouge_mm = scene.design.n_faces() > 0 ? report.max_gouge_mm : -1.0;

@@ -35,6 +35,7 @@ StockOutput stock_output(const Scene& scene, const VerifyResult& verified, const
 // The HTML report (tools/report) of a program verified on its own: no plan, so no oriented path; the
 // scene's path and design when it has them. `stock` may be null (no stock mesh). Written atomically.
 void write_verify_report(const Scene& scene, const Program& program, const std::filesystem::path& program_file,
-                         const VerifyReport& report, const StockOutput* stock, const std::filesystem::path& html);
+                         const VerifyReport& report, const StockOutput* stock, const std::filesystem::path& html,
+                         const std::filesystem::path& report_json);
 
 }  // namespace tf::cli

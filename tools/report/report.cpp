@@ -135,6 +135,12 @@ std::vector<Card> cards(const ReportInputs& in) {
   return out;
 }
 
+// The footnote of a table cut at its row limit.
+std::string more_rows(size_t n, const char* what, const std::string& report_json) {
+  return "<p class=\"more\">" + std::to_string(n) + " more " + what +
+         (report_json.empty() ? std::string(" are not listed here.") : " are listed in " + escape_html(report_json) + ".") + "</p>";
+}
+
 std::string collision_table(const ReportInputs& in, size_t max_rows) {
   std::ostringstream o;
   o << "<h2 id=\"collisions\">Collisions <span class=\"count\">" << in.collisions.size() << "</span></h2>";
@@ -156,7 +162,7 @@ std::string collision_table(const ReportInputs& in, size_t max_rows) {
   }
   o << "</tbody></table></div>";
   if (sorted.size() > max_rows)
-    o << "<p class=\"more\">" << sorted.size() - max_rows << " more collisions are listed in verify.json.</p>";
+    o << more_rows(sorted.size() - max_rows, "collisions", in.report_json);
   return o.str();
 }
 
@@ -178,7 +184,7 @@ std::string gouge_table(const ReportInputs& in, size_t max_rows) {
     o << "<tr><td>" << sorted[i]->block << "</td><td>" << sorted[i]->line << "</td><td class=\"num\">"
       << fixed(sorted[i]->depth_mm, 4) << "</td></tr>";
   o << "</tbody></table></div>";
-  if (sorted.size() > max_rows) o << "<p class=\"more\">" << sorted.size() - max_rows << " more gouges are listed in verify.json.</p>";
+  if (sorted.size() > max_rows) o << more_rows(sorted.size() - max_rows, "gouges", in.report_json);
   return o.str();
 }
 

@@ -79,6 +79,9 @@ struct ReportInputs {
   std::vector<uint32_t> stock_block;
   std::optional<StockMeshStats> stock_mesh;   // the bound and sizes of the stock mesh (shown as a card)
   Summary summary;
+  // The verification report (JSON) the tables' footnotes send the reader to for what they leave out
+  // (empty: none was written).
+  std::string report_json = "verify.json";
 };
 
 struct ReportOptions {
