@@ -98,10 +98,25 @@ void search_window(const PlanContext& ctx, size_t w0, size_t w1, std::vector<Vec
     // The ball is asked only for what it leaves: where the ball alone lies within the margin of a blade
     // (its distance the same at every axis), asking it for the margin had found no candidate, and the
     // rows kept the jumps they were searched for (15.7 deg between rows 0.5 mm apart, black-box testing).
-    const double margin = ctx.options.correction_margin_mm, ball_extra = std::max(0.0, ball_extra_at(ctx, row, axes[row], margin));
+    // Where the ball is below its clearance (no axis clears the row), the other pieces are still searched
+    // clear: a ball 0.5 mm short of a clamp had left the row's axis with the holder through a wall, where
+    // a tilt away cleared it (black-box testing).
+    const double margin = ctx.options.correction_margin_mm, ball_extra = ball_extra_at(ctx, row, axes[row], margin);
     ball[k] = ball_extra;
-    for (const Vector3d& a : cone_axes(ctx, row, axes[row]))
+    const std::vector<Vector3d> offered = cone_axes(ctx, row, axes[row]);
+    for (const Vector3d& a : offered)
       if (ctx.reachable(row, a) && ctx.clears(row, a, margin, &hints, ball_extra)) clear.push_back(a);
+    // No axis clears: the axes that come least below the clearance, in steps of the largest clearance
+    // (the row stays reported). The row's own axis had been kept whatever it hit: 12 mm of holder in a
+    // wall where a tilt away came 0.86 mm short (black-box testing). The distances are unsigned, so the
+    // steps stop short of touching: an axis through an obstacle is no better than the row's own.
+    const double required = ctx.max_required();
+    for (const double below : {0.0, 0.25, 0.5, 0.75, 0.95}) {
+      if (!clear.empty() || !(required > 0.0)) break;
+      const double extra = -below * required;
+      for (const Vector3d& a : offered)
+        if (ctx.reachable(row, a) && ctx.clears(row, a, extra, &hints, std::min(extra, ball_extra))) clear.push_back(a);
+    }
     if (clear.empty()) clear.push_back(axes[row]);
     cand[k] = std::move(clear);
   });

@@ -109,8 +109,8 @@ double ball_extra_at(const PlanContext& ctx, size_t row, const Vector3d& axis, d
         if (set.bvh.empty()) continue;
         const double need = set.required[i] + extra;
         const double left = piece_distance(set.bvh, ctx.pieces[i], ctx.pose(row, axis), need) - set.required[i];
-        if (left < 0) return -1.0;
-        ball_extra = std::min(ball_extra, std::max(0.0, left - 1e-9));
+        // Below its clearance: what it leaves is negative, and the other pieces are still asked for theirs.
+        ball_extra = std::min(ball_extra, left < 0 ? left - 1e-9 : std::max(0.0, left - 1e-9));
       }
   return ball_extra;
 }

@@ -134,8 +134,9 @@ FallbackResult fall_back_to_pointwise(const PlanContext& ctx, std::vector<Eigen:
 
 // A sphere turning about its centre keeps its distance: when the ball at the cutter location is nearer to an
 // obstacle than its clearance plus `extra`, no axis gives it that much. Returns the extra the ball can be
-// asked for at `row` (at most `extra`, what it leaves less a rounding step), or < 0 when the ball itself is
-// below its clearance (no axis clears the row); the other pieces are asked for `extra`.
+// asked for at `row` (at most `extra`, what it leaves less a rounding step), negative when the ball itself
+// is below its clearance (no axis clears the row; asked for that, the ball-like pieces accept what they
+// have and the others must still keep theirs); the other pieces are asked for `extra`.
 double ball_extra_at(const PlanContext& ctx, size_t row, const Eigen::Vector3d& axis, double extra);
 
 // The last resort (cone_search.cpp): over windows around the rows `bad` flags (at most 1500 rows in
