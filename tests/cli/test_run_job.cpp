@@ -181,6 +181,33 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   EXPECT_GT(windows, 10u);
 }
 
+// A report of a program posted from another oriented path (the path before an earlier re-plan): its
+// blocks end on the rows' positions but with other axes. Accepted, it had been re-planned again from the
+// stale axes (black-box testing: 40.8 deg apart, "96 rows changed" where 19 did). The same report with
+// the path's axes is re-planned.
+TEST(ReplanCli, AReportOfAnotherOrientedPathExitsTwo) {
+  tf::test::TempDir dir;
+  const fs::path scene_file = write_hidden_post_scene(dir);
+  const tf::Scene scene = tf::load_scene(scene_file);
+  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
+  const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
+                              (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
+                              (dir / "out.csv").string();
+  std::string report = holder_report(scene, Eigen::Vector3d::Zero());
+  const std::string vertical = R"("end_axis": [0,0,1])";
+  ASSERT_NE(report.find(vertical), std::string::npos);
+  tf::test::write_text(dir / "v.json", std::string(report).replace(report.find(vertical), vertical.size(),
+                                                                 R"("end_axis": [0.642788,0,0.766044])"));
+  const auto stale = tf::test::run_command(command);
+  EXPECT_EQ(stale.exit_code, 2) << stale.out;
+  EXPECT_NE(stale.out.find("collisions[0].end_axis"), std::string::npos) << stale.out;
+  EXPECT_NE(stale.out.find("40 deg from the oriented path's"), std::string::npos) << stale.out;
+  EXPECT_EQ(std::count(stale.out.begin(), stale.out.end(), '\n'), 1) << stale.out;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+  tf::test::write_text(dir / "v.json", report);
+  EXPECT_NE(tf::test::run_command(command).exit_code, 2);
+}
+
 // A --stock-mesh that cannot be read and a negative depth are bad input whether or not a stock collision
 // asks for the mesh (both had been accepted, exit 0; black-box testing).
 TEST(ReplanCli, AnUnreadableStockMeshAndANegativeDepthExitTwo) {
