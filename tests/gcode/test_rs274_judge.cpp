@@ -333,7 +333,7 @@ TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
     }
   }
   const std::string good = head + "G1 X1 (c) F10 (d)\n(e)G1 Y2 (f);g\nG1 X[1+2](h)Y3\n#1=4(i)#2=5\nG1 X#1 Y#2" +
-                           std::string(241, ' ') + "\r\nM2\n";
+                           std::string(241, ' ') + "\r\no100 sub\nG1 X#1 Y#2\no100 endsub\no100 call [6] (j) [7]\nM2\n";
   expect_same_motion(judge(good, library(), trt_joint()), "comments between words, a line of 252 characters");
 }
 

@@ -66,6 +66,12 @@ std::vector<Case> cases() {
          j["wheel"].erase("edge_radius");
          j["wheel"]["profile"] = json::parse("[[-1.5, 20], [0, 18], [1.5, 20]]");
        },
+       "wheel.profile[1]': profile must be convex (rho concave in t): this point lies 2 mm inside"},
+      {"concave beyond the rounding",  // 2 um inside the line through its neighbours
+       [](json& j, std::string&) {
+         j["wheel"].erase("edge_radius");
+         j["wheel"]["profile"] = json::parse("[[-1.5, 20], [0, 19.998], [1.5, 20]]");
+       },
        "wheel.profile[1]"},
   };
 }
@@ -90,6 +96,18 @@ TEST(GrindInput, LoaderNamesFileAndField) {
       EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << c.name << ": " << e.what();
     }
   }
+}
+
+// A profile written to 4 decimals may come up to 0.05 um inside the line through its neighbours: taken as
+// on it, not refused (black-box testing: a rounded arc had been refused as not convex).
+TEST(GrindInput, AProfileRoundedToFourDecimalsIsAccepted) {
+  test::TempDir dir;
+  write_case({"rounded", [](json& j, std::string&) {
+                j["wheel"].erase("edge_radius");
+                j["wheel"]["profile"] = json::parse("[[-1.5, 20], [0, 19.99995], [1.5, 20]]");
+              }, ""},
+             dir);
+  EXPECT_NO_THROW(load_grind_scene(dir / "grind.json"));
 }
 
 TEST(GrindInput, CliExitsTwoWithOneLineAndNoOutput) {

@@ -183,7 +183,8 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
       {"--schedule-feed 6000 --air-feed 1e300", "--air-feed"}, {"--schedule-feed 6000 --air-feed -1", "--air-feed"},
       {"--schedule-feed 6000 --air-feed 0", "--air-feed"},    {"--schedule-feed 6000 --air-feed nan", "--air-feed"},
       {"--schedule-feed 6000 --min-feed 1e12", "--min-feed"},
-      {"--schedule-feed 6000 --air-feed 5000.5", "--air-feed"}};  // above the machine's max_feed
+      {"--schedule-feed 6000 --air-feed 5000.5", "--air-feed"},  // above the machine's max_feed
+      {"--schedule-feed 6000 --air-feed inf", "--air-feed"}};    // had crashed formatting the message
   for (const auto& [options, named] : bad_options) {
     const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " " +
                                    options + " -o " + (dir / "p3.ngc").string());
@@ -205,6 +206,13 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
             0);
   const Program p4 = parse_gcode(read_text(dir / "p4.ngc"), "p4.ngc", MachineSpec{});
   for (size_t i = 1; i <= 3; ++i) EXPECT_EQ(p4.blocks[i].feed, 600.0) << "block " << i + 1;
+  // Its digits too: F123.456 had been cut to F123.45.
+  write_text(dir / "q.ngc", "G21 G90 G94\nG0 X-10 Y0 Z8\nG1 X30 F123.456\nM30\n");
+  ASSERT_EQ(run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "q.ngc").string() +
+                          " --schedule-feed 1e9 -o " + (dir / "q2.ngc").string())
+                .exit_code,
+            0);
+  EXPECT_NE(read_text(dir / "q2.ngc").find("G1 X30 F123.456\n"), std::string::npos) << read_text(dir / "q2.ngc");
   TF_REQUIRE_RS274();
   const auto rs = test::run_command("cd " + dir.path().string() + " && " + test::rs274_command("p2.ngc"));
   EXPECT_EQ(rs.exit_code, 0) << rs.out.substr(0, 2000);

@@ -114,6 +114,9 @@ TEST(ReplanWiden, RowsShortBeforeTheReplanInTheWindowsAsAskedAreTheReplansToClea
   ASSERT_EQ(narrow.exit_code, 1) << "the windows as asked clear the tower: not the case this test is about\n" << narrow.out;
   const auto widened = replan("v.json", "--window 5 --blend 2");
   EXPECT_EQ(widened.exit_code, 0) << widened.out;
+  // Windows far narrower: widened past twice as wide, where it had stopped with rows still short.
+  const auto tiny = replan("v.json", "--window 0.5 --blend 0.1");
+  EXPECT_EQ(tiny.exit_code, 0) << tiny.out;
   // The verifier, the judge: the re-planned path's program meets no stock with its holder.
   ASSERT_EQ(tf::test::run_tiltfield("post " + d + "scene.json " + d + "out.csv -o " + d + "p2.ngc").exit_code, 0);
   ASSERT_EQ(tf::test::run_tiltfield("verify " + d + "scene.json " + d + "p2.ngc -o " + d + "v2.json --resolution 0.5 --no-engagement")

@@ -4,9 +4,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <sstream>
 
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
@@ -22,11 +24,13 @@ GlobalOptions& global_options() {
 
 double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed) {
   if (option.count() == 0) return machine_max_feed;
-  if (!(value > 0.0)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
+  if (!(value > 0.0) || !std::isfinite(value)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
   // The controller would clamp it to its own; a program written for it should say what it runs.
-  if (value > machine_max_feed)
-    throw InputError("", 0, "--air-feed", fixed(value, 1) + " mm/min is above the machine's max_feed, " +
-                                               fixed(machine_max_feed, 1) + " mm/min");
+  if (value > machine_max_feed) {
+    std::ostringstream msg;
+    msg << std::setprecision(10) << value << " mm/min is above the machine's max_feed, " << machine_max_feed << " mm/min";
+    throw InputError("", 0, "--air-feed", msg.str());
+  }
   return value;
 }
 

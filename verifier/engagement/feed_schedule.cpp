@@ -237,6 +237,17 @@ std::string rewrite_line(const std::string& line, const std::string& f) {
 
 }  // namespace
 
+namespace {
+// `v` with at most `places` decimals, trailing zeros (and a bare point) dropped.
+std::string trimmed(double v, int places) {
+  std::string s = fixed(v, places);
+  if (s.find('.') == std::string::npos) return s;
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+}  // namespace
+
 std::string rewrite_feeds(std::string_view text, const Program& program, const FeedSchedule& schedule) {
   // Per line, over every run of it (loops, calls): G94, the smallest of its blocks' feeds; G93, where one F
   // times a line's blocks together (an arc's P turns), the largest F that gives each at least its scheduled
@@ -246,6 +257,7 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
   struct Line {
     double feed = 0.0;
     bool inverse_time = false, inch = false, mixed = false;
+    bool kept = true;  // every block of the line keeps its programmed F
   };
   std::map<int, Line> per_line;
   for (size_t i = 0; i < program.blocks.size() && i < schedule.feed.size(); ++i) {
@@ -258,6 +270,7 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
     Line& l = it->second;
     if (!fresh) l.feed = std::min(l.feed, f);
     l.mixed |= l.inverse_time != inverse_time || l.inch != inch;
+    l.kept &= schedule.feed[i] == b.feed;
   }
   std::string out;
   out.reserve(text.size() + 8 * per_line.size());
@@ -273,7 +286,10 @@ std::string rewrite_feeds(std::string_view text, const Program& program, const F
     } else {  // rounded down to what is written (+1e-6 of a digit: a share's own rounding costs none)
       const Line& l = it->second;
       const WrittenFeed w = written_feed(l.inverse_time, l.inch);
-      out += rewrite_line(line, fixed(std::floor(l.feed / w.unit * w.scale + 1e-6) / w.scale, w.decimals));
+      // A line the schedule left alone keeps its F's digits (F123.456 had been cut to F123.45 under a limit
+      // no block reached; black-box testing): up to 6 places, trailing zeros dropped.
+      out += rewrite_line(line, l.kept ? trimmed(l.feed / w.unit, 6)
+                                       : fixed(std::floor(l.feed / w.unit * w.scale + 1e-6) / w.scale, w.decimals));
     }
     if (nl == std::string_view::npos) break;
     out += '\n';

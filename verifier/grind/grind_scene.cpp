@@ -59,11 +59,20 @@ Wheel parse_wheel(const json& j, const std::string& file) {
       throw InputError(file, 0, f, "t must increase along the profile");
     w.profile.push_back(q);
   }
-  // The hull of the rings is the wheel's section only for a convex wheel: rho must be concave in t.
+  // The hull of the rings is the wheel's section only for a convex wheel: rho must be concave in t. A point
+  // within kConcaveTolerance inside the chord of its neighbours is taken as on it (the wheel as its hull):
+  // a profile written to 4 decimals had been refused for 5e-5 mm (black-box testing).
+  constexpr double kConcaveTolerance = 1e-3;  // mm
   for (size_t i = 1; i + 1 < w.profile.size(); ++i) {
     const Eigen::Vector2d a = w.profile[i] - w.profile[i - 1], b = w.profile[i + 1] - w.profile[i];
-    if (a.x() * b.y() - a.y() * b.x() > 1e-9 * (a.norm() * b.norm()))
-      throw InputError(file, 0, "wheel.profile[" + std::to_string(i) + "]", "profile must be convex (rho concave in t)");
+    const Eigen::Vector2d chord = w.profile[i + 1] - w.profile[i - 1];
+    const double inside = (a.x() * b.y() - a.y() * b.x()) / std::max(chord.norm(), 1e-12);  // below the chord, mm
+    if (inside > kConcaveTolerance) {
+      std::ostringstream msg;
+      msg << "profile must be convex (rho concave in t): this point lies " << std::setprecision(4) << inside
+          << " mm inside the line through its neighbours (at most " << kConcaveTolerance << " mm is taken as on it)";
+      throw InputError(file, 0, "wheel.profile[" + std::to_string(i) + "]", msg.str());
+    }
   }
   return w;
 }
