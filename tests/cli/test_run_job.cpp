@@ -181,18 +181,25 @@ TEST(ReplanCli, ReportOfAnotherProgramExitsTwoNamingTheCollision) {
   EXPECT_GT(windows, 10u);
 }
 
+// The hidden-post scene with vertical rows in p.csv, and `replan` on them with the report v.json into out.csv.
+struct VerticalRowsReplan {
+  tf::test::TempDir dir;
+  fs::path scene_file = write_hidden_post_scene(dir);
+  tf::Scene scene = tf::load_scene(scene_file);
+  std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
+                        (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " + (dir / "out.csv").string();
+  VerticalRowsReplan() { tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv"); }
+};
+
 // A report of a program posted from another oriented path (the path before an earlier re-plan): its
 // blocks end on the rows' positions but with other axes. Accepted, it had been re-planned again from the
 // stale axes (black-box testing: 40.8 deg apart, "96 rows changed" where 19 did). The same report with
 // the path's axes is re-planned.
 TEST(ReplanCli, AReportOfAnotherOrientedPathExitsTwo) {
-  tf::test::TempDir dir;
-  const fs::path scene_file = write_hidden_post_scene(dir);
-  const tf::Scene scene = tf::load_scene(scene_file);
-  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
-  const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
-                              (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
-                              (dir / "out.csv").string();
+  const VerticalRowsReplan fx;
+  const tf::test::TempDir& dir = fx.dir;
+  const tf::Scene& scene = fx.scene;
+  const std::string& command = fx.command;
   std::string report = holder_report(scene, Eigen::Vector3d::Zero());
   const std::string vertical = R"("end_axis": [0,0,1])";
   ASSERT_NE(report.find(vertical), std::string::npos);
@@ -211,13 +218,10 @@ TEST(ReplanCli, AReportOfAnotherOrientedPathExitsTwo) {
 // A --stock-mesh that cannot be read and a negative depth are bad input whether or not a stock collision
 // asks for the mesh (both had been accepted, exit 0; black-box testing).
 TEST(ReplanCli, AnUnreadableStockMeshAndANegativeDepthExitTwo) {
-  tf::test::TempDir dir;
-  const fs::path scene_file = write_hidden_post_scene(dir);
-  const tf::Scene scene = tf::load_scene(scene_file);
-  tf::write_oriented_csv(vertical_rows(scene, Eigen::Vector3d::Zero()), dir / "p.csv");
-  const std::string command = std::string(TILTFIELD_EXE) + " --quiet replan " + scene_file.string() + " " +
-                              (dir / "p.csv").string() + " " + (dir / "v.json").string() + " -o " +
-                              (dir / "out.csv").string();
+  const VerticalRowsReplan fx;
+  const tf::test::TempDir& dir = fx.dir;
+  const tf::Scene& scene = fx.scene;
+  const std::string& command = fx.command;
   tf::test::write_text(dir / "v.json", holder_report(scene, Eigen::Vector3d::Zero(), "check"));
   const auto missing = tf::test::run_command(command + " --stock-mesh " + (dir / "missing.ply").string());
   EXPECT_EQ(missing.exit_code, 2) << missing.out;
