@@ -321,7 +321,8 @@ TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
   const std::string head = "G21 G90 G94\nT1 M6\nG43 H1\nG0 X0 Y0 Z5 A0 C0\n";
   for (const std::string& bad : std::vector<std::string>{"G1 X1(c).5 F10", "G(c)1 X1 F10", "G1 X#(c)1 F10", "G1 X[1 (c) + 2] F10",
                                 "G1 X[SIN(c)[90]] F10", "#1(c)=3", "G1 X(MSG,hi)3 F10", "G1 X[1 ; c\n] F10",
-                                "G1 X1 F10" + std::string(244, ' '), "G1 X1 F10" + std::string(243, ' ') + "\r"}) {
+                                "G1 X1 F10" + std::string(244, ' '), "G1 X1 F10" + std::string(243, ' ') + "\r",
+                                                          "o1 if (c) [1 GT 0]\no1 endif"}) {
     const std::string text = head + bad + "\nM2\n";
     test::TempDir dir;
     EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << bad;
@@ -333,7 +334,7 @@ TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
     }
   }
   const std::string good = head + "G1 X1 (c) F10 (d)\n(e)G1 Y2 (f);g\nG1 X[1+2](h)Y3\n#1=4(i)#2=5\nG1 X#1 Y#2" +
-                           std::string(241, ' ') + "\r\no100 sub\nG1 X#1 Y#2\no100 endsub\no100 call [6] (j) [7]\nM2\n";
+                           std::string(241, ' ') + "\r\no100 sub\nG1 X#1 Y#2\no100 endsub\no100 call (j) [6] (k) [7]\nM2\n";
   expect_same_motion(judge(good, library(), trt_joint()), "comments between words, a line of 252 characters");
 }
 

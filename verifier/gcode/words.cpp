@@ -63,8 +63,9 @@ std::string strip_line(std::string_view raw, const std::string& file, int line) 
     if (ch == ')') throw InputError(file, line, ")", "')' without an opening '('");
     if (std::isspace(u)) continue;
     const char upper = static_cast<char>(std::toupper(u));
-    // An O-word's arguments are bracketed expressions, whole items of their own ("o100 call [1] (c) [2]").
-    const bool argument = upper == '[' && !out.empty() && out[0] == 'O';
+    // A call's arguments are bracketed expressions, whole items of their own ("o100 call (c) [1] (c) [2]",
+    // as rs274 reads them; "o100 if (c) [1]" it refuses).
+    const bool argument = upper == '[' && !out.empty() && out[0] == 'O' && out.find("CALL") != std::string::npos;
     if (after_comment && !starts_item(upper) && !argument) throw inside_a_word(ch);
     after_comment = false;
     depth += upper == '[' ? 1 : upper == ']' ? -1 : 0;
