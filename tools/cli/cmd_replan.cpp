@@ -30,8 +30,8 @@ std::string rows_failing(const std::vector<size_t>& rows, const std::string& wha
 // The collisions no tool axis fixes, which the re-plan leaves alone: printed by kind, reason and rows (as
 // `run`'s "left" lines); "N collision(s) no tool axis fixes", or empty. They had been passed over in
 // silence, "0 window(s)" and exit 0 (black-box testing).
-std::string left_unfixable(const Scene& scene, const OrientedPath& original, const std::vector<Collision>& collisions) {
-  const std::vector<RowSpan> spans = collision_spans(scene.path, original, scene.tool, collisions);
+// `spans`: collision_spans of the collisions on the oriented path.
+std::string left_unfixable(const Scene& scene, const std::vector<Collision>& collisions, const std::vector<RowSpan>& spans) {
   const std::vector<std::string> reasons = unfixable_reasons(collisions, spans, scene.tool);
   struct Group {
     std::string kind, reason;
@@ -59,9 +59,8 @@ std::string left_unfixable(const Scene& scene, const OrientedPath& original, con
 // Simplification (stated): a path re-planned by less than 10.5 deg plus half a row's step passes.
 // A report of the path before an earlier re-plan had been taken (black-box testing: axes 40.8 deg off,
 // "96 rows changed" where 19 did).
-void require_axes_of_path(const Scene& scene, const OrientedPath& path, const std::vector<Collision>& collisions,
-                          const std::string& report) {
-  const std::vector<RowSpan> spans = collision_spans(scene.path, path, scene.tool, collisions);
+void require_axes_of_path(const OrientedPath& path, const std::vector<Collision>& collisions,
+                          const std::vector<RowSpan>& spans, const std::string& report) {
   const auto angle_deg = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::atan2(a.normalized().cross(b.normalized()).norm(), a.normalized().dot(b.normalized())) * 180.0 / M_PI;
   };
@@ -111,7 +110,9 @@ void run_replan(const ReplanArgs& a) {
                        "block " + std::to_string(c.block) + " (line " + std::to_string(c.line) + ") lies " + fixed(d, 3) +
                            " mm from the scene's path: a report of another program or scene");
   }
-  require_axes_of_path(scene, original, collisions, a.verify);
+  // Each a scan of the path: made once for both checks below.
+  const std::vector<RowSpan> spans = collision_spans(scene.path, original, scene.tool, collisions);
+  require_axes_of_path(original, collisions, spans, a.verify);
   const PlanOptions plan_options =
       parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed);
   // The stock as an obstacle for shank and holder: the in-process stock the verifier exported, or the raw
@@ -128,7 +129,7 @@ void run_replan(const ReplanArgs& a) {
   }
   const ReplanResult r = replan(scene, original, collisions, extra, plan_options, a.options);
   write_oriented_csv(r.path, a.out);
-  const std::string left = left_unfixable(scene, original, collisions);
+  const std::string left = left_unfixable(scene, collisions, spans);
   if (!global_options().quiet) {
     // No window (every collision one no axis fixes): no clearance to give (it had thrown on infinity).
     const std::string clearance =
