@@ -338,6 +338,34 @@ TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
   expect_same_motion(judge(good, library(), trt_joint()), "comments between words, a line of 252 characters");
 }
 
+// An O-word is the first item of its line, after a line number if any, with no comment before its keyword;
+// rs274 reads the lines a false condition or a definition skips, and refuses one too long there too.
+TEST(Rs274Judge, LineNumbersAndCommentsAroundOWords) {
+  TF_REQUIRE_RS274();
+  const std::string head = "G21 G90 G94\nT1 M6\nG43 H1\nG0 X0 Y0 Z5 A0 C0\n";
+  const std::string sub = "\nG1 X1 F10\no100 endsub\no100 call\n";
+  const std::string too_long = "G1 X1 F10 (" + std::string(250, 'c') + ")";
+  const std::vector<std::pair<std::string, int>> bad{{"o100 (c) sub" + sub, 5},
+                                                     {"(c) o100 sub" + sub, 5},
+                                                     {"N5 (c) o100 sub" + sub, 5},
+                                                     {"o1 if [0]\n" + too_long + "\no1 endif\n", 6},
+                                                     {"o100 sub\n" + too_long + "\no100 endsub\n", 6}};
+  for (const auto& [body, line] : bad) {
+    const std::string text = head + body + "M2\n";
+    test::TempDir dir;
+    EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << body;
+    try {
+      parse_gcode(text, "judge.ngc", trt_joint(), library());
+      ADD_FAILURE() << "no error for " << body;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+    }
+  }
+  const std::string good = head + "N5 o100 sub\nN6 G1 X#1 F10\nN7 o100 endsub (c)\nN8 #1=2\nN9 o100 call [3]\n"
+                                  "N10.1 o1 if [#1 GT 1]\nN11 G1 Y2\nN12 o1 endif\nM2\n";
+  expect_same_motion(judge(good, library(), trt_joint()), "line numbers before O-words");
+}
+
 // Fanuc-style subprograms as a Fanuc post writes them: the program number first, M98 P with and without
 // L, calls nested two deep from a called program, N numbers, G91 inside, a subprogram that reads
 // and sets the caller's #1 and its own named parameter, subprograms after the M30, one reached by the main

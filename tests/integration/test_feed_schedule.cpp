@@ -184,7 +184,9 @@ TEST_F(ScheduleCli, VerifyScheduleFeedKeepsEveryBlockUnderTheLimit) {
       {"--schedule-feed 6000 --air-feed 0", "--air-feed"},    {"--schedule-feed 6000 --air-feed nan", "--air-feed"},
       {"--schedule-feed 6000 --min-feed 1e12", "--min-feed"},
       {"--schedule-feed 6000 --air-feed 5000.5", "--air-feed"},  // above the machine's max_feed
-      {"--schedule-feed 6000 --air-feed inf", "--air-feed"}};    // had crashed formatting the message
+      {"--schedule-feed 6000 --air-feed inf", "--air-feed"},     // had crashed formatting the message
+      {"--schedule-feed 6000 --air-feed 0.004", "--air-feed"},   // below --min-feed: had been left out silently
+      {"--schedule-feed 6000 --min-feed 50 --air-feed 20", "--air-feed"}};
   for (const auto& [options, named] : bad_options) {
     const auto bad = run_tiltfield("verify " + (dir / "scene.json").string() + " " + (dir / "p.ngc").string() + " " +
                                    options + " -o " + (dir / "p3.ngc").string());

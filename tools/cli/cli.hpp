@@ -29,8 +29,9 @@ Progress terminal_progress();
 
 // The air feed of a feed schedule: the machine's max_feed unless `option` (--air-feed) is given, and then
 // `value`, which must be positive (the library's 0, "keep the programmed feed", is no value to give here;
-// -1, 0 and nan had fallen back to the default without a word, black-box testing).
-double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed);
+// -1, 0 and nan had fallen back to the default without a word, black-box testing), and between
+// `min_feed` and `machine_max_feed`.
+double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed, double min_feed);
 
 // One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
 void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);

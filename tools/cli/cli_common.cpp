@@ -22,9 +22,15 @@ GlobalOptions& global_options() {
   return options;
 }
 
-double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed) {
+double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed, double min_feed) {
   if (option.count() == 0) return machine_max_feed;
   if (!(value > 0.0) || !std::isfinite(value)) throw InputError("", 0, "--air-feed", "must be a positive number of mm/min");
+  // Below the slowest cutting feed it is a typo; below the written precision it had been left out silently.
+  if (value < min_feed) {
+    std::ostringstream msg;
+    msg << std::setprecision(10) << value << " mm/min is below --min-feed, " << min_feed << " mm/min";
+    throw InputError("", 0, "--air-feed", msg.str());
+  }
   // The controller would clamp it to its own; a program written for it should say what it runs.
   if (value > machine_max_feed) {
     std::ostringstream msg;

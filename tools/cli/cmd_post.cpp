@@ -39,7 +39,7 @@ void positive_option(double v, const char* name) {
 // moves at the air feed, by default the machine's max_feed).
 std::string schedule_posted_feeds(const PostArgs& a, const Scene& scene, const std::string& text) {
   FeedScheduleOptions so = a.schedule;
-  so.air_feed = scheduled_air_feed(*a.air_feed_option, so.air_feed, scene.machine->max_feed);
+  so.air_feed = scheduled_air_feed(*a.air_feed_option, so.air_feed, scene.machine->max_feed, so.min_feed);
   check_feed_schedule_options(so);  // before the simulation
   positive_option(a.resolution, "--resolution");
   const Program program = parse_gcode(text, a.out, *scene.machine, gcode_options(scene));

@@ -101,7 +101,7 @@ void run_verify(const VerifyArgs& a) {
   FeedScheduleOptions so = a.schedule;
   so.max_mrr = a.schedule_mrr;
   if (scheduling) {
-    so.air_feed = scheduled_air_feed(*a.air_feed_option, so.air_feed, machine.max_feed);
+    so.air_feed = scheduled_air_feed(*a.air_feed_option, so.air_feed, machine.max_feed, so.min_feed);
     check_feed_schedule_options(so, "--schedule-feed");  // before the long simulation
     if (a.stop_at_first) throw InputError("", 0, "--schedule-feed", "cannot be combined with --stop-at-first-collision");
   }

@@ -38,6 +38,11 @@ void Reader::run(const std::vector<std::string_view>& lines) {
           line_ = number;
           const OLine o = *o_lines_[at];  // a copy: a call may read a subroutine file, which grows o_lines_
           control(o, at, next);
+          // rs274 reads the lines a condition, a loop's end or a definition skips (a line too long there
+          // stops it), but not those a call or a return jumps over.
+          const std::string& k = o.word.keyword;
+          if (next > at + 1 && k != "CALL" && k != "RETURN" && k != "ENDSUB")
+            for (size_t i = at + 1; i < next; ++i) check_length(lines_[i], static_cast<int>(i) + 1);
         } else if (!fanuc_line(*code, at, next)) {
           execute(*code, number);
         }
@@ -57,11 +62,18 @@ void Reader::run(const std::vector<std::string_view>& lines) {
 
 // Every O-word line, each subroutine's SUB and ENDSUB lines (a program may call a subroutine defined
 // further down) and each Fanuc-style program's "O1000" line (the first, as rs274 finds it). A line that
-// cannot be read is left to the run, which reports it if it gets there.
+// cannot be read is left to the run, which reports it if it gets there, unless the scan finds an error
+// further down: then that line's is the error.
 void Reader::scan_o_words(size_t begin, size_t end) {
   o_lines_.resize(lines_.size());
   std::optional<std::pair<std::string, size_t>> open;  // the subroutine being defined: label, line
   int percent = 0;
+  // A line that cannot be read comes before a scan error further down: rs274 stops at it first.
+  std::optional<InputError> unreadable;
+  auto fail = [&](int number, const std::string& field, const std::string& what) {
+    if (unreadable) throw *unreadable;
+    throw InputError(file_, number, field, what);
+  };
   for (size_t i = begin; i < end && percent < 2; ++i) {
     std::string_view view = lines_[i];
     while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
@@ -76,31 +88,32 @@ void Reader::scan_o_words(size_t begin, size_t end) {
     std::string code;
     try {
       code = strip_line(view, file_, static_cast<int>(i) + 1);
-    } catch (const InputError&) {
+    } catch (const InputError& e) {
+      if (!unreadable) unreadable = e;
       continue;
     }
     const std::optional<OWord> o = o_word(code);
     if (!o) {
       if (const std::optional<std::string> n = program_number(code)) {
         if (open)  // rs274: a nested definition
-          throw InputError(file_, static_cast<int>(i) + 1, "O" + *n, "a program number inside subroutine O" + open->first);
+          fail(static_cast<int>(i) + 1, "O" + *n, "a program number inside subroutine O" + open->first);
         programs_.emplace(*n, i);
       }
       continue;
     }
     const int number = static_cast<int>(i) + 1;
     if (o->keyword == "SUB") {
-      if (open) throw InputError(file_, number, o->name(), "a subroutine defined inside another (O" + open->first + ")");
-      if (subs_.count(o->label)) throw InputError(file_, number, o->name(), "subroutine defined twice");
+      if (open) fail(number, o->name(), "a subroutine defined inside another (O" + open->first + ")");
+      if (subs_.count(o->label)) fail(number, o->name(), "subroutine defined twice");
       open = {o->label, i};
     } else if (o->keyword == "ENDSUB") {
-      if (!open || open->first != o->label) throw InputError(file_, number, o->name(), "ENDSUB without its SUB");
+      if (!open || open->first != o->label) fail(number, o->name(), "ENDSUB without its SUB");
       subs_[o->label] = {open->second, i};
       open.reset();
     }
     o_lines_[i] = OLine{*o, code};
   }
-  if (open) throw InputError(file_, static_cast<int>(open->second) + 1, "O" + open->first, "subroutine without its ENDSUB");
+  if (open) fail(static_cast<int>(open->second) + 1, "O" + open->first, "subroutine without its ENDSUB");
 }
 
 void Reader::control(const OLine& o, size_t at, size_t& next) {

@@ -357,11 +357,12 @@ class LineParser {
   std::vector<std::string> named_on_line_;  // the names this line has set so far
 };
 
-// The digits of an O number from code[1], leading zeros dropped, and where they end (i stays 1 when none).
-std::string number_label(const std::string& code, size_t& i) {
-  i = 1;
+// The digits of an O number from code[from], leading zeros dropped, and where they end (i stays `from`
+// when none).
+std::string number_label(const std::string& code, size_t from, size_t& i) {
+  i = from;
   while (i < code.size() && digit(code[i])) ++i;
-  std::string label = code.substr(1, i - 1);
+  std::string label = code.substr(from, i - from);
   if (!label.empty()) label.erase(0, std::min(label.find_first_not_of('0'), label.size() - 1));
   return label;
 }
@@ -369,17 +370,19 @@ std::string number_label(const std::string& code, size_t& i) {
 }  // namespace
 
 std::optional<OWord> o_word(const std::string& code) {
-  if (code.size() < 2 || code[0] != 'O') return std::nullopt;
+  // rs274 reads a line number first and lets it stand before an O-word as before any other line.
+  const size_t at = line_number_end(code);
+  if (code.size() < at + 2 || code[at] != 'O') return std::nullopt;
   OWord o;
-  size_t i = 1;
-  if (code[1] == '<') {
-    const size_t close = code.find('>', 2);
-    if (close == std::string::npos || close == 2) return std::nullopt;
-    o.label = code.substr(1, close);
+  size_t i = at + 1;
+  if (code[i] == '<') {
+    const size_t close = code.find('>', i + 1);
+    if (close == std::string::npos || close == i + 1) return std::nullopt;
+    o.label = code.substr(i, close - i + 1);
     i = close + 1;
   } else {
-    o.label = number_label(code, i);
-    if (i == 1) return std::nullopt;
+    o.label = number_label(code, at + 1, i);
+    if (i == at + 1) return std::nullopt;
   }
   const size_t k = i;
   while (i < code.size() && alpha(code[i])) ++i;
@@ -397,7 +400,7 @@ std::optional<OWord> o_word(const std::string& code) {
 std::optional<std::string> program_number(const std::string& code) {
   if (code.size() < 2 || code[0] != 'O') return std::nullopt;
   size_t i = 1;
-  std::string label = number_label(code, i);
+  std::string label = number_label(code, 1, i);
   if (i == 1 || i != code.size()) return std::nullopt;
   return label;
 }

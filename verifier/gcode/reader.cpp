@@ -63,13 +63,17 @@ Reader::Reader(const std::string& file, const MachineSpec& machine, const GcodeO
   }
 }
 
+void Reader::check_length(std::string_view raw, int number) const {
+  if (raw.size() > kMaxLineLength)
+    throw InputError(file_, number, "", "a line of " + std::to_string(raw.size()) + " characters: LinuxCNC reads at most " +
+                                            std::to_string(kMaxLineLength) + " (\"Command too long\")");
+}
+
 // The code of a line (upper case, without blanks and comments); nullopt for a line not read (block delete,
 // the "%" lines, what follows the end).
 std::optional<std::string> Reader::code_of(std::string_view raw, int number) {
   if (st_.ended) return std::nullopt;
-  if (raw.size() > kMaxLineLength)
-    throw InputError(file_, number, "", "a line of " + std::to_string(raw.size()) + " characters: LinuxCNC reads at most " +
-                                            std::to_string(kMaxLineLength) + " (\"Command too long\")");
+  check_length(raw, number);
   std::string_view view = raw;
   while (!view.empty() && std::isspace(static_cast<unsigned char>(view.front()))) view.remove_prefix(1);
   bool slash = false;

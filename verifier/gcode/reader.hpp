@@ -149,6 +149,7 @@ class Reader : private ParameterValues {
   std::string line_name(int number) const;  // "line 12", or "sub.ngc:3" for a subroutine file's line
 
   std::optional<std::string> code_of(std::string_view raw, int number);
+  void check_length(std::string_view raw, int number) const;
   void execute(const std::string& code, int number);
 
   // parameters.cpp: the values a line's parameters read, and its settings

@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 
@@ -27,12 +28,43 @@ namespace {
 // words, a parameter setting), another comment, or nothing.
 bool starts_item(char upper) { return std::isalpha(static_cast<unsigned char>(upper)) || upper == '@' || upper == '^' || upper == '#'; }
 
+// Where the keyword of an O-word line ends ("O100SUB", "N5O<X>CALL[1]": after SUB, CALL), or npos when
+// the line does not open with an O number or name followed by letters.
+size_t o_keyword_end(std::string_view code) {
+  size_t i = line_number_end(code);
+  if (i >= code.size() || code[i] != 'O') return std::string_view::npos;
+  const size_t label = ++i;
+  if (i < code.size() && code[i] == '<') {
+    i = code.find('>', i);
+    if (i == std::string_view::npos) return i;
+    ++i;
+  } else {
+    while (i < code.size() && std::isdigit(static_cast<unsigned char>(code[i]))) ++i;
+  }
+  const size_t keyword = i;
+  while (i < code.size() && std::isalpha(static_cast<unsigned char>(code[i]))) ++i;
+  return i == keyword || keyword == label ? std::string_view::npos : i;
+}
+
 }  // namespace
+
+size_t line_number_end(std::string_view code) {
+  if (code.empty() || code[0] != 'N') return 0;
+  size_t i = 1;
+  while (i < code.size() && std::isdigit(static_cast<unsigned char>(code[i]))) ++i;
+  if (i == 1) return 0;
+  if (i + 1 < code.size() && code[i] == '.' && std::isdigit(static_cast<unsigned char>(code[i + 1]))) {
+    ++i;
+    while (i < code.size() && std::isdigit(static_cast<unsigned char>(code[i]))) ++i;
+  }
+  return i;
+}
 
 std::string strip_line(std::string_view raw, const std::string& file, int line) {
   std::string out;
   out.reserve(raw.size());
   bool in_comment = false, after_comment = false;
+  size_t first_comment = std::string::npos;  // where in `out` the line's first comment came
   int depth = 0;  // of expression brackets
   // rs274 reads a comment as an item of its own, between words: one inside a number, an expression or a
   // parameter's name ("X1(c).5", "G(c)1", "X[1 (c) + 2]") is refused there, where stripping it first had
@@ -56,6 +88,7 @@ std::string strip_line(std::string_view raw, const std::string& file, int line) 
     }
     if (ch == '(' || ch == ';') {
       if (depth > 0) throw inside_a_word(ch);
+      first_comment = std::min(first_comment, out.size());
       if (ch == ';') break;
       in_comment = after_comment = true;
       continue;
@@ -65,13 +98,20 @@ std::string strip_line(std::string_view raw, const std::string& file, int line) 
     const char upper = static_cast<char>(std::toupper(u));
     // A call's arguments are bracketed expressions, whole items of their own ("o100 call (c) [1] (c) [2]",
     // as rs274 reads them; "o100 if (c) [1]" it refuses).
-    const bool argument = upper == '[' && !out.empty() && out[0] == 'O' && out.find("CALL") != std::string::npos;
+    const size_t items = line_number_end(out);
+    const bool argument = upper == '[' && out.size() > items && out[items] == 'O' && out.find("CALL") != std::string::npos;
     if (after_comment && !starts_item(upper) && !argument) throw inside_a_word(ch);
     after_comment = false;
     depth += upper == '[' ? 1 : upper == ']' ? -1 : 0;
     out.push_back(upper);
   }
   if (in_comment) throw InputError(file, line, "(", "comment is not closed on this line");
+  // rs274 reads an O-word's number and keyword as one item that must open the line (after its number).
+  const size_t keyword_end = o_keyword_end(out);
+  if (keyword_end != std::string::npos && first_comment < keyword_end) {
+    const size_t o = line_number_end(out);
+    throw InputError(file, line, out.substr(o, keyword_end - o), "a comment before an O-word's keyword (LinuxCNC refuses it)");
+  }
   return out;
 }
 

@@ -20,8 +20,13 @@ struct Word {
 std::vector<std::string_view> split_lines(std::string_view text);
 
 // Strips "( ... )" and "; ..." comments and whitespace; returns the code part in upper case.
-// Throws InputError on an unclosed "(" and on a comment that is not between two items of the line.
+// Throws InputError on an unclosed "(", on a comment that is not between two items of the line, and on one
+// before an O-word's keyword ("(c) o100 sub", "o100 (c) sub": rs274 refuses both).
 std::string strip_line(std::string_view raw, const std::string& file, int line);
+
+// Where a line's items start after its line number ("N10" or rs274's sub-line "N10.1"): 0 when it has none.
+// `code` is strip_line's output.
+size_t line_number_end(std::string_view code);
 
 // A G or M number with up to one decimal, as an integer key: G43.4 -> 434, G1 -> 10. Throws on anything else.
 int code_key(const Word& w, const std::string& file, int line);
