@@ -313,6 +313,18 @@ TEST(Rs274Judge, SubroutinesAndControlFlow) {
   EXPECT_EQ(j.program.blocks.size(), 5u);  // the rapid, X4 (then out at i = 5), Y6, Y8, Y9
 }
 
+// rs274 refuses `text`, and the reader too, naming `line`.
+void expect_both_refuse(const std::string& text, int line) {
+  test::TempDir dir;
+  EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << text;
+  try {
+    parse_gcode(text, "judge.ngc", trt_joint(), library());
+    ADD_FAILURE() << "no error for " << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), line) << e.what();
+  }
+}
+
 // Comments only between the items of a line, and lines of at most 252 characters (a CRLF's "\r"
 // counted): what rs274 refuses the reader refuses, naming the line, and what rs274 reads it reads. A
 // comment inside a number or an expression had been stripped and the pieces joined (black-box testing).
@@ -323,15 +335,7 @@ TEST(Rs274Judge, CommentsBetweenWordsAndLongLines) {
                                 "G1 X[SIN(c)[90]] F10", "#1(c)=3", "G1 X(MSG,hi)3 F10", "G1 X[1 ; c\n] F10",
                                 "G1 X1 F10" + std::string(244, ' '), "G1 X1 F10" + std::string(243, ' ') + "\r",
                                                           "o1 if (c) [1 GT 0]\no1 endif"}) {
-    const std::string text = head + bad + "\nM2\n";
-    test::TempDir dir;
-    EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << bad;
-    try {
-      parse_gcode(text, "judge.ngc", trt_joint(), library());
-      ADD_FAILURE() << "no error for " << bad;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.line(), 5) << e.what();
-    }
+    expect_both_refuse(head + bad + "\nM2\n", 5);
   }
   const std::string good = head + "G1 X1 (c) F10 (d)\n(e)G1 Y2 (f);g\nG1 X[1+2](h)Y3\n#1=4(i)#2=5\nG1 X#1 Y#2" +
                            std::string(241, ' ') + "\r\no100 sub\nG1 X#1 Y#2\no100 endsub\no100 call (j) [6] (k) [7]\nM2\n";
@@ -350,17 +354,7 @@ TEST(Rs274Judge, LineNumbersAndCommentsAroundOWords) {
                                                      {"N5 (c) o100 sub" + sub, 5},
                                                      {"o1 if [0]\n" + too_long + "\no1 endif\n", 6},
                                                      {"o100 sub\n" + too_long + "\no100 endsub\n", 6}};
-  for (const auto& [body, line] : bad) {
-    const std::string text = head + body + "M2\n";
-    test::TempDir dir;
-    EXPECT_NE(test::run_rs274(dir, text, test::rs274_tool_table(library().tool_lengths), "").exit_code, 0) << body;
-    try {
-      parse_gcode(text, "judge.ngc", trt_joint(), library());
-      ADD_FAILURE() << "no error for " << body;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.line(), line) << e.what();
-    }
-  }
+  for (const auto& [body, line] : bad) expect_both_refuse(head + body + "M2\n", line);
   const std::string good = head + "N5 o100 sub\nN6 G1 X#1 F10\nN7 o100 endsub (c)\nN8 #1=2\nN9 o100 call [3]\n"
                                   "N10.1 o1 if [#1 GT 1]\nN11 G1 Y2\nN12 o1 endif\nM2\n";
   expect_same_motion(judge(good, library(), trt_joint()), "line numbers before O-words");
