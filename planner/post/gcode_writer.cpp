@@ -139,6 +139,7 @@ void write_gcode(std::ostream& out, const Program& program, const PostJob& job, 
   }
   if (mode != FeedMode::PerMinute) out << "G94\n";
   if (tcp && !codes.off.empty()) out << codes.off << "\n";
+  if (tcp && codes.on.rfind("G43.4", 0) != 0) out << "G49\n";  // the G43 written beside an M-code TCP
   out << "M5\nM30\n%\n";
 }
 

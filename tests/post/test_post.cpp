@@ -405,7 +405,7 @@ TEST(Post, TcpDialectWritesTipsWithTheTcpCode) {
     } else {
       // The M code's TCP tracks the tip only with the tool length offset in force.
       EXPECT_NE(text.find("\nM128\nG43 H1\n"), std::string::npos);
-      EXPECT_NE(text.find("\nM129\nM5"), std::string::npos);
+      EXPECT_NE(text.find("\nM129\nG49\nM5"), std::string::npos);
     }
     EXPECT_EQ(text.find("G93"), std::string::npos);
   }
@@ -495,7 +495,7 @@ TEST(Post, MachineTcpCodeComesWithTheToolLengthOffset) {
   std::ostringstream s;
   tf::write_gcode(s, prog, job, opt);
   EXPECT_NE(s.str().find("\nM428\nG43 H1\n"), std::string::npos) << s.str();
-  EXPECT_NE(s.str().find("\nM429\nM5"), std::string::npos);
+  EXPECT_NE(s.str().find("\nM429\nG49\nM5"), std::string::npos);  // and the G43 cancelled
   try {
     tf::parse_machine_json(nlohmann::json{{"name", "m"}, {"kinematics", "table-table-ac"}, {"tcp_on_code", "M428"}},
                            "m.json", "");
