@@ -200,26 +200,53 @@ std::vector<Slice> cut_into_slices(const std::vector<Segment>& raw, std::vector<
 }
 
 // Follows unused slices, end node to start node, from slice k into `chain`; true when it closes on k's
-// start node.
+// start node, and then the slices it took are marked used. Where two valid pieces cross (sharp-join spikes)
+// it turns onto the other curve first: going straight would make the contour cross itself. Where that
+// choice leads to a node with no way on, the other ways are tried (a depth-first search with a budget):
+// under a gap law a sliver of three valid slices at a peak of the law had taken the turn into itself and
+// left the contour open, so the offset was reported empty (black-box testing).
 bool follow_chain(const std::vector<Slice>& slices, const std::multimap<int, int>& by_start, size_t k,
                   std::vector<char>& used, std::vector<Segment>& chain) {
-  int cur = static_cast<int>(k);
-  while (true) {
-    used[cur] = 1;
-    for (const auto& s : slices[cur].segs) chain.push_back(s);
-    const int end = slices[cur].to;
-    if (end == slices[k].from) return true;
-    // Where two valid pieces cross (sharp-join spikes), turn onto the other curve: going straight
-    // would make the contour cross itself.
-    int next = -1;
-    for (auto [it, last] = by_start.equal_range(end); it != last; ++it)
-      if (!used[it->second] && (next < 0 || slices[it->second].first_seg != slices[cur].last_seg)) {
-        if (next >= 0 && slices[next].first_seg != slices[cur].last_seg) continue;
-        next = it->second;
-      }
-    if (next < 0) return false;
-    cur = next;
+  const int start = slices[k].from;
+  // The ways on from slice `cur`'s end: the turns first, then the others, unused only.
+  auto ways_on = [&](int cur) {
+    std::vector<int> turns, straight;
+    for (auto [it, last] = by_start.equal_range(slices[cur].to); it != last; ++it)
+      if (!used[it->second]) (slices[it->second].first_seg != slices[cur].last_seg ? turns : straight).push_back(it->second);
+    turns.insert(turns.end(), straight.begin(), straight.end());
+    return turns;
+  };
+  std::vector<int> path{static_cast<int>(k)};
+  std::vector<std::pair<std::vector<int>, size_t>> ways;  // per slice of the path: its ways on, the next to try
+  used[k] = 1;
+  bool closed = slices[k].to == start;
+  if (!closed) ways.emplace_back(ways_on(static_cast<int>(k)), 0);
+  for (size_t budget = 64 * slices.size() + 256; !closed && !ways.empty() && budget > 0; --budget) {
+    auto& [options, next] = ways.back();
+    if (next == options.size()) {  // a dead end: step back
+      used[path.back()] = 0;
+      path.pop_back();
+      ways.pop_back();
+      continue;
+    }
+    const int s = options[next++];
+    if (used[s]) continue;  // taken deeper in the path since the options were listed
+    used[s] = 1;
+    path.push_back(s);
+    if (slices[s].to == start) {
+      closed = true;
+    } else {
+      ways.emplace_back(ways_on(s), 0);
+    }
   }
+  if (!closed) {
+    for (int s : path) used[s] = 0;
+    used[k] = 1;  // no contour starts here
+    return false;
+  }
+  for (int s : path)
+    for (const auto& seg : slices[s].segs) chain.push_back(seg);
+  return true;
 }
 
 // Whether b runs straight back over a from a's end: the same line or circle, the other way. Where the

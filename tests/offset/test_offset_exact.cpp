@@ -118,6 +118,7 @@ TEST(OffsetExact, ALawRisingOrFallingSteeplyAtAVertexKeepsEveryGap) {
     const char* name;
     std::string profile;
     GapLaw law;
+    Side side = Side::Inside;
   };
   GapLaw into_line, into_arc, octagon;
   into_line.s = {0, 9, 10, 30, 40, 56};
@@ -138,7 +139,17 @@ TEST(OffsetExact, ALawRisingOrFallingSteeplyAtAVertexKeepsEveryGap) {
   const GapLaw out_of{{0, 10, 11, 20, 30, 40}, {1.2, 1.2, 0.3, 0.3, 1.2, 1.2}, 0.0, ""};
   const GapLaw peak{{0, 9, 10, 11, 40}, {0.5, 0.5, 1.5, 0.5, 0.5}, 0.0, ""};
   const std::string square = "START 0 0\n0 10 0\n0 0 10\n0 -10 0\n0 0 -10\n";
+  // A law's peak at an arc-arc vertex of a thin region (inside), and a rise and steep fall beside a
+  // line-line vertex (outside): the valid slices made a sliver of three beside the contour, whose turn the
+  // stitching took and left the contour open, "empty" (black-box testing).
+  const GapLaw thin_peak{{0, 18.57, 27.1, 35.06289646}, {1.3, 1.3, 2.2, 1.3}, 0.0, ""};
+  const GapLaw rise_fall{{0, 17.051, 31.566, 38.829056881}, {1, 2, 0.8, 1}, 0.0, ""};
+  const std::string thin = "START -4.117 -0.514\n-9.33 -1.952 -2.446\n0 14.476 -5.360\n19.687 -4.692 7.029\n14.914 -7.832 0.777\n";
+  const std::string mixed = "START 9.964 2.325\n27.73 -17.153 -0.540\n-1.477 1.174 -2.258\n0 0.625 -0.784\n"
+                            "4.949 1.386 -1.434\n0 7.868 0.844\n0 6.100 4.172\n";
   const std::vector<Case> cases = {
+      {"thin region, peak at a vertex", thin, thin_peak, Side::Inside},
+      {"outside, rise and fall", mixed, rise_fall, Side::Outside},
       {"into a line", "START 0 0\n0 10 0\n0 4 3\n0 0 12\n0 -14 0\n0 0 -15\n", into_line},
       {"out of a corner", square, out_of},
       {"peak at a corner", square, peak},
@@ -149,7 +160,9 @@ TEST(OffsetExact, ALawRisingOrFallingSteeplyAtAVertexKeepsEveryGap) {
     const Profile p = profile_text(c.profile);
     GapLaw law = c.law;
     law.s.back() = chain_length(p.elements);  // closes exactly on the profile
-    const auto r = offset_profile(p, law, {});
+    OffsetOptions options;
+    options.side = c.side;
+    const auto r = offset_profile(p, law, options);
     EXPECT_EQ(r.contours.size(), 1u);
     if (r.contours.size() != 1) continue;
     const auto e = check_exactness(p, law, r, 256);
