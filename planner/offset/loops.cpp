@@ -8,6 +8,7 @@
 #include <map>
 #include <unordered_map>
 #include <numeric>
+#include <optional>
 
 #include "segment_bvh.hpp"
 #include "offset_internal.hpp"
@@ -74,6 +75,15 @@ bool slice_valid(const Slice& sl, const ClearanceField& field, double eps) {
   }
   return true;
 }
+
+// A point of an invalid slice that lies clearly farther than the gap (more than `margin`), if any.
+std::optional<Vector2d> farther_point(const Slice& sl, const ClearanceField& field, double margin) {
+  for (const Segment& s : sl.segs)
+    for (double t : {0.25, 0.5, 0.75})
+      if (const Vector2d q = point_at(s, t); clearance(field, q) > margin) return q;
+  return std::nullopt;
+}
+
 // Crossing number of the ray from q toward +x with a chain polygonised finely (only used to tell
 // nesting, where contours are apart by much more than the chord error).
 bool inside_chain(const std::vector<Segment>& chain, const Vector2d& q) {
@@ -373,7 +383,7 @@ std::vector<std::vector<Segment>> stitch_slices(const std::vector<Slice>& slices
 }  // namespace
 
 std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field, double tol,
-                                               double eps, int* crossings) {
+                                               double eps, int* crossings, int* unresolved, Eigen::Vector2d* unresolved_at) {
   if (raw.empty()) return {};
   std::vector<Event> events;
   std::vector<Vector2d> nodes;
@@ -381,7 +391,13 @@ std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, 
   if (crossings) *crossings = static_cast<int>(nodes.size());
   const std::vector<Slice> slices = cut_into_slices(raw, std::move(events), nodes, tol);
   std::vector<char> valid(slices.size());
-  for (size_t k = 0; k < slices.size(); ++k) valid[k] = slice_valid(slices[k], field, eps);
+  for (size_t k = 0; k < slices.size(); ++k) {
+    valid[k] = slice_valid(slices[k], field, eps);
+    if (valid[k] || !unresolved) continue;
+    if (const auto q = farther_point(slices[k], field, 10 * eps)) {
+      if ((*unresolved)++ == 0 && unresolved_at) *unresolved_at = *q;
+    }
+  }
   std::vector<std::vector<Segment>> contours = stitch_slices(slices, valid, tol, eps);
   drop_nested_same_orientation(contours);
   return contours;
@@ -413,7 +429,9 @@ OffsetResult offset_profile(const Profile& profile, const GapLaw& law, const Off
   const auto raw = raw_offset(profile, law, options, sigma, tol);
   result.raw_segments = static_cast<int>(raw.size());
   const auto field = make_clearance_field(profile, law);
-  result.contours = remove_loops(raw, *field, tol, eps, &result.crossings);
+  const bool varying = !is_constant(law);
+  result.contours = remove_loops(raw, *field, tol, eps, &result.crossings, varying ? &result.unresolved : nullptr,
+                                 &result.unresolved_at);
   if (options.corner == Corner::Sharp) apply_sharp_corners(result.contours, *field, options.miter_limit, eps);
   if (!is_constant(law)) mark_transitions(result.contours, *field, std::max(2.5 * options.arc_tolerance, 1e-9 * scale));
   return result;

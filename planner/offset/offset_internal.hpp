@@ -29,8 +29,11 @@ std::vector<Segment> raw_offset(const Profile& profile, const GapLaw& law, const
                                 double sigma, double tol);
 
 // Cuts the raw offset at its self-intersections and keeps the closed chains whose clearance is >= -eps.
+// Pieces judged closer than the gap that hold points clearly farther than it (variable gap only) are
+// counted in `unresolved` with a point of the first in `unresolved_at` (OffsetResult).
 std::vector<std::vector<Segment>> remove_loops(const std::vector<Segment>& raw, const ClearanceField& field,
-                                               double tol, double eps, int* crossings);
+                                               double tol, double eps, int* crossings, int* unresolved = nullptr,
+                                               Eigen::Vector2d* unresolved_at = nullptr);
 
 // Sharp corners: complete round joins become the neighbours' extensions to their intersection where that
 // miter keeps a clearance >= -eps (mm) and crosses no path segment; miter_limit as in OffsetOptions.

@@ -139,8 +139,16 @@ void run_offset(OffsetCliOptions o) {
   oo.side = o.side == "outside" ? offset::Side::Outside : offset::Side::Inside;
   oo.corner = o.corner == "sharp" ? offset::Corner::Sharp : offset::Corner::Round;
   const auto result = offset::offset_profile(profile, law, oo);
+  if (result.contours.empty() && result.unresolved > 0)
+    throw JobError("the " + o.side + " offset of this gap law could not be closed: near (" + fixed(result.unresolved_at.x(), 3) +
+                   ", " + fixed(result.unresolved_at.y(), 3) + ") its boundary runs where the closest profile element changes "
+                   "and the law differs across it, which the method does not build (docs/offset.md); a gentler law there works");
   if (result.contours.empty())
     throw JobError("the " + o.side + " offset at this gap is empty (the gap is too large for the profile)");
+  if (result.unresolved > 0 && !global_options().quiet)
+    std::cerr << "warning: near (" << fixed(result.unresolved_at.x(), 3) << ", " << fixed(result.unresolved_at.y(), 3)
+              << ") the law's offset leaves a piece out where the closest profile element changes: the contours may miss "
+                 "part of the region (never closer than the law)\n";
   const auto field = offset::make_clearance_field(profile, law);
   const auto contours = offset::plan_leads(result, *field, o.lead);
 

@@ -80,6 +80,12 @@ struct OffsetResult {
   std::vector<std::vector<Segment>> contours;
   int raw_segments = 0;   // segments of the raw offset before loop removal
   int crossings = 0;      // self-intersection points of the raw offset
+  // Variable gap only: pieces of the raw offset that run from closer than the law to farther without
+  // crossing the rest, where the closest profile element changes and the law differs across the change.
+  // The valid region's boundary then runs along that change (the medial axis), which the method does not
+  // build: such pieces are dropped, and the contours may miss part of the region (or be empty).
+  int unresolved = 0;
+  Eigen::Vector2d unresolved_at{0, 0};  // a point of the first such piece, mm
 };
 
 // The trajectory at the gap law's distance from the profile. Throws InputError (field "gap-law") when a
