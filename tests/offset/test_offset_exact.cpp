@@ -173,6 +173,52 @@ TEST(OffsetExact, ALawRisingOrFallingSteeplyAtAVertexKeepsEveryGap) {
   }
 }
 
+// Where a law differs much across a change of the closest element (a valley of the law facing the other
+// side of a thin region; a rise past an arc that vanishes), pieces of the raw offset run from closer than
+// the law to farther without a crossing: the boundary runs along the medial axis, which is not built. They
+// are counted, with a point, so that `offset` says so instead of "empty" (black-box testing); what is kept
+// is never closer than the law.
+TEST(OffsetExact, ALawWhoseBoundaryLeavesTheOffsetsIsNamed) {
+  struct Case {
+    const char* name;
+    std::string profile;
+    GapLaw law;
+    Side side;
+  };
+  const std::vector<Case> cases = {
+      {"valley facing a thin side",
+       "START 9.815 8.950\n7.923 -6.505 -1.652\n0 -9.963 -1.160\n0 2.442 -3.703\n-9.672 -7.780 -3.578\n0 8.507 -1.531\n"
+       "17.835 -2.434 -8.293\n0 3.005 3.315\n-15.872 8.277 4.694\n-5.706 -0.026 -3.350\n-17.301 5.880 -1.075\n"
+       "13.336 -1.707 5.280\n0 0.304 11.053\n",
+       {{0, 44.575, 52.115005363, 76.776656748, 85.093, 87.833836542}, {4.328, 4.532, 5.052, 4.864, 1.179, 4.328}, 0.0, ""},
+       Side::Inside},
+      {"rise past a vanishing arc",
+       "START 3.980 0.198\n-7.101 3.003 0.357\n0 1.385 0.271\n0 1.164 2.419\n0 -5.717 1.090\n9.826 -7.213 6.217\n"
+       "-15.914 -0.240 -5.365\n13.476 -5.384 -1.881\n0 5.708 -9.519\n-1.419 1.124 -0.115\n0 3.912 1.059\n"
+       "0 2.380 2.072\n-5.622 -0.122 3.395\n",
+       {{0, 22.948, 24.125, 45.101, 56.967838506}, {3.752, 9.993, 7.613, 2.035, 3.752}, 0.0, ""},
+       Side::Outside}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Profile p = profile_text(c.profile);
+    GapLaw law = c.law;
+    law.s.back() = chain_length(p.elements);
+    OffsetOptions options;
+    options.side = c.side;
+    const auto r = offset_profile(p, law, options);
+    EXPECT_GT(r.unresolved, 0);
+    const auto field = make_clearance_field(p, law);
+    EXPECT_GT(clearance(*field, r.unresolved_at), 0.0);  // the point lies farther than the law
+    if (r.contours.empty()) continue;
+    const auto e = check_exactness(p, law, r, 128);
+    EXPECT_LE(e.max_error, 1e-6);
+    EXPECT_GE(e.min_transition, -1e-6);
+  }
+  // A constant gap's pieces are never counted.
+  const auto r = offset_profile(scene_profile("rounded_rect.txt"), constant_gap(2), {});
+  EXPECT_EQ(r.unresolved, 0);
+}
+
 TEST(OffsetExact, GapLawMustCloseOnClosedProfile) {
   const Profile p = scene_profile("rounded_rect.txt");
   GapLaw law;
