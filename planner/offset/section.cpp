@@ -1,4 +1,5 @@
 // A profile from a part mesh: plane section, chaining, line/arc fitting. See tiltfield/offset_section.hpp.
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -14,6 +15,10 @@ using Eigen::Vector2d;
 // share the edge get bit-identical points (meshes from STL may not share vertex indices).
 Vector2d crossing(Eigen::Vector3d p, Eigen::Vector3d q, double z0) {
   if (std::lexicographical_compare(q.data(), q.data() + 3, p.data(), p.data() + 3)) std::swap(p, q);
+  // A vertex on the plane is the crossing of every edge it ends, exactly: interpolated to t = 1 it came
+  // out a bit off (14 + (-0.01 - 14)), and the section's loop did not close there (black-box testing).
+  if (p.z() == z0) return p.head<2>();
+  if (q.z() == z0) return q.head<2>();
   const double t = (z0 - p.z()) / (q.z() - p.z());
   return {p.x() + t * (q.x() - p.x()), p.y() + t * (q.y() - p.y())};
 }
@@ -61,6 +66,21 @@ bool arc_fits(const std::vector<Vector2d>& P, size_t i, size_t j, double tol, Se
   if (sagitta(s, 1.0 - last) > tol) return false;
   *arc = s;
   return true;
+}
+double polygon_area(const std::vector<Vector2d>& loop) {
+  double a = 0;
+  for (size_t i = 0; i < loop.size(); ++i) a += cross(loop[i], loop[(i + 1) % loop.size()]);
+  return 0.5 * a;
+}
+
+// Crossing number of the ray from q toward +x.
+bool point_in_polygon(const std::vector<Vector2d>& loop, const Vector2d& q) {
+  bool in = false;
+  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++)
+    if ((loop[i].y() > q.y()) != (loop[j].y() > q.y()) &&
+        q.x() < loop[j].x() + (q.y() - loop[j].y()) / (loop[i].y() - loop[j].y()) * (loop[i].x() - loop[j].x()))
+      in = !in;
+  return in;
 }
 }  // namespace
 
@@ -173,20 +193,32 @@ Profile fit_profile(const std::vector<Vector2d>& loop_in, double tol, const std:
   return profile;
 }
 
-Profile profile_from_mesh(const std::filesystem::path& mesh_file, double z0, const SectionOptions& options) {
+Profile profile_from_mesh(const std::filesystem::path& mesh_file, double z0, const SectionOptions& options,
+                          std::vector<SectionLoop>* left_out) {
   const Mesh mesh = load_mesh(mesh_file);
   const auto loops = section_loops(mesh, z0);
   if (loops.empty())
     throw InputError(mesh_file.string(), 0, "plane", "the plane z=" + fixed(z0, 6) + " does not cut the mesh in a closed section");
-  size_t best = 0;
-  double best_area = -1;
-  for (size_t k = 0; k < loops.size(); ++k) {
-    double a = 0;
-    for (size_t i = 0; i < loops[k].size(); ++i) a += cross(loops[k][i], loops[k][(i + 1) % loops[k].size()]);
-    if (std::abs(a) > best_area) best_area = std::abs(a), best = k;
+  std::vector<std::pair<double, size_t>> by_area;  // largest first
+  for (size_t k = 0; k < loops.size(); ++k) by_area.emplace_back(std::abs(polygon_area(loops[k])), k);
+  std::stable_sort(by_area.begin(), by_area.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (options.loop < 1 || static_cast<size_t>(options.loop) > loops.size())
+    throw InputError(mesh_file.string(), 0, "loop",
+                     std::to_string(options.loop) + ": the section at z=" + fixed(z0, 6) + " has " + std::to_string(loops.size()) +
+                         " loop(s)");
+  const auto& taken = loops[by_area[static_cast<size_t>(options.loop - 1)].second];
+  Profile p = fit_profile(taken, options.tolerance, mesh_file.string());
+  try {
+    validate_profile(p);
+  } catch (const InputError& e) {
+    // The fitted elements of a section thinner than the tolerance can fold back on each other.
+    throw InputError(mesh_file.string(), 0, "fit-tolerance",
+                     "the section at z=" + fixed(z0, 6) + " fitted within " + fixed(options.tolerance, 6) +
+                         " mm is not a valid profile (" + e.reason() + "): is it thinner than the tolerance?");
   }
-  Profile p = fit_profile(loops[best], options.tolerance, mesh_file.string());
-  validate_profile(p);
+  if (left_out)
+    for (const auto& [area, k] : by_area)
+      if (&loops[k] != &taken) left_out->push_back({loops[k], area, point_in_polygon(taken, loops[k].front())});
   return p;
 }
 

@@ -15,7 +15,11 @@
 namespace tf::offset::test {
 
 inline std::string scene_file(const std::string& name) {
-  return std::string(TILTFIELD_SOURCE_DIR) + "/scenes/offset/" + name;
+  // Appended in place: GCC 12's -Warray-bounds misreads operator+ on a temporary here (a false positive).
+  std::string path = TILTFIELD_SOURCE_DIR;
+  path += "/scenes/offset/";
+  path += name;
+  return path;
 }
 
 inline Profile scene_profile(const std::string& name) { return read_profile(scene_file(name)); }

@@ -268,7 +268,12 @@ TEST(OffsetProgram, OptionsThatBreakTheProgramAreBadInput) {
                           "-d 2 --target ecm --ecm-electrolyte-on M64", "-d 2 --target ecm --ecm-electrolyte-on M62",
                           "-d 2 --target ecm --ecm-electrolyte-on M68", "-d 2 --target ecm --ecm-electrolyte-on M99",
                           "-d 2 --target ecm --ecm-electrolyte-off M98", "-d 2 --target ecm --ecm-electrolyte-off M50",
-                          "-d 2 --target ecm --ecm-electrolyte-off M200", "-d 2 --target ecm --ecm-electrolyte-on M12"}) {
+                          "-d 2 --target ecm --ecm-electrolyte-off M200", "-d 2 --target ecm --ecm-electrolyte-on M12",
+                          // coolant codes the wrong way round or one code for both; the other target's options
+                          // (black-box testing: accepted, and the electrolyte was off while machining)
+                          "-d 2 --target ecm --ecm-electrolyte-on M9 --ecm-electrolyte-off M8",
+                          "-d 2 --target ecm --ecm-electrolyte-off M8", "-d 2 --target ecm --ecm-electrolyte-on M101 --ecm-electrolyte-off M101",
+                          "-d 2 --ecm-voltage 30", "-d 2 --target ecm --feed 900"}) {
     SCOPED_TRACE(opt);
     EXPECT_EQ(run_cli(scene_file("rounded_rect.txt") + " " + std::string(opt) + " -o " + ngc.string()), 2);
     EXPECT_FALSE(fs::exists(ngc));

@@ -66,6 +66,79 @@ TEST(OffsetSection, CornersOnOneCircleStayLines) {
   EXPECT_NEAR(signed_area(fit_profile(triangle, 0.01, "triangle").elements), 600.0, 1e-6);
 }
 
+// A mesh from vertex rows and triangles.
+Mesh mesh_of(const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& f) {
+  Eigen::MatrixX3d V(v.size(), 3);
+  for (size_t k = 0; k < v.size(); ++k) V.row(k) = v[k];
+  Eigen::MatrixX3i F(f.size(), 3);
+  for (size_t k = 0; k < f.size(); ++k) F.row(k) = f[k];
+  return mesh_from_arrays(V, F);
+}
+
+// A ring of vertices exactly on the plane: every edge ending there crosses at the vertex itself. One
+// vertex a hair off the axis (x = -0.01, or -4e-15 as a sphere's cosines leave it) had its crossing
+// interpolated to t = 1, a bit off, and the loop did not close (black-box testing).
+TEST(OffsetSection, AVertexRingOnThePlaneCloses) {
+  for (const double x : {-0.01, -3.6e-15, 0.0, 0.01}) {
+    SCOPED_TRACE(x);
+    const Mesh m = mesh_of({{0, 0, -20}, {14, 0, -14}, {0, 14, -14}, {-14, 0, -14}, {0, -14, -14}, {20, 0, 0}, {0, 20, 0},
+                            {-20, 0, 0}, {x, -20, 0}, {0, 0, 20}},
+                           {{0, 2, 1}, {0, 3, 2}, {0, 4, 3}, {0, 1, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6},
+                            {3, 4, 8}, {3, 8, 7}, {4, 1, 5}, {4, 5, 8}, {5, 6, 9}, {6, 7, 9}, {7, 8, 9}, {8, 5, 9}});
+    const auto loops = section_loops(m, 0.0);
+    ASSERT_EQ(loops.size(), 1u);
+    double area = 0;
+    for (size_t i = 0; i < loops[0].size(); ++i) area += cross(loops[0][i], loops[0][(i + 1) % loops[0].size()]) / 2;
+    EXPECT_NEAR(area, 800.0, 1e-9);  // the square (20,0) (0,20) (-20,0) (x,-20)
+  }
+}
+
+// A tube's section is two loops: the profile is one (--loop picks it, by area), the other is listed with
+// its place; a loop number beyond the section's is refused.
+TEST(OffsetSection, ASectionsOtherLoopsAreListed) {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<Eigen::Vector3i> f;
+  const int n = 120;
+  for (const double r : {20.0, 17.0})
+    for (const double z : {0.0, 20.0})
+      for (int k = 0; k < n; ++k) v.emplace_back(r * std::cos(2 * M_PI * k / n), r * std::sin(2 * M_PI * k / n), z);
+  auto at = [&](int ring, int k) { return ring * n + (k % n); };  // rings: outer bottom, outer top, inner bottom, inner top
+  for (int k = 0; k < n; ++k) {
+    f.emplace_back(at(0, k), at(0, k + 1), at(1, k + 1));  // outer wall, facing out
+    f.emplace_back(at(0, k), at(1, k + 1), at(1, k));
+    f.emplace_back(at(2, k), at(3, k + 1), at(2, k + 1));  // bore wall, facing in
+    f.emplace_back(at(2, k), at(3, k), at(3, k + 1));
+    f.emplace_back(at(1, k), at(1, k + 1), at(3, k + 1));  // top
+    f.emplace_back(at(1, k), at(3, k + 1), at(3, k));
+    f.emplace_back(at(0, k), at(2, k + 1), at(0, k + 1));  // bottom
+    f.emplace_back(at(0, k), at(2, k), at(2, k + 1));
+  }
+  const auto stl = std::filesystem::path(write_temp("x", "")).parent_path() / "tube.stl";
+  write_mesh(mesh_of(v, f), stl);
+  std::vector<SectionLoop> left_out;
+  const Profile outer = profile_from_mesh(stl, 10.0, {}, &left_out);
+  EXPECT_GT(signed_area(outer.elements), 1200.0);
+  ASSERT_EQ(left_out.size(), 1u);
+  EXPECT_TRUE(left_out[0].inside);
+  EXPECT_NEAR(left_out[0].area, 17 * 17 * n / 2.0 * std::sin(2 * M_PI / n), 1e-3);  // the mesh's floats
+  SectionOptions bore;
+  bore.loop = 2;
+  left_out.clear();
+  const Profile inner = profile_from_mesh(stl, 10.0, bore, &left_out);
+  EXPECT_LT(signed_area(inner.elements), -800.0);  // clockwise: material outside it
+  ASSERT_EQ(left_out.size(), 1u);
+  EXPECT_FALSE(left_out[0].inside);
+  bore.loop = 3;
+  EXPECT_THROW(profile_from_mesh(stl, 10.0, bore), InputError);
+  // The inside path of the outer loop at a gap of 2 runs 1 mm from the bore: refused, exit 1, no program.
+  const auto ngc = stl.parent_path() / "tube.ngc";
+  const std::string base = std::string(TILTFIELD_EXE) + " --quiet offset --mesh " + stl.string() + " --plane z=10 -o " + ngc.string();
+  EXPECT_EQ(WEXITSTATUS(std::system((base + " -d 2 2>/dev/null").c_str())), 1);
+  EXPECT_FALSE(std::filesystem::exists(ngc));
+  EXPECT_EQ(WEXITSTATUS(std::system((base + " -d 2 --side outside").c_str())), 0);  // far from the bore
+  EXPECT_EQ(WEXITSTATUS(std::system((base + " -d 1 --loop 2").c_str())), 0);        // in the bore
+}
+
 TEST(OffsetSection, CommandLineWithMesh) {
   const auto stl = std::filesystem::path(write_temp("x", "")).parent_path() / "prism.stl";
   write_mesh(d_prism(10), stl);
