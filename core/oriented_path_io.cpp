@@ -24,7 +24,10 @@ size_t first_row_off_path(const OrientedPath& oriented, const ToolPath& path) {
 
 bool attach_path_normals(OrientedPath& oriented, const ToolPath& path) {
   if (oriented.rows.size() != path.rows.size() || first_row_off_path(oriented, path) < path.rows.size()) return false;
-  for (size_t i = 0; i < path.rows.size(); ++i) oriented.rows[i].n = path.rows[i].contact_normal();
+  for (size_t i = 0; i < path.rows.size(); ++i) {
+    oriented.rows[i].n = path.rows[i].contact_normal();
+    oriented.rows[i].approach = path.rows[i].approach;
+  }
   return true;
 }
 

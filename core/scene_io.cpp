@@ -151,6 +151,17 @@ std::map<std::string, WorkOffset> parse_work_offsets(const json& j, const std::s
   return out;
 }
 
+// A path that names its tool axes (APT CLDATA) on a 3-axis machine: every axis must be the machine's +Z.
+// A tilted GOTO axis, even -Z, had been turned to +Z with only a note in PLAN.json (black-box testing).
+void check_path_axes_on_machine(const Scene& s) {
+  if (!s.machine || s.machine->kinematics != KinematicsType::XYZ) return;
+  for (const CLPoint& r : s.path.rows)
+    if (!r.normal_known && (r.n - Eigen::Vector3d::UnitZ()).norm() > 1e-6)
+      throw InputError(s.path_file.string(), r.line, "i,j,k",
+                       "the tool axis (" + fixed(r.n.x(), 6) + ", " + fixed(r.n.y(), 6) + ", " + fixed(r.n.z(), 6) +
+                           ") is not vertical, and the scene's machine is 3-axis (xyz)");
+}
+
 // A rotary offset on an axis the machine lacks would silently do nothing: refused.
 void check_work_offset_axes(const Scene& s) {
   const MachineSpec machine = s.machine.value_or(MachineSpec{});
@@ -279,6 +290,7 @@ Scene parse_scene(const std::string& text, const fs::path& file) {
     }
   }
   check_work_offset_axes(s);
+  check_path_axes_on_machine(s);
   return s;
 }
 

@@ -50,14 +50,15 @@ void write_apt(std::ostream& out, const OrientedPath& path, const PostJob& job, 
   out << "SPINDL/RPM," << fixed(options.spindle_rpm, 1) << ",CLW\n";
   if (!path.rows.empty()) {
     out << "RAPID\n" << clear(path.rows.front()) << "\n";
-    // Rows farther apart than the link gap are linked as the G-code dialects link them (not cut through):
+    // Rows linked to (farther apart than the link gap, or after an input APT's RAPID) are linked as the
+    // G-code dialects link them (not cut through):
     // retract from the last row along its axis, rapid to above the next one, and feed down onto it. The
     // retract points clear the part's extent (APT carries no machine, so no checked transit is made).
     const double link_gap = effective_link_gap(options, job.tool);
     std::string last_feed;
     for (size_t k = 0; k < path.rows.size(); ++k) {
       const OrientedRow& r = path.rows[k];
-      if (k > 0 && (row_tip(r, job.tool) - row_tip(path.rows[k - 1], job.tool)).norm() > link_gap) {
+      if (k > 0 && linked_to(r.approach, (row_tip(r, job.tool) - row_tip(path.rows[k - 1], job.tool)).norm(), link_gap)) {
         out << "RAPID\n" << clear(path.rows[k - 1]) << "\n";
         out << "RAPID\n" << clear(r) << "\n";
       }

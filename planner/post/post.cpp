@@ -88,6 +88,7 @@ std::string unreachable_between(const Kinematics& kin, const ToolPose& p0, const
 struct PostRows {
   std::vector<ToolPose> poses;
   std::vector<double> feeds;
+  std::vector<Approach> approach;  // how each row is reached (OrientedRow::approach)
   Eigen::AlignedBox3d bounds;
 };
 
@@ -95,11 +96,13 @@ PostRows post_rows(const OrientedPath& path, const PostJob& job) {
   PostRows rows;
   rows.poses.resize(path.rows.size());
   rows.feeds.resize(path.rows.size());
+  rows.approach.resize(path.rows.size());
   rows.bounds = job.part_bounds;
   for (size_t i = 0; i < path.rows.size(); ++i) {
     const OrientedRow& r = path.rows[i];
     rows.poses[i] = ToolPose{row_tip(r, job.tool), r.axis.normalized()};
     rows.feeds[i] = std::isnan(r.feed) ? job.feed : r.feed;
+    rows.approach[i] = r.approach;
     // The program writes F with at most 8 decimals (gcode_writer's feed_word): a smaller feed would read as
     // F0, which a controller refuses. Named here, where the row is known, rather than at the writing.
     if (std::min(rows.feeds[i], job.machine.max_feed) < 1e-8) {
@@ -278,7 +281,7 @@ void post_moves(Builder& b, const Kinematics& kin, const PostRows& rows, std::ve
   const std::vector<ToolPose>& poses = rows.poses;
   std::vector<PosedJoints> pieces;
   for (size_t i = 1; i < poses.size(); ++i) {
-    if ((poses[i].tip - poses[i - 1].tip).norm() > link_gap) {
+    if (linked_to(rows.approach[i], (poses[i].tip - poses[i - 1].tip).norm(), link_gap)) {
       // A jump (another pass, across a boss): linked, not cut through whatever lies between.
       b.link(poses[i - 1], joints[i - 1], poses[i], joints[i], rows.feeds[i]);
       continue;

@@ -383,7 +383,10 @@ ReplanResult replan(const Scene& scene, const OrientedPath& original, const std:
   ReplanResult result;
   result.path = original;
   // The scene's normals, whatever the caller attached: the windows' plans place flat and bull ends by them.
-  for (size_t i = 0; i < n; ++i) result.path.rows[i].n = path.rows[i].contact_normal();
+  for (size_t i = 0; i < n; ++i) {
+    result.path.rows[i].n = path.rows[i].contact_normal();
+    result.path.rows[i].approach = path.rows[i].approach;
+  }
   if (collisions.empty() || n == 0) return result;
 
   const double radius = scene.tool.radius();

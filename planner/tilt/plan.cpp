@@ -365,6 +365,7 @@ void write_result(const PlanContext& ctx, const std::vector<Vector3d>& axes, con
     OrientedRow& o = result.path.rows[i];
     o.p = path.rows[i].p;
     o.n = path.rows[i].contact_normal();
+    o.approach = path.rows[i].approach;
     o.axis = axes[i].normalized();
     const Eigen::Vector2d lt = lead_tilt_from_axis(ctx.frames[i], o.axis);
     o.lead_deg = lt.x();

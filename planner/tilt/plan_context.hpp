@@ -65,10 +65,11 @@ struct PlanContext {
     return tool->tip_at(path->rows[row].p, path->rows[row].contact_normal(), axis);
   }
   Pose pose(size_t row, const Eigen::Vector3d& axis) const { return {cutter_location(row, axis), axis}; }
-  // True when rows `row` and `row` + 1 at axes a0, a1 have tips farther apart than the link gap: the post
-  // links them (retract, rapid, approach), so the motion between them is no cutting motion.
+  // True when the post links rows `row` and `row` + 1 at axes a0, a1 (retract, rapid, approach): the path
+  // says so (APT's RAPID), or it does not say and their tips lie farther apart than the link gap. The
+  // motion between them is then no cutting motion.
   bool linked(size_t row, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1) const {
-    return (tip(row + 1, a1) - tip(row, a0)).norm() > options.link_gap_mm;
+    return linked_to(path->rows[row + 1].approach, (tip(row + 1, a1) - tip(row, a0)).norm(), options.link_gap_mm);
   }
   // The body's exact clearance over every obstacle set. `hints` speed up runs of queries at nearby poses.
   BodyClearance clearance(size_t row, const Eigen::Vector3d& axis, ClearanceHints* hints = nullptr) const;

@@ -68,6 +68,10 @@ TEST(PathIO, AptCldataGivesCutterLocations) {
   EXPECT_NEAR((p.rows[1].n - Eigen::Vector3d(0.6, 0, 0.8)).norm(), 0, 1e-12);
   EXPECT_DOUBLE_EQ(p.rows[2].feed, 900);
   EXPECT_EQ(tf::read_toolpath(dir / "p.apt", ball3()).rows.size(), 3u);
+  // The row after the RAPID's is linked to, the others cut (a CSV's rows: by the link gap).
+  EXPECT_EQ(p.rows[0].approach, tf::Approach::Link);
+  EXPECT_EQ(p.rows[1].approach, tf::Approach::Cut);
+  EXPECT_EQ(p.rows[2].approach, tf::Approach::Cut);
 }
 
 // UNITS/INCHES scales the coordinates and a feed without its own unit; FEDRAT/IPM is inches a minute;
@@ -145,6 +149,16 @@ TEST(PathIO, BadAptNamesTheLine) {
   EXPECT_THROW(tf::read_toolpath(dir / "q.cl", ball3()), tf::InputError);
   tf::test::write_text(dir / "r.cl", "MULTAX/ON\n");
   EXPECT_THROW(tf::read_toolpath(dir / "r.cl", ball3()), tf::InputError);
+  // A record the reader follows without its '/' had been skipped as unknown, its point dropped.
+  for (const char* bad : {"GOTO 1,2,19", "FEDRAT 100", "GODLTA 1,0,0", "UNITS MM"}) {
+    tf::test::write_text(dir / "s.cl", std::string("GOTO/0,0,20\n") + bad + "\nGOTO/1,1,20\n");
+    try {
+      tf::read_toolpath(dir / "s.cl", ball3());
+      ADD_FAILURE() << bad;
+    } catch (const tf::InputError& e) {
+      EXPECT_EQ(e.line(), 2) << bad;
+    }
+  }
 }
 
 TEST(PathIO, OrientedRoundTripAndBadAxis) {

@@ -229,6 +229,25 @@ TEST(SceneIO, EveryBadInputNamesFileAndFieldOrLine) {
   }
 }
 
+// CLDATA names its tool axes: on a 3-axis machine a GOTO axis other than +Z is refused at its line (it had
+// been turned to +Z with a note only, black-box testing); the vertical one is read.
+TEST(SceneIO, TiltedAptAxesOnAThreeAxisMachineAreRefused) {
+  tf::test::TempDir dir;
+  nlohmann::json j = tf::test::valid_scene_json();
+  j["path"]["file"] = "path.cl";
+  const auto scene = tf::test::write_scene(dir, j, tf::test::valid_path_csv(), R"({"name": "m", "kinematics": "xyz"})");
+  tf::test::write_text(dir / "path.cl", "GOTO/10,10,18,0,0,1\nGOTO/20,10,18,0.6,0,0.8\n");
+  try {
+    tf::load_scene(scene);
+    ADD_FAILURE();
+  } catch (const tf::InputError& e) {
+    EXPECT_EQ(e.line(), 2) << e.what();
+    EXPECT_EQ(e.field(), "i,j,k");
+  }
+  tf::test::write_text(dir / "path.cl", "GOTO/10,10,18,0,0,1\nGOTO/20,10,18\n");
+  EXPECT_EQ(tf::load_scene(scene).path.rows.size(), 2u);
+}
+
 TEST(SceneIO, SceneJsonSyntaxErrorGivesTheLine) {
   tf::test::TempDir dir;
   tf::test::write_scene(dir, tf::test::valid_scene_json());

@@ -6,6 +6,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,10 @@ Progress terminal_progress();
 // -1, 0 and nan had fallen back to the default without a word, black-box testing), and between
 // `min_feed` and `machine_max_feed`.
 double scheduled_air_feed(const CLI::Option& option, double value, double machine_max_feed, double min_feed);
+
+// The link gap the scene's planner options give ("planner": {"link_gap_mm": ...}), for the post: the
+// planner's and the post's must agree (the scene's had reached the planner only); nullopt when not set.
+std::optional<double> scene_link_gap(const Scene& scene);
 
 // One line on stderr (unless --quiet) summing up a feed schedule, then its warnings.
 void print_feed_schedule(const std::string& who, const FeedScheduleOptions& options, const FeedSchedule& schedule);

@@ -13,6 +13,7 @@
 #include "cli.hpp"
 #include "tiltfield/core/error.hpp"
 #include "tiltfield/core/io.hpp"
+#include "tiltfield/tilt/plan.hpp"
 
 namespace tf::cli {
 namespace fs = std::filesystem;
@@ -45,6 +46,11 @@ void print_feed_schedule(const std::string& who, const FeedScheduleOptions& o, c
   std::cerr << who << ": feeds scheduled for " << fixed(o.max_mrr, 1) << " mm3/min: " << fs.slowed << " blocks slowed, "
             << fs.sped_up << " air blocks at " << fixed(o.air_feed, 0) << " mm/min\n";
   for (const std::string& w : fs.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+std::optional<double> scene_link_gap(const Scene& scene) {
+  if (!scene.planner_json.contains("link_gap_mm")) return std::nullopt;
+  return parse_plan_options(scene.planner_json, scene.file.string(), scene.tool, scene.planner, scene.feed).link_gap_mm;
 }
 
 std::string collision_kind(const Collision& c) {

@@ -77,6 +77,7 @@ void run_post(PostArgs& a) {
   o.pole_mode = a.pole_mode == "hold" ? PoleMode::Hold : PoleMode::Interpolate;
 
   const Scene scene = load_scene(a.scene);
+  if (!o.link_gap_mm) o.link_gap_mm = scene_link_gap(scene);
   check_outputs_apart({{"-o", a.out}}, scene_inputs(scene, {a.oriented}));
   if (!scene.machine) throw InputError(a.scene, 0, "machine", "the scene names no machine; posting needs one");
   OrientedPath path = read_oriented_csv(a.oriented);

@@ -119,6 +119,7 @@ class PostAndVerify {
   static PostOptions options_for(const Scene& scene) {
     PostOptions o;
     if (scene.tool_number > 0) o.tool_number = scene.tool_number;
+    o.link_gap_mm = cli::scene_link_gap(scene);
     return o;
   }
 

@@ -30,6 +30,9 @@ struct OrientedRow {
   // or bull end's cutter location moves with the axis to keep its contact (Tool::contact_offset). Zero:
   // unknown, `p` is the cutter location itself.
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  // How the row before reaches it (not in the CSV either: the path's, attach_path_normals or the planner
+  // set it).
+  Approach approach = Approach::ByGap;
   // The line of the CSV the row was read from (read_oriented_csv), for messages; 0: not read from a file.
   int source_line = 0;
 };
@@ -42,7 +45,7 @@ struct OrientedPath {
 // along the axis by the cutter-location height.
 Eigen::Vector3d row_tip(const OrientedRow& row, const Tool& tool);
 
-// Gives each row the normal of the path row it was planned from, when `oriented` has the path's rows
+// Gives each row the normal (and Approach) of the path row it was planned from, when `oriented` has the path's rows
 // (as many, each within 0.001 mm of its path row) and returns true; otherwise leaves the rows as they are
 // (their points then are the cutter locations themselves) and returns false.
 bool attach_path_normals(OrientedPath& oriented, const ToolPath& path);

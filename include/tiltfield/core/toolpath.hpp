@@ -11,6 +11,18 @@
 
 namespace tf {
 
+// How a row is reached from the one before it. A path CSV does not say: a jump longer than the link gap
+// (PlanOptions::link_gap_mm, PostOptions::link_gap_mm) is a link, the rest cut. APT CLDATA does: a GOTO
+// after RAPID is linked to, any other is cut however long (a 60 mm straight GOTO had been linked over as
+// a jump, and nothing cut; black-box testing).
+enum class Approach : unsigned char { ByGap, Cut, Link };
+
+// Whether a row reached by `approach` over a tip jump of `jump` mm is linked to (retract, transit,
+// approach) rather than cut to, with the link gap `link_gap` mm.
+inline bool linked_to(Approach approach, double jump, double link_gap) {
+  return approach == Approach::Link || (approach == Approach::ByGap && jump > link_gap);
+}
+
 struct CLPoint {
   // The ball centre of a ball end mill; for a flat or bull end the contact point plus the corner radius
   // times n (the contact point itself for a flat end), from which its cutter location follows the axis
@@ -21,6 +33,8 @@ struct CLPoint {
   // False where n only stands in for a missing normal (APT CLDATA: the tool axis): `p` is then the cutter
   // location itself, which no axis moves.
   bool normal_known = true;
+  Approach approach = Approach::ByGap;  // how the row before it reaches it
+  int line = 0;                         // the line of the file it was read from (0: not read from a file)
   // The normal a flat or bull end keeps its contact by: n, or zero where it is not known.
   Eigen::Vector3d contact_normal() const { return normal_known ? n : Eigen::Vector3d::Zero(); }
 };
@@ -37,7 +51,8 @@ struct ToolPath {
 ToolPath read_toolpath_csv(const std::filesystem::path& file);
 
 // Reads APT CLDATA: GOTO/x,y,z[,i,j,k] (tool tip and axis), MULTAX[/ON|OFF], FEDRAT/f[,MMPM], RAPID
-// (the next GOTO is a positioning move and is skipped), comments and other records ignored. The tool
+// (the next GOTO is a positioning move and is skipped; the row after it is linked to, Approach::Link; the
+// others are cut, Approach::Cut), comments and other records ignored. The tool
 // tip is converted to the cutter location with the tool's cl_height along the axis. CLDATA has no
 // surface normal: the tool axis is taken as the normal (3-axis GOTO: +z). Continuation lines ending
 // in '$' are joined.
