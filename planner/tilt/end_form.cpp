@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <variant>
 
@@ -47,14 +48,32 @@ int design_side(const EndForm& form, const Eigen::Vector3d& contact, const Eigen
   if (!form.active() || !(normal.squaredNorm() > 0.5)) return 0;
   const ClosestHit hit = form.design.closest(contact, 0.1 * form.reach);
   if (hit.triangle < 0) return 0;
-  const Triangle& t = form.design.triangle(hit.triangle);
-  const Eigen::Vector3d nt = (t.b - t.a).cross(t.c - t.a);
-  if (!(nt.squaredNorm() > 0)) return 0;
-  // A triangle more than 60 deg off the row's normal (the contact on an edge of the design) does not tell
-  // which side the material is on: the row is not checked rather than checked on a guessed side.
-  const double c = nt.normalized().dot(normal.normalized());
-  if (std::abs(c) < 0.5) return 0;
-  return c > 0 ? 1 : -1;
+  // Of the triangles about as near the contact as the nearest (1 um more), the one that faces most like the
+  // row's normal: a contact on the design's boundary edge lies as near the side wall as the face it
+  // finishes, and a pass along the edge of a trough had gone unmeasured and gouged 0.52 mm (black-box
+  // testing).
+  const double near = hit.distance + 1e-3;
+  const Eigen::Vector3d n = normal.normalized();
+  double facing = 0.0;  // the signed cosine of the best triangle
+  const double best = form.design.minimum(
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return box_distance_squared(contact, lo, hi) <= near * near ? -1.0 : std::numeric_limits<double>::infinity();
+      },
+      [&](int i, double so_far) {
+        const Triangle& t = form.design.triangle(i);
+        const Eigen::Vector3d nt = (t.b - t.a).cross(t.c - t.a);
+        if (!(nt.squaredNorm() > 0) || (closest_point_on_triangle(contact, t) - contact).squaredNorm() > near * near)
+          return std::numeric_limits<double>::infinity();
+        const double c = nt.normalized().dot(n);
+        if (-std::abs(c) < so_far) facing = c;
+        return -std::abs(c);
+      },
+      std::numeric_limits<double>::infinity());
+  // A contact whose every near triangle lies more than 60 deg off the row's normal (a sharp edge of the
+  // design) does not tell which side the material is on: the row is not checked rather than checked on a
+  // guessed side.
+  if (!(best <= -0.5)) return 0;
+  return facing > 0 ? 1 : -1;
 }
 
 double point_dip(const EndForm& form, const Eigen::Vector3d& x, int side, int* hint) {

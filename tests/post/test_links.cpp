@@ -3,6 +3,8 @@
 // lifts only as far as the stock and a fixture next to it need, and the inside test of the stock is right.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "links_fixture.hpp"
 #include "post_fixture.hpp"
 #include "tiltfield/core/error.hpp"
@@ -159,6 +161,24 @@ TEST(Links, StockInsideTestAndCapsuleClearance) {
   const auto lift = check.lowest_lift(row, 1.0, 41.0, 20.0);
   ASSERT_TRUE(lift);
   EXPECT_NEAR(*lift, 40.0 + std::sqrt(23.0 * 23.0 - 15.0 * 15.0) - 3.0 - 19.0, 0.02);
+}
+
+// A path that says how its rows are reached (APT's RAPID) is linked where it says and cut everywhere else,
+// however long the move: a 40 mm GOTO had been linked over as a jump and nothing cut (black-box testing).
+TEST(Links, RowsThePathSaysAreCutOrLinkedAreCutOrLinked) {
+  const tf::PostJob job = post_test::job_for("table-table-ac");
+  auto rapids_of = [&](const tf::OrientedPath& path) {
+    const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
+    return std::count_if(prog.blocks.begin(), prog.blocks.end(), [](const tf::Block& b) { return b.motion == tf::Motion::Rapid; });
+  };
+  tf::OrientedPath path = post_test::impeller_like_path(100);
+  for (size_t i = 10; i < path.rows.size(); ++i) path.rows[i].p.x() += 40.0;
+  const auto by_gap = rapids_of(path);
+  for (auto& r : path.rows) r.approach = tf::Approach::Cut;
+  const auto cut = rapids_of(path);
+  EXPECT_LT(cut, by_gap);  // the 40 mm move is cut
+  path.rows[50].approach = tf::Approach::Link;  // 3 mm from row 49
+  EXPECT_GT(rapids_of(path), cut);
 }
 
 }  // namespace

@@ -531,24 +531,6 @@ TEST(Post, AptWritesTipsAndAxes) {
   }
 }
 
-// A path that says how its rows are reached (APT's RAPID) is linked where it says and cut everywhere else,
-// however long the move: a 40 mm GOTO had been linked over as a jump and nothing cut (black-box testing).
-TEST(Post, RowsThePathSaysAreCutOrLinkedAreCutOrLinked) {
-  const tf::PostJob job = job_for("table-table-ac");
-  auto rapids_of = [&](const tf::OrientedPath& path) {
-    const tf::Program prog = tf::post_program(path, job, tf::PostOptions{});
-    return std::count_if(prog.blocks.begin(), prog.blocks.end(), [](const tf::Block& b) { return b.motion == tf::Motion::Rapid; });
-  };
-  tf::OrientedPath path = impeller_like_path(100);
-  for (size_t i = 10; i < path.rows.size(); ++i) path.rows[i].p.x() += 40.0;
-  const auto by_gap = rapids_of(path);
-  for (auto& r : path.rows) r.approach = tf::Approach::Cut;
-  const auto cut = rapids_of(path);
-  EXPECT_LT(cut, by_gap);  // the 40 mm move is cut
-  path.rows[50].approach = tf::Approach::Link;  // 3 mm from row 49
-  EXPECT_GT(rapids_of(path), cut);
-}
-
 // A jump between rows is linked, not cut through (found in review: a 28 mm feed at cutting depth): the
 // retract above the last row, the rapid to above the next, then its GOTO.
 TEST(Post, AptLinksAJumpBetweenRows) {

@@ -21,20 +21,24 @@ constexpr double kHalfWidth = 20.0, kLength = 60.0;
 double trough_z(double y) { return kRho - std::sqrt(kRho * kRho - y * y); }
 Eigen::Vector3d trough_normal(double y) { return Eigen::Vector3d(0, -y, kRho - trough_z(y)) / kRho; }
 
-// The trough's surface alone (open), facing up, 0.25 mm across the curvature and 2 mm along it.
-Mesh trough_mesh() {
-  const int ny = static_cast<int>(2 * kHalfWidth / 0.25), nx = static_cast<int>(kLength / 2.0);
-  Eigen::MatrixX3d V((nx + 1) * (ny + 1), 3);
-  Eigen::MatrixX3i F(2 * nx * ny, 3);
-  for (int i = 0; i <= nx; ++i)
+// The trough's surface alone (open), facing up, 0.25 mm across the curvature and 2 mm along it, from
+// y = -kHalfWidth to y_edge; with `wall`, a side face down from its edge at y_edge (facing +y).
+Mesh trough_mesh(double y_edge = kHalfWidth, bool wall = false) {
+  const int ny = static_cast<int>(std::round((y_edge + kHalfWidth) / 0.25)), nx = static_cast<int>(kLength / 2.0);
+  const int rows = wall ? ny + 2 : ny + 1;  // the wall's foot as one more row of vertices
+  Eigen::MatrixX3d V((nx + 1) * rows, 3);
+  Eigen::MatrixX3i F(2 * nx * (rows - 1), 3);
+  for (int i = 0; i <= nx; ++i) {
     for (int j = 0; j <= ny; ++j) {
-      const double y = -kHalfWidth + 2 * kHalfWidth * j / ny;
-      V.row(i * (ny + 1) + j) << kLength * i / nx, y, trough_z(y);
+      const double y = -kHalfWidth + (y_edge + kHalfWidth) * j / ny;
+      V.row(i * rows + j) << kLength * i / nx, y, trough_z(y);
     }
+    if (wall) V.row(i * rows + ny + 1) << kLength * i / nx, y_edge, -5.0;
+  }
   int f = 0;
   for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) {
-      const int a = i * (ny + 1) + j, b = a + ny + 1;
+    for (int j = 0; j + 1 < rows; ++j) {
+      const int a = i * rows + j, b = a + rows;
       F.row(f++) << a, b, b + 1;
       F.row(f++) << a, b + 1, a + 1;
     }
@@ -65,7 +69,7 @@ Tool end_mill(double corner) {
 
 // The deepest point of the end form below the trough, by its closed form (mm): the end's face and
 // corner sampled every 1 deg around and 0.05 mm across.
-double deepest_dip(const OrientedPath& path, const Tool& tool) {
+double deepest_dip(const OrientedPath& path, const Tool& tool, double y_edge = kHalfWidth) {
   const double R = tool.radius(), r = tool.cl_height();
   double worst = 0;
   for (const OrientedRow& row : path.rows) {
@@ -73,6 +77,7 @@ double deepest_dip(const OrientedPath& path, const Tool& tool) {
     const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
     auto dip = [&](double rho, double h, double phi) {
       const Eigen::Vector3d x = tip + rho * (std::cos(phi) * e1 + std::sin(phi) * e2) + h * a;
+      if (x.y() > y_edge) return 0.0;  // beside the part
       return std::hypot(x.y(), x.z() - kRho) - kRho;  // beyond the cylinder: in the material
     };
     for (int k = 0; k < 360; ++k) {
@@ -107,6 +112,27 @@ TEST(EndForm, FlatAndBullEndsAreLeanedOutOfAConcaveSurface) {
     EXPECT_EQ(r.metrics.rows_end_dipping, 0u);
     EXPECT_LT(r.metrics.max_end_dip_mm, 0.0021);
   }
+}
+
+// A pass along the design's boundary edge (the trough cut off at y = 6 by a side face): the contact lies
+// as near the side face as the trough (nearer, rounded down a micrometre), and the nearest triangle had
+// been the side face, 90 deg off the
+// path's normal: the rows went unmeasured, and a flat end gouged the trough by 0.52 mm (black-box
+// testing). The triangle that faces like the normal decides.
+TEST(EndForm, APassAlongTheDesignsEdgeIsMeasured) {
+  constexpr double kEdge = 6.0;
+  const Mesh part = trough_mesh(kEdge, true);
+  const Tool tool = end_mill(0.0);
+  ToolPath path;
+  // The contacts on the edge, a micrometre down (as rounded): on the side face, a hair from the trough.
+  for (int k = 0; k <= 80; ++k)
+    path.rows.push_back({Eigen::Vector3d(10.0 + 0.5 * k, kEdge, trough_z(kEdge) - 1e-6), trough_normal(kEdge)});
+  PlannerBasics basics;
+  PlanObstacles obstacles;
+  obstacles.design = {&part};
+  const PlanResult r = plan_path(path, tool, obstacles, basics, 1000, derive_plan_options(tool, basics, 1000));
+  EXPECT_GT(r.metrics.rows_lead_raised, 0u);
+  EXPECT_LT(deepest_dip(r.path, tool, kEdge), 0.005);
 }
 
 TEST(EndForm, ALevelEndOnAPlaneKeepsTheNominalAxis) {
