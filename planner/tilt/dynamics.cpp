@@ -252,6 +252,23 @@ Body advance(Body b, const PathState& s0, const PathState& s1, double T, std::ve
 
 }  // namespace
 
+bool restarts_at(const ToolPath& path, const std::vector<Vector3d>& nominal, size_t i) {
+  if (i == 0 || i >= path.rows.size()) return false;
+  if (path.rows[i].approach == Approach::Link) return true;
+  if (i < 2 || i + 1 >= path.rows.size()) return false;
+  const Vector3d in = path.rows[i - 1].p - path.rows[i - 2].p, out = path.rows[i + 1].p - path.rows[i].p;
+  const double scale = in.norm() * out.norm();
+  if (!(scale > 1e-18 && in.dot(out) < kReversalCos * scale)) return false;
+  // The nominal's turn over the reversal (from the row before it to the row after: the frames of the two
+  // rows at the step-over already blend both directions) beyond the normal's own turn: a lead or tilt
+  // that flips with the feed.
+  auto turn = [](const Vector3d& a, const Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); };
+  // (APT's rows carry the axis itself in n: the whole turn counts.)
+  const bool normals = path.rows[i - 2].normal_known && path.rows[i + 1].normal_known;
+  const double jump = turn(nominal[i - 2], nominal[i + 1]) - (normals ? turn(path.rows[i - 2].n, path.rows[i + 1].n) : 0.0);
+  return jump > kRestartJumpRad;
+}
+
 void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames, const std::vector<Vector3d>& nominal,
                     const std::vector<double>& feed, const std::vector<PotentialSource>& sources,
                     const DynamicsParams& p, const Progress& progress, std::vector<Vector3d>& axes,
@@ -264,20 +281,27 @@ void integrate_axes(const ToolPath& path, const std::vector<LocalFrame>& frames,
   auto state = [&](size_t i) {
     return PathState{path.rows[i].p, frames[i].f, frames[i].n, frames[i].t, nominal[i]};
   };
-  Body b{clamp_to_cone(nominal[0], frames[0].n, p.cos_max_tilt), Vector3d::Zero()};
-  // Settle at the first row (the path standing still) so the run starts in equilibrium, not with a jolt.
-  {
-    const PathState s0 = state(0);
+  // Starts at row i from its nominal axis, settled with the path standing still, so the run starts in
+  // equilibrium, not with a jolt.
+  auto start_at = [&](size_t i) {
+    Body b{clamp_to_cone(nominal[i], frames[i].n, p.cos_max_tilt), Vector3d::Zero()};
+    const PathState s = state(i);
     const double wn = std::sqrt(p.attraction / p.inertia);
     const double settle = 8.0 / std::max(wn, 1e-9);
-    for (int k = 0; k < 32; ++k) b = advance(b, s0, s0, settle / 32, rep, p);
+    for (int k = 0; k < 32; ++k) b = advance(b, s, s, settle / 32, rep, p);
     b.omega.setZero();
-  }
+    return b;
+  };
+  Body b = start_at(0);
   axes[0] = b.axis;
   for (size_t i = 1; i < n; ++i) {
     const double ds = (path.rows[i].p - path.rows[i - 1].p).norm();
     const double v = std::max(feed[i], 1e-6) / 60.0;  // mm/s
-    if (ds > 1e-12) b = advance(b, state(i - 1), state(i), ds / v, rep, p);
+    if (restarts_at(path, nominal, i)) {
+      b = start_at(i);
+    } else if (ds > 1e-12) {
+      b = advance(b, state(i - 1), state(i), ds / v, rep, p);
+    }
     axes[i] = b.axis;
     if ((i & 255) == 0 && published) published->store(i + 1, std::memory_order_release);
     if ((i & 1023) == 0) report(progress, "plan", 0.1 + 0.6 * static_cast<double>(i) / static_cast<double>(n));

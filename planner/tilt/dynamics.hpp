@@ -56,6 +56,17 @@ struct DynamicsParams {
 };
 DynamicsParams dynamics_params(const PlanOptions& options, const Tool& tool, const PlannerBasics& basics);
 
+// Whether the integration starts afresh at row i (from the nominal axis, settled): where the path says the
+// row is linked to, or where it reverses between rows i - 1 and i (the move into i - 1 and the one out of
+// i more than 120 deg apart: a zig-zag's step-over) and the nominal axis turns there by more than a degree
+// beyond the surface normal's own turn (a lead, which flips with the feed). There the tool turns on the step-over instead of carrying the last
+// pass's axis into the next: with a lead of 5 deg, the flipped lead had taken most of a 66 mm pass to
+// settle, and a flat end passing the normal left stock uncut (black-box testing). Where the nominal runs
+// on (lead 0 on a smooth surface), the axis the obstacles deflected runs on too.
+constexpr double kReversalCos = -0.5;
+constexpr double kRestartJumpRad = 1.0 * 3.14159265358979323846 / 180.0;
+bool restarts_at(const ToolPath& path, const std::vector<Eigen::Vector3d>& nominal, size_t i);
+
 // Integrates the axis along the path into `axes` (one per row, resized to the path). `feed` per row in
 // mm/min. `published`, when given, is raised (release order) as rows get their final axis, so another
 // thread can work on them while the integration goes on.

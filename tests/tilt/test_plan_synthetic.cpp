@@ -133,6 +133,32 @@ TEST(PlanSynthetic, DynamicIsSmootherThanPointwise) {
   EXPECT_LT(dyn.metrics.max_step_deg, pw.metrics.max_step_deg);
 }
 
+// A zig-zag with a lead, no obstacle: the lead flips with the feed at each step-over, and each pass keeps
+// its own lead; the dynamics had carried the last pass's axis into the next, 9 deg off after the turn and
+// still 1 deg off 66 mm on, and a flat end there left stock uncut (black-box testing).
+TEST(PlanSynthetic, AZigZagKeepsItsLeadOnEveryPass) {
+  Tool tool = test::test_tool();
+  tool.cutter = FlatCutter{4.0};
+  std::vector<Eigen::Vector3d> corners;
+  for (int pass = 0; pass < 4; ++pass) {
+    const double y = 5.0 * pass, from = pass % 2 ? 66.0 : -6.0, to = pass % 2 ? -6.0 : 66.0;
+    corners.emplace_back(from, y, 0.0);
+    corners.emplace_back(to, y, 0.0);
+  }
+  const ToolPath path = test::polyline_path(corners, 0.5, {0, 0, 1});
+  PlannerBasics basics;
+  basics.lead_deg = 5.0;
+  const PlanResult r = plan_path(path, tool, {}, basics, 1000, derive_plan_options(tool, basics, 1000));
+  size_t checked = 0;
+  for (const OrientedRow& row : r.path.rows) {
+    if (row.p.x() < 0.0 || row.p.x() > 60.0) continue;  // the step-overs' rows turn
+    ++checked;
+    EXPECT_NEAR(row.lead_deg, 5.0, 0.1) << "at " << row.p.transpose();
+    EXPECT_NEAR(row.tilt_deg, 0.0, 0.1) << "at " << row.p.transpose();
+  }
+  EXPECT_GT(checked, 400u);
+}
+
 TEST(PlanSynthetic, TessellationDoesNotSteerTheAxis) {
   const PlanResult a = run(wall_scene(4.0), PlanMethod::Dynamic);
   const PlanResult b = run(wall_scene(2.0), PlanMethod::Dynamic);
