@@ -94,6 +94,27 @@ Segment support_at(const Segment& s, const Vector2d& P, const Vector2d& V, const
   l.line = s.line;
   return l;
 }
+// Whether a round join is complete: from the incoming element's offset point at its vertex to the outgoing
+// one's (a join cut by loop removal is not). Its ends' directions from the vertex are the elements'
+// normals there. Under a gap law the neighbours' offsets are not parallel to the elements, so the old
+// test, the join tangent to both neighbours, had kept every join beside a varying gap round (black-box
+// testing).
+bool complete_join(const std::vector<Piece>& pieces, const Segment& arc) {
+  const Vector2d V = arc.c;
+  const double tol = 1e-9 * std::max(1.0, V.norm() + arc.r);
+  bool at_start = false, at_end = false;
+  for (const Piece& p : pieces) {
+    if ((p.seg.b - V).norm() <= tol) {
+      const Vector2d n = left_normal_at(p.seg, 1.0);
+      at_start = at_start || (arc.a - (V + arc.r * n)).norm() <= 1e-6 * arc.r || (arc.a - (V - arc.r * n)).norm() <= 1e-6 * arc.r;
+    }
+    if ((p.seg.a - V).norm() <= tol) {
+      const Vector2d n = left_normal_at(p.seg, 0.0);
+      at_end = at_end || (arc.b - (V + arc.r * n)).norm() <= 1e-6 * arc.r || (arc.b - (V - arc.r * n)).norm() <= 1e-6 * arc.r;
+    }
+  }
+  return at_start && at_end;
+}
 }  // namespace
 
 void apply_sharp_corners(std::vector<std::vector<Segment>>& contours, const ClearanceField& field,
@@ -119,9 +140,7 @@ void apply_sharp_corners(std::vector<std::vector<Segment>>& contours, const Clea
       if (arc.kind == SegmentKind::RoundJoin && n >= 3) {
         const Vector2d V = arc.c, E = arc.a, S = arc.b;
         const Vector2d tin = tangent_at(prev, 1.0), tout = tangent_at(next, 0.0);
-        // Complete joins only: tangent to both neighbours (a join cut by loop removal is not).
-        const bool complete = std::abs(tin.dot((E - V).normalized())) < 1e-6 &&
-                              std::abs(tout.dot((S - V).normalized())) < 1e-6;
+        const bool complete = complete_join(field_pieces(field), arc);
         std::vector<Segment> miter;
         if (complete && sharp_join(support_at(prev, E, V, tin, true), support_at(next, S, V, tout, false), V, arc.r, miter_limit,
                                    miter)) {

@@ -39,6 +39,23 @@ TEST(OffsetJoins, LineLineJoinIsTheIntersectionOfTheOffsetLines) {
   EXPECT_NEAR(total_area(offset_profile(p, constant_gap(2.0), o)), 400 + 160 + M_PI * 4, 1e-9);
 }
 
+// Sharp corners beside a gap law: the neighbours' offsets are not parallel to their elements, and the join
+// at the corner where the law varies had been kept round (black-box testing). Every corner is mitred,
+// never closer than the law.
+TEST(OffsetJoins, SharpCornersBesideAGapLaw) {
+  const Profile p = profile_text("START 0 0\n0 40 0\n0 0 30\n0 -40 0\n0 0 -30\n");
+  const GapLaw law{{0, 20, 40, 60, 140}, {1, 1, 1.2, 1, 1}, 0.0, ""};
+  OffsetOptions o;
+  o.side = Side::Outside;
+  o.corner = Corner::Sharp;
+  const auto r = offset_profile(p, law, o);
+  ASSERT_EQ(r.contours.size(), 1u);
+  for (const Segment& s : r.contours[0]) EXPECT_NE(s.kind, SegmentKind::RoundJoin) << s.a.transpose();
+  const auto e = check_exactness(p, law, r, 128);
+  EXPECT_GE(e.min_sharp, -1e-9);
+  EXPECT_GE(e.min_transition, -1e-6);
+}
+
 // 1.B line-arc, R > 0, trajectory inside: the arc's offset has R' = R - D about the same centre and
 // meets the offset line at their intersection.
 TEST(OffsetJoins, LineArcPositiveRadiusInside) {
