@@ -52,7 +52,7 @@ Eigen::Vector2d lead_tilt_from_axis(const LocalFrame& fr, const Eigen::Vector3d&
 }
 
 Eigen::Vector3d slerp_axis(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double s) {
-  const double w = std::atan2(a.cross(b).norm(), a.dot(b));
+  const double w = angle_between(a, b);
   if (w < 1e-9) return (a + (b - a) * s).normalized();
   const double sw = std::sin(w);
   return (std::sin((1.0 - s) * w) / sw * a + std::sin(s * w) / sw * b).normalized();

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "post_internal.hpp"
+#include "tiltfield/core/angles.hpp"
 #include "tiltfield/core/io.hpp"
 
 namespace tf::post_detail {
@@ -228,7 +229,7 @@ double arc_pole_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const Eigen::Vector3d w = Eigen::Vector3d(-u.z() * u.x(), -u.z() * u.y(), 1.0 - u.z() * u.z());  // ez off the plane
   if (w.norm() < 1e-12) return ends;                                                             // arc on the equator
   const Eigen::Vector3d wn = w.normalized();
-  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); };
+  auto ang = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return angle_between(x, y); };
   if (std::abs(ang(a, wn) + ang(wn, b) - ang(a, b)) > 1e-9) return ends;  // the nearest point is off the arc
   return std::asin(std::min(1.0, std::abs(u.z()))) * 180.0 / 3.14159265358979323846;
 }

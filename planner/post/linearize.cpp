@@ -13,7 +13,7 @@ namespace {
 
 
 double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) / kDeg;
+  return angle_between(a, b) / kDeg;
 }
 
 Joints lerp(const Joints& a, const Joints& b, double s) {

@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "plan_context.hpp"
+#include "tiltfield/core/angles.hpp"
 
 namespace tf {
 using Eigen::Vector3d;
@@ -25,7 +26,7 @@ namespace {
 constexpr int kMaxDepth = 16;
 
 double turn_angle(const Vector3d& a, const Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
+  return angle_between(a, b);
 }
 
 // Lower bound of a margin over a sub-motion from its end margins and the displacement bound L.

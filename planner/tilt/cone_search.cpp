@@ -16,6 +16,7 @@
 
 #include "dynamics.hpp"
 #include "plan_context.hpp"
+#include "tiltfield/core/angles.hpp"
 
 namespace tf {
 using Eigen::Vector3d;
@@ -26,7 +27,7 @@ constexpr double kRingStepDeg = 5.0;  // the axes searched: rings this far apart
 constexpr size_t kMaxRows = 1500;     // rows searched in all (about 400 clearance tests a row)
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double angle(const Vector3d& a, const Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+double angle(const Vector3d& a, const Vector3d& b) { return angle_between(a, b); }
 
 // The axes searched at a row: the row's own and its nominal axis, the surface normal, rings about it at 1
 // and 2.5 deg (8 axes each), then every kRingStepDeg up to the max-tilt cone, about kRingStepDeg apart

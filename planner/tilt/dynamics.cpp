@@ -262,10 +262,10 @@ bool restarts_at(const ToolPath& path, const std::vector<Vector3d>& nominal, siz
   // The nominal's turn over the reversal (from the row before it to the row after: the frames of the two
   // rows at the step-over already blend both directions) beyond the normal's own turn: a lead or tilt
   // that flips with the feed.
-  auto turn = [](const Vector3d& a, const Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); };
   // (APT's rows carry the axis itself in n: the whole turn counts.)
   const bool normals = path.rows[i - 2].normal_known && path.rows[i + 1].normal_known;
-  const double jump = turn(nominal[i - 2], nominal[i + 1]) - (normals ? turn(path.rows[i - 2].n, path.rows[i + 1].n) : 0.0);
+  const double jump = angle_between(nominal[i - 2], nominal[i + 1]) -
+                       (normals ? angle_between(path.rows[i - 2].n, path.rows[i + 1].n) : 0.0);
   return jump > kRestartJumpRad;
 }
 

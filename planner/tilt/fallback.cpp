@@ -22,6 +22,7 @@
 
 #include "dynamics.hpp"
 #include "plan_context.hpp"
+#include "tiltfield/core/angles.hpp"
 #include "tiltfield/core/local_frame.hpp"
 
 namespace tf {
@@ -56,7 +57,7 @@ std::vector<char> whipping_rows(const PlanContext& ctx, const std::vector<Vector
   const double rate = kWhipDegPerResponse * std::numbers::pi / 180.0 / ctx.options.response_length_mm;
   for (size_t i = 0; i + 1 < n; ++i) {
     if (ctx.linked(i, axes[i], axes[i + 1])) continue;  // a linked jump may turn as it likes
-    const double turn = std::atan2(axes[i].cross(axes[i + 1]).norm(), axes[i].dot(axes[i + 1]));
+    const double turn = angle_between(axes[i], axes[i + 1]);
     if (turn > std::max(5.0 * std::numbers::pi / 180.0, rate * (ctx.arc[i + 1] - ctx.arc[i])))
       whip[i] = whip[i + 1] = 1;
   }

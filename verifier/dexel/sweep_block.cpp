@@ -9,6 +9,7 @@
 #include <numbers>
 #include <limits>
 
+#include "tiltfield/core/angles.hpp"
 #include "tiltfield/dexel/sweep.hpp"
 
 namespace tf {
@@ -28,7 +29,6 @@ constexpr double kAim = 0.9;    // share of the tolerance a refinement aims at
 // (u = 1/4). The sampled value times that is the bound.
 constexpr double kBetweenSamples = 17.0 / 16.0;
 
-double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 // A piece as swept: a sphere about its centre, or a cylinder about its mid-point, `height` above the tip
 // on the axis (plus `offset` sideways for a torus' ring sphere). `reach` is the factor of phi in its
